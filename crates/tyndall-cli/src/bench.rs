@@ -1,0 +1,10 @@
+//! `tyndall bench`: time to equal error.
+use anyhow::Result;
+use clap::Args;
+
+#[derive(Args)]
+pub struct BenchArgs {}
+
+pub fn run(_args: BenchArgs) -> Result<()> {
+    anyhow::bail!("not yet")
+}

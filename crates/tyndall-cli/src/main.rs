@@ -1,0 +1,252 @@
+//! `tyndall`: the command-line renderer.
+//!
+//! A thin layer over the `tyndall` library: parse flags, load the scene,
+//! show progress, write the image, report statistics. The exit status is
+//! 0 only when the image was written.
+
+mod bench;
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use tyndall::scene::legacy::LegacyOptions;
+use tyndall::scene::{SceneDescription, demo, legacy, native};
+use tyndall::{IntegratorKind, RenderStats};
+
+#[derive(Parser)]
+#[command(name = "tyndall", version, about = "Tyndall renders light in participating media: beams from spotlights in fog, volumetric shadows and light coloured by stained glass.")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene to an image file (PNG or OpenEXR, by the file ending).
+    Render(RenderArgs),
+    /// Print the relative MSE of an image against a reference (both OpenEXR),
+    /// the metric of shared/reference: mean of (c − r)²/(r² + 0.01).
+    Compare {
+        candidate: PathBuf,
+        reference: PathBuf,
+    },
+    /// Measure time to equal error for `march` and `single` (see docs/benchmarks.md).
+    Bench(bench::BenchArgs),
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    /// Scene file: native TOML (.toml) or the paper's legacy format (.obj).
+    /// Without one, the built-in demo (a stained-glass window in a dusty room).
+    scene: Option<PathBuf>,
+    /// Output image; .png (8-bit sRGB, exposure applied) or .exr (linear float).
+    /// Default: the scene's `output`, else tyndall.png.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    #[command(flatten)]
+    overrides: Overrides,
+    /// Load legacy .obj quads as two-sided (the course code makes them one-sided).
+    #[arg(long)]
+    two_sided: bool,
+    /// No progress bar and no statistics (errors and warnings still go to stderr).
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+/// Settings that override the scene file's.
+#[derive(Args, Clone, Default)]
+pub struct Overrides {
+    /// Image width in pixels.
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height in pixels.
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Samples per pixel (stratified over the pixel and every sampled dimension).
+    #[arg(long)]
+    pub spp: Option<u32>,
+    /// Integrator: `march` (the paper's fixed-step ray march; accepts albedo > 1)
+    /// or `single` (unbiased single scattering, equiangular + distance sampling with MIS).
+    #[arg(long, value_parser = parse_integrator)]
+    pub integrator: Option<IntegratorKind>,
+    /// March step length in scene units (the paper used 0.1); `march` only.
+    #[arg(long)]
+    pub step: Option<f32>,
+    /// Fog extinction σt per scene unit (the paper's air density τ). Adds fog
+    /// filling all space if the scene has none, as the paper's legacy scenes need.
+    #[arg(long)]
+    pub density: Option<f32>,
+    /// Fog single-scattering albedo (grey). Values above 1 are not physical:
+    /// only `march` accepts them, with a warning, as in the paper's figures.
+    #[arg(long)]
+    pub albedo: Option<f32>,
+    /// Worker threads (default: all cores). The image does not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Seed of the per-pixel sample sequences.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Exposure in stops for PNG output (multiplies radiance by 2^exposure).
+    #[arg(long, allow_negative_numbers = true)]
+    pub exposure: Option<f32>,
+}
+
+fn parse_integrator(s: &str) -> Result<IntegratorKind, String> {
+    IntegratorKind::from_name(s).ok_or_else(|| format!("unknown integrator `{s}`: expected `march` or `single`"))
+}
+
+impl Overrides {
+    /// Applies the overrides to a loaded scene.
+    pub fn apply(&self, desc: &mut SceneDescription) -> Result<()> {
+        let s = &mut desc.settings;
+        if let Some(v) = self.width {
+            s.width = v;
+        }
+        if let Some(v) = self.height {
+            s.height = v;
+        }
+        if let Some(v) = self.spp {
+            s.spp = v;
+        }
+        if let Some(v) = self.integrator {
+            s.integrator = v;
+        }
+        if let Some(v) = self.step {
+            s.step = v;
+        }
+        if let Some(v) = self.threads {
+            s.threads = Some(v);
+        }
+        if let Some(v) = self.seed {
+            s.seed = v;
+        }
+        if let Some(v) = self.exposure {
+            s.exposure = v;
+        }
+        desc.override_fog(self.density, self.albedo).map_err(anyhow::Error::msg)
+    }
+}
+
+/// Loads a scene by its file ending, or the demo for `None`.
+pub fn load_scene(path: Option<&Path>, two_sided: bool) -> Result<SceneDescription> {
+    let Some(path) = path else {
+        return Ok(demo::load()?);
+    };
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    Ok(match ext.as_deref() {
+        Some("toml") => native::load(path)?,
+        Some("obj") => legacy::load(path, LegacyOptions { two_sided })?,
+        _ => bail!(
+            "{}: unknown scene format: the file name must end in .toml (native) or .obj (the paper's legacy format)",
+            path.display()
+        ),
+    })
+}
+
+fn render(args: RenderArgs) -> Result<()> {
+    let mut desc = load_scene(args.scene.as_deref(), args.two_sided)?;
+    args.overrides.apply(&mut desc)?;
+    let output = args
+        .output
+        .or(desc.output.clone())
+        .unwrap_or_else(|| PathBuf::from("tyndall.png"));
+    // Fail on a bad output name before spending time on the render.
+    tyndall::film::ImageFormat::from_path(&output)?;
+    if let Some(fog) = &desc.scene.fog
+        && fog.albedo.max_element() > 1.0
+        && desc.settings.integrator == IntegratorKind::March
+    {
+        desc.warnings.push(format!(
+            "fog albedo {} is above 1, which is not physical; rendering anyway with `march`, as the paper did",
+            fog.albedo.max_element()
+        ));
+    }
+    desc.warnings.dedup();
+    for w in &desc.warnings {
+        eprintln!("warning: {w}");
+    }
+    let settings = desc.settings;
+    settings.validate(&desc.scene)?;
+    let bar = progress_bar(settings.height as u64, args.quiet);
+    let render = tyndall::render(&desc.scene, &settings, &|_| bar.inc(1))?;
+    bar.finish_and_clear();
+    render
+        .image
+        .write(&output, settings.exposure)
+        .with_context(|| "the image was not written")?;
+    if !args.quiet {
+        report(&settings, &render.stats, &output);
+    }
+    Ok(())
+}
+
+fn progress_bar(rows: u64, quiet: bool) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    // Draws only on a terminal; hidden when stderr is redirected.
+    let bar = ProgressBar::with_draw_target(Some(rows), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} rendering [{bar:40}] {percent:>3}% rows {pos}/{len}, {elapsed} elapsed, ETA {eta}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar
+}
+
+fn report(settings: &tyndall::RenderSettings, stats: &RenderStats, output: &Path) {
+    let secs = stats.elapsed.as_secs_f64();
+    eprintln!(
+        "wrote {} ({}×{}, {} spp, {}) in {:.2} s: {:.2} M samples, {:.2} M rays ({:.2} M camera, {:.2} M shadow), {:.2} M rays/s",
+        output.display(),
+        settings.width,
+        settings.height,
+        settings.spp,
+        settings.integrator.name(),
+        secs,
+        stats.samples as f64 * 1e-6,
+        stats.rays.total() as f64 * 1e-6,
+        stats.rays.camera as f64 * 1e-6,
+        stats.rays.shadow as f64 * 1e-6,
+        stats.rays_per_second() * 1e-6,
+    );
+    if stats.invalid_samples > 0 {
+        eprintln!("warning: {} samples were NaN or infinite and were dropped", stats.invalid_samples);
+    }
+}
+
+fn compare(candidate: &Path, reference: &Path) -> Result<()> {
+    let c = tyndall::Image::read_exr(candidate)?;
+    let r = tyndall::Image::read_exr(reference)?;
+    if (c.width(), c.height()) != (r.width(), r.height()) {
+        bail!(
+            "{} is {}×{} but {} is {}×{}",
+            candidate.display(),
+            c.width(),
+            c.height(),
+            reference.display(),
+            r.width(),
+            r.height()
+        );
+    }
+    println!("{:.6e}", tyndall::metrics::relative_mse(&c, &r));
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(args) => render(args),
+        Command::Bench(args) => bench::run(args),
+        Command::Compare { candidate, reference } => compare(&candidate, &reference),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

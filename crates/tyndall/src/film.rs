@@ -1,0 +1,141 @@
+//! Images: the film a render produces, and writing/reading image files.
+//!
+//! PNG is display-referred: radiance is scaled by `2^exposure`, clamped to
+//! [0, 1] and sRGB-encoded to 8 bits. OpenEXR is scene-referred: linear
+//! float radiance, unscaled. The file ending chooses the format.
+
+use crate::color::{Rgb, linear_to_srgb};
+use std::path::{Path, PathBuf};
+
+/// A linear-RGB image, rows top to bottom.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    width: u32,
+    height: u32,
+    pixels: Vec<Rgb>,
+}
+
+/// Image file formats, chosen by the file ending.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    Png,
+    Exr,
+}
+
+/// Why an image could not be written or read.
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    #[error("{path}: unknown image format: the file name must end in .png or .exr")]
+    UnknownFormat { path: PathBuf },
+    #[error("{path}: {message}")]
+    Io { path: PathBuf, message: String },
+}
+
+impl ImageFormat {
+    pub fn from_path(path: &Path) -> Result<Self, ImageError> {
+        match path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
+            Some("png") => Ok(ImageFormat::Png),
+            Some("exr") => Ok(ImageFormat::Exr),
+            _ => Err(ImageError::UnknownFormat {
+                path: path.to_owned(),
+            }),
+        }
+    }
+}
+
+impl Image {
+    /// # Panics
+    /// If `pixels.len() != width·height` (a programming error).
+    pub fn from_pixels(width: u32, height: u32, pixels: Vec<Rgb>) -> Self {
+        assert_eq!(pixels.len(), width as usize * height as usize);
+        Self {
+            width,
+            height,
+            pixels,
+        }
+    }
+
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    pub fn pixels(&self) -> &[Rgb] {
+        &self.pixels
+    }
+
+    pub fn pixel(&self, x: u32, y: u32) -> Rgb {
+        self.pixels[y as usize * self.width as usize + x as usize]
+    }
+
+    /// 8-bit sRGB bytes (RGB, row-major) after `2^exposure` scaling.
+    pub fn to_srgb8(&self, exposure: f32) -> Vec<u8> {
+        let scale = exposure.exp2();
+        self.pixels
+            .iter()
+            .flat_map(|p| (*p * scale).to_array())
+            .map(|v| (linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0 + 0.5) as u8)
+            .collect()
+    }
+
+    /// Writes the image in the format its ending names; `exposure` (stops)
+    /// applies to PNG only.
+    pub fn write(&self, path: &Path, exposure: f32) -> Result<(), ImageError> {
+        let io = |message: String| ImageError::Io {
+            path: path.to_owned(),
+            message,
+        };
+        match ImageFormat::from_path(path)? {
+            ImageFormat::Png => image::save_buffer(
+                path,
+                &self.to_srgb8(exposure),
+                self.width,
+                self.height,
+                image::ExtendedColorType::Rgb8,
+            )
+            .map_err(|e| io(e.to_string())),
+            ImageFormat::Exr => exr::prelude::write_rgb_file(
+                path,
+                self.width as usize,
+                self.height as usize,
+                |x, y| {
+                    let p = self.pixels[y * self.width as usize + x];
+                    (p.x, p.y, p.z)
+                },
+            )
+            .map_err(|e| io(e.to_string())),
+        }
+    }
+
+    /// Reads the first RGB(A) layer of an OpenEXR file as linear radiance.
+    pub fn read_exr(path: &Path) -> Result<Self, ImageError> {
+        use exr::prelude::*;
+        let image = read_first_rgba_layer_from_file(
+            path,
+            |resolution, _| {
+                (
+                    resolution.width(),
+                    vec![Rgb::ZERO; resolution.width() * resolution.height()],
+                )
+            },
+            |(width, pixels): &mut (usize, Vec<Rgb>), position, (r, g, b, _a): (f32, f32, f32, f32)| {
+                pixels[position.y() * *width + position.x()] = Rgb::new(r, g, b);
+            },
+        )
+        .map_err(|e| ImageError::Io {
+            path: path.to_owned(),
+            message: e.to_string(),
+        })?;
+        let size = image.layer_data.size;
+        let (_, pixels) = image.layer_data.channel_data.pixels;
+        Ok(Self::from_pixels(size.width() as u32, size.height() as u32, pixels))
+    }
+}

@@ -1,0 +1,69 @@
+//! Unbiased single scattering: per light, equiangular sampling (Kulla &
+//! Fajardo 2012) and transmittance-proportional distance sampling along
+//! the camera ray, combined by multiple importance sampling with the
+//! balance heuristic (Veach 1997).
+//!
+//! For each light, one emitting point `y` is chosen; then one equiangular
+//! sample (restricted to the light's reach: a spotlight's cone) and the
+//! ray's one distance sample (shared by all lights) each estimate the
+//! in-scattering integral for that `y`. With densities `p_e`, `p_d`, the
+//! estimator `f(t_e)/(p_e(t_e) + p_d(t_e)) + f(t_d)/(p_e(t_d) + p_d(t_d))`
+//! is unbiased and takes the better of the two strategies where each is
+//! good: equiangular near point lights, distance sampling in dense fog and
+//! for suns.
+
+use super::{light_point, scattered_radiance};
+use crate::color::Rgb;
+use crate::media::{Fog, transmittance};
+use crate::ray::Ray;
+use crate::sampler::PixelSampler;
+use crate::sampling::{EquiangularSampler, ExponentialSampler};
+use crate::scene::Scene;
+use crate::visibility::RayCounts;
+
+/// In-scattered radiance along `ray` over `(0, t_hit)`, relative to the
+/// radiance at the ray origin (one sample).
+pub fn in_scattered(
+    scene: &Scene,
+    fog: &Fog,
+    ray: &Ray,
+    t_hit: f32,
+    sampler: &mut PixelSampler,
+    counts: &mut RayCounts,
+) -> Rgb {
+    let u_distance = sampler.next_1d();
+    let Some((a, b)) = fog.interval(ray, 0.0, t_hit) else {
+        return Rgb::ZERO;
+    };
+    if fog.sigma_s() == Rgb::ZERO {
+        return Rgb::ZERO;
+    }
+    let Some(distance) = ExponentialSampler::new(fog.sigma_t, a, b) else {
+        return Rgb::ZERO;
+    };
+    let (t_d, pdf_d) = distance.sample(u_distance);
+    let x_d = ray.at(t_d);
+    let camera_t = |t: f32| transmittance(fog.sigma_t, t - a);
+    let mut sum = Rgb::ZERO;
+    for light in &scene.lights {
+        let y = light_point(light, sampler);
+        let u_equiangular = sampler.next_1d();
+        let equiangular = y.and_then(|y| {
+            let (ea, eb) = light.reach(ray, a, b)?;
+            EquiangularSampler::new(ray, y, ea, eb)
+        });
+        if let Some(eq) = &equiangular {
+            let (t, pdf_e) = eq.sample(u_equiangular);
+            let f = scattered_radiance(scene, fog, light, y, ray.at(t), ray.direction, counts);
+            if f != Rgb::ZERO {
+                sum += f * (camera_t(t) / (pdf_e + distance.pdf(t)));
+            }
+        }
+        let pdf_e = equiangular.map_or(0.0, |eq| eq.pdf(t_d));
+        let f = scattered_radiance(scene, fog, light, y, x_d, ray.direction, counts);
+        if f != Rgb::ZERO {
+            sum += f * (camera_t(t_d) / (pdf_d + pdf_e));
+        }
+    }
+    sum
+}

@@ -1,0 +1,61 @@
+//! Participating media: homogeneous fog, everywhere or inside a box.
+//!
+//! Extinction `sigma_t` (the paper's density τ, per scene unit) is grey;
+//! the single-scattering `albedo` is RGB, so `sigma_s = albedo·sigma_t`.
+//! Transmittance over a length `d` of fog is `T = exp(−sigma_t·d)`.
+
+use crate::color::Rgb;
+use crate::phase::PhaseFunction;
+use crate::ray::Ray;
+use crate::shapes::Bounds;
+
+/// Homogeneous fog filling all space (`bounds = None`) or an
+/// axis-aligned box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fog {
+    /// Extinction coefficient σt (1/scene unit), ≥ 0.
+    pub sigma_t: f32,
+    /// Single-scattering albedo per channel (σs/σt).
+    pub albedo: Rgb,
+    pub phase: PhaseFunction,
+    pub bounds: Option<Bounds>,
+}
+
+impl Fog {
+    /// Scattering coefficient σs = albedo·σt per channel.
+    #[inline]
+    pub fn sigma_s(&self) -> Rgb {
+        self.albedo * self.sigma_t
+    }
+
+    /// The part of `[t0, t1]` along `ray` that lies in the fog (one
+    /// interval: a box is convex).
+    #[inline]
+    pub fn interval(&self, ray: &Ray, t0: f32, t1: f32) -> Option<(f32, f32)> {
+        match &self.bounds {
+            None => (t0 < t1).then_some((t0, t1)),
+            Some(b) => b.clip_ray(ray, t0, t1).filter(|(a, b)| a < b),
+        }
+    }
+
+    /// Transmittance `exp(−σt·ℓ)` where ℓ is the length of `[t0, t1]`
+    /// inside the fog; 0 for an infinite length in fog.
+    #[inline]
+    pub fn transmittance(&self, ray: &Ray, t0: f32, t1: f32) -> f32 {
+        match self.interval(ray, t0, t1) {
+            Some((a, b)) => transmittance(self.sigma_t, b - a),
+            None => 1.0,
+        }
+    }
+}
+
+/// Beer–Lambert transmittance `exp(−σt·d)` of a homogeneous medium; exact
+/// 1 for σt = 0 even over an infinite distance.
+#[inline]
+pub fn transmittance(sigma_t: f32, distance: f32) -> f32 {
+    if sigma_t == 0.0 {
+        1.0
+    } else {
+        (-sigma_t * distance).exp()
+    }
+}

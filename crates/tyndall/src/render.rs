@@ -1,0 +1,205 @@
+//! The render loop: pixels in parallel, samples per pixel in order.
+//!
+//! Rows are distributed over a rayon pool of the requested size; each
+//! pixel's samples come from its own sequence ([`crate::sampler`]) and are
+//! accumulated in f64, so the image is the same for any thread count.
+
+use crate::camera::Camera;
+use crate::color::Rgb;
+use crate::film::Image;
+use crate::integrators::{Integrator, IntegratorKind};
+use crate::sampler::PixelSampler;
+use crate::scene::Scene;
+use crate::visibility::RayCounts;
+use glam::{DVec3, Vec2};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+/// Largest accepted image side, in pixels.
+pub const MAX_IMAGE_SIDE: u32 = 1 << 15;
+
+/// How to render: image size, sampling and method.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel.
+    pub spp: u32,
+    pub seed: u64,
+    /// Worker threads; `None` uses every core.
+    pub threads: Option<usize>,
+    pub integrator: IntegratorKind,
+    /// March step length (scene units) for [`IntegratorKind::March`].
+    pub step: f32,
+    /// Most reflections followed from a camera ray (glass crossings do not
+    /// count).
+    pub max_bounces: u32,
+    /// Exposure in stops applied when writing display images (PNG).
+    pub exposure: f32,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            width: 640,
+            height: 360,
+            spp: 16,
+            seed: 0,
+            threads: None,
+            integrator: IntegratorKind::Single,
+            step: 0.1,
+            max_bounces: 4,
+            exposure: 0.0,
+        }
+    }
+}
+
+/// Why a render could not start.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum RenderError {
+    #[error("image size {width}×{height} is invalid: both sides must be between 1 and {MAX_IMAGE_SIDE} pixels")]
+    ImageSize { width: u32, height: u32 },
+    #[error("samples per pixel must be at least 1")]
+    NoSamples,
+    #[error("march step must be a positive finite length, got {0}")]
+    Step(f32),
+    #[error("exposure must be finite, got {0}")]
+    Exposure(f32),
+    #[error("threads must be at least 1")]
+    Threads,
+    #[error(
+        "fog albedo {0} exceeds 1 in some channel: that is not physical, and the `{1}` integrator only accepts physical media (the `march` integrator accepts it)"
+    )]
+    NonPhysicalAlbedo(String, &'static str),
+    #[error("could not start the worker threads: {0}")]
+    ThreadPool(String),
+}
+
+impl RenderSettings {
+    /// Checks the settings against the scene and the chosen integrator.
+    pub fn validate(&self, scene: &Scene) -> Result<(), RenderError> {
+        let side_ok = |s: u32| (1..=MAX_IMAGE_SIDE).contains(&s);
+        if !side_ok(self.width) || !side_ok(self.height) {
+            return Err(RenderError::ImageSize {
+                width: self.width,
+                height: self.height,
+            });
+        }
+        if self.spp == 0 {
+            return Err(RenderError::NoSamples);
+        }
+        if !(self.step > 0.0 && self.step.is_finite()) {
+            return Err(RenderError::Step(self.step));
+        }
+        if !self.exposure.is_finite() {
+            return Err(RenderError::Exposure(self.exposure));
+        }
+        if self.threads == Some(0) {
+            return Err(RenderError::Threads);
+        }
+        if let Some(fog) = &scene.fog
+            && fog.albedo.max_element() > 1.0
+            && !self.integrator.accepts_non_physical_albedo()
+        {
+            return Err(RenderError::NonPhysicalAlbedo(
+                format!("{:?}", fog.albedo.to_array()),
+                self.integrator.name(),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// What a render did, for the end-of-run report.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RenderStats {
+    pub elapsed: Duration,
+    pub samples: u64,
+    pub rays: RayCounts,
+    /// Samples whose radiance was NaN or infinite and were dropped (a bug
+    /// if ever non-zero; reported, never hidden).
+    pub invalid_samples: u64,
+}
+
+impl RenderStats {
+    /// Rays (camera and shadow) per second of wall time.
+    pub fn rays_per_second(&self) -> f64 {
+        self.rays.total() as f64 / self.elapsed.as_secs_f64().max(1e-9)
+    }
+}
+
+/// A finished render.
+pub struct Render {
+    pub image: Image,
+    pub stats: RenderStats,
+}
+
+/// Renders `scene`. `progress` is called with the number of rows finished
+/// so far (from worker threads, in no particular order).
+pub fn render(
+    scene: &Scene,
+    settings: &RenderSettings,
+    progress: &(dyn Fn(u32) + Sync),
+) -> Result<Render, RenderError> {
+    settings.validate(scene)?;
+    let pool = {
+        let mut builder = rayon::ThreadPoolBuilder::new();
+        if let Some(n) = settings.threads {
+            builder = builder.num_threads(n);
+        }
+        builder
+            .build()
+            .map_err(|e| RenderError::ThreadPool(e.to_string()))?
+    };
+    let start = Instant::now();
+    let camera = Camera::new(&scene.camera, settings.width, settings.height);
+    let integrator = Integrator::new(settings);
+    let width = settings.width as usize;
+    let mut pixels = vec![Rgb::ZERO; width * settings.height as usize];
+    let rows_done = AtomicU64::new(0);
+    let (camera_rays, shadow_rays, invalid) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
+    pool.install(|| {
+        pixels
+            .par_chunks_mut(width)
+            .enumerate()
+            .for_each(|(y, row)| {
+                let mut counts = RayCounts::default();
+                let mut bad = 0u64;
+                for (x, pixel) in row.iter_mut().enumerate() {
+                    let index = (y * width + x) as u64;
+                    let mut sum = DVec3::ZERO;
+                    for s in 0..settings.spp {
+                        let mut sampler = PixelSampler::new(settings.seed, index, s);
+                        let film = Vec2::new(x as f32, y as f32) + sampler.next_2d();
+                        let ray = camera.ray(film);
+                        let l = integrator.radiance(scene, ray, &mut sampler, &mut counts);
+                        if l.is_finite() {
+                            sum += l.as_dvec3();
+                        } else {
+                            bad += 1;
+                        }
+                    }
+                    *pixel = (sum / settings.spp as f64).as_vec3();
+                }
+                camera_rays.fetch_add(counts.camera, Ordering::Relaxed);
+                shadow_rays.fetch_add(counts.shadow, Ordering::Relaxed);
+                invalid.fetch_add(bad, Ordering::Relaxed);
+                let done = rows_done.fetch_add(1, Ordering::Relaxed) + 1;
+                progress(done as u32);
+            });
+    });
+    let stats = RenderStats {
+        elapsed: start.elapsed(),
+        samples: width as u64 * settings.height as u64 * settings.spp as u64,
+        rays: RayCounts {
+            camera: camera_rays.into_inner(),
+            shadow: shadow_rays.into_inner(),
+        },
+        invalid_samples: invalid.into_inner(),
+    };
+    Ok(Render {
+        image: Image::from_pixels(settings.width, settings.height, pixels),
+        stats,
+    })
+}

@@ -1,0 +1,417 @@
+//! The paper's scene format: the course code base's extended .obj
+//! (shared LEGACY-OBJ.md), with the paper's `c` (spotlight cutoff) and
+//! `alpha` (glass opacity) tokens.
+//!
+//! Tokens are whitespace-separated and newlines are not significant. A
+//! `material` block is open from the `material` token until the next
+//! statement that is not one of its fields; a `c` inside an open block
+//! belongs to the material, elsewhere it applies to the emissive faces
+//! that follow.
+
+use super::{SceneBuilder, SceneDescription, SceneError, SourceText};
+use crate::camera::{CameraSpec, FieldOfView};
+use crate::color::{Rgb, srgb_to_linear};
+use crate::glass::{Glass, GlassModel};
+use crate::lights::{Light, SpotLight, SpotProfile};
+use crate::materials::{Material, Surface};
+use crate::render::RenderSettings;
+use crate::shapes::{Bounds, Shape, Sphere, Triangle};
+use glam::Vec3;
+use std::path::Path;
+
+/// Options for loading legacy files.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LegacyOptions {
+    /// Make quads two-sided (the course code's switch); one-sided by default.
+    pub two_sided: bool,
+}
+
+/// Loads a legacy .obj scene.
+pub fn load(path: &Path, options: LegacyOptions) -> Result<SceneDescription, SceneError> {
+    parse(&SourceText::read(path)?, options)
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Token<'a> {
+    text: &'a str,
+    offset: usize,
+}
+
+#[derive(Clone, Debug, Default)]
+struct LegacyMaterial {
+    diffuse: Rgb,
+    reflective: Rgb,
+    roughness: f32,
+    emitted: Rgb,
+    alpha: f32,
+    cutoff_deg: Option<f32>,
+    textured: bool,
+}
+
+struct Parser<'a> {
+    source: &'a SourceText,
+    tokens: Vec<Token<'a>>,
+    next: usize,
+}
+
+impl<'a> Parser<'a> {
+    fn new(source: &'a SourceText) -> Self {
+        let text = source.text.as_str();
+        let mut tokens = Vec::new();
+        let mut start = None;
+        for (i, ch) in text.char_indices() {
+            match (ch.is_whitespace(), start) {
+                (true, Some(s)) => {
+                    tokens.push(Token { text: &text[s..i], offset: s });
+                    start = None;
+                }
+                (false, None) => start = Some(i),
+                _ => {}
+            }
+        }
+        if let Some(s) = start {
+            tokens.push(Token { text: &text[s..], offset: s });
+        }
+        Self { source, tokens, next: 0 }
+    }
+
+    fn peek(&self) -> Option<Token<'a>> {
+        self.tokens.get(self.next).copied()
+    }
+
+    fn bump(&mut self) -> Option<Token<'a>> {
+        let t = self.peek();
+        self.next += 1;
+        t
+    }
+
+    fn end_offset(&self) -> usize {
+        self.source.text.len()
+    }
+
+    fn error(&self, token: Option<Token>, message: impl Into<String>) -> SceneError {
+        self.source.error_at(token.map_or(self.end_offset(), |t| t.offset), message)
+    }
+
+    /// A number for `what`; the error names what was expected.
+    fn number(&mut self, what: &str) -> Result<f32, SceneError> {
+        let t = self.bump();
+        match t.map(|t| t.text.parse::<f32>()) {
+            Some(Ok(v)) if v.is_finite() => Ok(v),
+            Some(Ok(v)) => Err(self.error(t, format!("expected a finite number for {what}, found `{v}`"))),
+            Some(Err(_)) => Err(self.error(t, format!("expected a number for {what}, found `{}`", t.map_or("", |t| t.text)))),
+            None => Err(self.error(None, format!("expected a number for {what}, found the end of the file"))),
+        }
+    }
+
+    fn index(&mut self, what: &str) -> Result<(usize, Token<'a>), SceneError> {
+        let t = self.bump();
+        match t.map(|t| t.text.parse::<usize>()) {
+            Some(Ok(v)) => Ok((v, t.expect("present"))),
+            _ => Err(self.error(t, format!("expected a non-negative whole number for {what}, found {}", describe(t)))),
+        }
+    }
+
+    fn vec3(&mut self, what: &str) -> Result<Vec3, SceneError> {
+        Ok(Vec3::new(self.number(what)?, self.number(what)?, self.number(what)?))
+    }
+
+    fn color(&mut self, what: &str) -> Result<Rgb, SceneError> {
+        let at = self.peek();
+        let c = self.vec3(what)?;
+        if c.min_element() < 0.0 {
+            return Err(self.error(at, format!("{what} must be non-negative, got {:?}", c.to_array())));
+        }
+        Ok(c)
+    }
+
+    /// A vector written `< x, y, z >` with any spacing, inside a camera block.
+    fn bracketed(&mut self, what: &str) -> Result<Vec3, SceneError> {
+        let first = self.peek();
+        let Some(start) = first.filter(|t| t.text.starts_with('<')) else {
+            return Err(self.error(first, format!("expected `< x, y, z >` for {what}, found {}", describe(first))));
+        };
+        let mut end = None;
+        while let Some(t) = self.bump() {
+            if t.text.contains('>') {
+                end = Some(t.offset + t.text.find('>').expect("contains") + 1);
+                break;
+            }
+        }
+        let Some(end) = end else {
+            return Err(self.error(first, format!("unclosed `<` in {what}: expected `>`")));
+        };
+        let inner = &self.source.text[start.offset + 1..end - 1];
+        let parts: Vec<&str> = inner.split(',').map(str::trim).collect();
+        let values: Vec<Option<f32>> = parts.iter().map(|p| p.parse::<f32>().ok().filter(|v| v.is_finite())).collect();
+        match values.as_slice() {
+            [Some(x), Some(y), Some(z)] => Ok(Vec3::new(*x, *y, *z)),
+            _ => Err(self.source.error_at(start.offset, format!("expected three finite numbers `< x, y, z >` for {what}, found `<{inner}>`"))),
+        }
+    }
+}
+
+fn describe(t: Option<Token>) -> String {
+    t.map_or("the end of the file".to_string(), |t| format!("`{}`", t.text))
+}
+
+struct Face {
+    vertices: [usize; 4],
+    material: usize,
+    cutoff_deg: Option<f32>,
+    token: usize,
+}
+
+/// Parses legacy text. Quads are one-sided unless `options.two_sided`.
+pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescription, SceneError> {
+    let mut p = Parser::new(source);
+    let mut vertices: Vec<Vec3> = Vec::new();
+    let mut materials: Vec<LegacyMaterial> = Vec::new();
+    let mut faces: Vec<Face> = Vec::new();
+    let mut spheres: Vec<(Sphere, usize, usize)> = Vec::new();
+    let mut active: Option<usize> = None;
+    let mut open_block = false;
+    let mut statement_cutoff: Option<f32> = None;
+    let mut background = Rgb::ZERO;
+    let mut camera: Option<CameraSpec> = None;
+    let mut warnings = Vec::new();
+
+    while let Some(tok) = p.bump() {
+        let in_block = open_block;
+        open_block = false;
+        let block_field = matches!(tok.text, "diffuse" | "texture_file" | "reflective" | "roughness" | "emitted" | "alpha")
+            || (tok.text == "c" && in_block);
+        if block_field {
+            let Some(m) = materials.last_mut().filter(|_| in_block) else {
+                return Err(p.error(Some(tok), format!("`{}` must follow a `material` line (it is a material field)", tok.text)));
+            };
+            match tok.text {
+                "diffuse" => m.diffuse = p.color("`diffuse`")?,
+                "texture_file" => {
+                    p.bump().ok_or_else(|| p.error(None, "expected a file name after `texture_file`"))?;
+                    m.diffuse = Rgb::splat(0.5);
+                    m.textured = true;
+                }
+                "reflective" => m.reflective = p.color("`reflective`")?,
+                "roughness" => {
+                    let at = p.peek();
+                    let r = p.number("`roughness`")?;
+                    if !(0.0..=1.0).contains(&r) {
+                        return Err(p.error(at, format!("`roughness` must be in [0, 1], got {r}")));
+                    }
+                    materials.last_mut().expect("open block").roughness = r;
+                }
+                "emitted" => m.emitted = p.color("`emitted`")?,
+                "alpha" => {
+                    let at = p.peek();
+                    let a = p.number("`alpha`")?;
+                    if !(0.0..=1.0).contains(&a) {
+                        return Err(p.error(at, format!("`alpha` must be an opacity in [0, 1], got {a}")));
+                    }
+                    materials.last_mut().expect("open block").alpha = a;
+                }
+                _ => {
+                    let c = cutoff(&mut p)?;
+                    materials.last_mut().expect("open block").cutoff_deg = Some(c);
+                }
+            }
+            open_block = true;
+            continue;
+        }
+        match tok.text {
+            "material" => {
+                materials.push(LegacyMaterial { alpha: 1.0, ..Default::default() });
+                open_block = true;
+            }
+            "v" => vertices.push(p.vec3("a vertex `v x y z`")?),
+            "vt" => {
+                p.number("texture coordinate s")?;
+                p.number("texture coordinate t")?;
+            }
+            "m" => {
+                let (i, t) = p.index("the material number of `m`")?;
+                if i >= materials.len() {
+                    return Err(p.error(Some(t), format!("material {i} is not defined ({} materials so far; they are numbered from 0)", materials.len())));
+                }
+                active = Some(i);
+            }
+            "c" => statement_cutoff = Some(cutoff(&mut p)?),
+            "f" => {
+                let token = p.next - 1;
+                let material = active.ok_or_else(|| p.error(Some(tok), "a face needs an active material: use `m i` first"))?;
+                let mut v = [0usize; 4];
+                for slot in &mut v {
+                    let (i, t) = p.index("a vertex number of `f`")?;
+                    if i == 0 || i > vertices.len() {
+                        return Err(p.error(Some(t), format!("vertex {i} is not defined ({} vertices so far; they are numbered from 1)", vertices.len())));
+                    }
+                    *slot = i - 1;
+                }
+                faces.push(Face { vertices: v, material, cutoff_deg: statement_cutoff, token });
+            }
+            "s" => {
+                let material = active.ok_or_else(|| p.error(Some(tok), "a sphere needs an active material: use `m i` first"))?;
+                let center = p.vec3("the sphere centre")?;
+                let at = p.peek();
+                let radius = p.number("the sphere radius")?;
+                if radius <= 0.0 {
+                    return Err(p.error(at, format!("sphere radius must be positive, got {radius}")));
+                }
+                spheres.push((Sphere { center, radius }, material, tok.offset));
+            }
+            "r" => return Err(p.error(Some(tok), "cylinder rings (`r`) are not supported: model the ring as a mesh")),
+            "background_color" => {
+                let c = p.color("`background_color`")?;
+                background = Rgb::new(srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z));
+            }
+            "PerspectiveCamera" => camera = Some(perspective_camera(&mut p, tok)?),
+            "OrthographicCamera" => return Err(p.error(Some(tok), "`OrthographicCamera` is not supported: use a `PerspectiveCamera`")),
+            other => {
+                return Err(p.error(Some(tok), format!(
+                    "unknown token `{other}`: expected a statement (v, vt, f, s, m, c, material, background_color, PerspectiveCamera)"
+                )));
+            }
+        }
+    }
+
+    let camera = match camera {
+        Some(c) => c,
+        None => default_camera(&vertices, &spheres),
+    };
+    let mut builder = SceneBuilder::new(camera);
+    builder.background = background;
+    builder.glass.model = GlassModel::Blend;
+    let one_sided = !options.two_sided;
+    let ids: Vec<u32> = materials
+        .iter()
+        .map(|m| {
+            builder.add_material(if m.emitted.max_element() > 0.0 {
+                Material::Emissive { radiance: m.emitted, two_sided: !one_sided }
+            } else if m.alpha < 1.0 {
+                Material::Glass(Glass { color: m.diffuse.min(Rgb::ONE), alpha: m.alpha })
+            } else {
+                Material::Opaque(Surface { diffuse: m.diffuse, specular: m.reflective, roughness: m.roughness })
+            })
+        })
+        .collect();
+    if materials.iter().any(|m| m.textured) {
+        warnings.push(format!("{}: texture files are not supported; textured materials are drawn mid-grey", source.path.display()));
+    }
+    for face in &faces {
+        let m = &materials[face.material];
+        let c = face.vertices.map(|i| vertices[i]);
+        let at = p.tokens[face.token].offset;
+        let quad = super::parallelogram(c, one_sided);
+        if m.emitted.max_element() > 0.0 {
+            let quad = quad.map_err(|e| source.error_at(at, format!("emissive face: {e}")))?;
+            builder.add_shape(Shape::Quad(quad), ids[face.material]);
+            match m.cutoff_deg.or(face.cutoff_deg) {
+                Some(cutoff) => builder.add_light(Light::Spot(SpotLight {
+                    position: quad.centroid(),
+                    direction: quad.normal,
+                    cos_cutoff: cutoff.to_radians().cos(),
+                    profile: SpotProfile::Linear,
+                    intensity: m.emitted * quad.area(),
+                })),
+                None => builder.add_light(Light::Quad(crate::lights::QuadLight { quad, radiance: m.emitted, two_sided: !one_sided })),
+            }
+            continue;
+        }
+        match quad {
+            Ok(q) => builder.add_shape(Shape::Quad(q), ids[face.material]),
+            Err(_) => {
+                // A planar or non-planar general quad: two triangles.
+                let make = if one_sided { Triangle::new_one_sided } else { Triangle::new };
+                let tris = [make(c[0], c[1], c[2]), make(c[0], c[2], c[3])];
+                if tris.iter().all(Option::is_none) {
+                    return Err(source.error_at(at, "the face has no area (its vertices are collinear or repeated)"));
+                }
+                for t in tris.into_iter().flatten() {
+                    builder.add_shape(Shape::Triangle(t), ids[face.material]);
+                }
+            }
+        }
+    }
+    for (sphere, material, _) in &spheres {
+        if materials[*material].emitted.max_element() > 0.0 {
+            warnings.push(format!("{}: emissive spheres glow but do not light the scene", source.path.display()));
+        }
+        builder.add_shape(Shape::Sphere(*sphere), ids[*material]);
+    }
+    super::check_lighting(&builder, &mut warnings);
+    Ok(SceneDescription {
+        scene: builder.build(),
+        settings: RenderSettings { integrator: crate::IntegratorKind::March, ..RenderSettings::default() },
+        output: None,
+        warnings,
+    })
+}
+
+fn cutoff(p: &mut Parser) -> Result<f32, SceneError> {
+    let at = p.peek();
+    let c = p.number("the spotlight cutoff `c`")?;
+    if !(c > 0.0 && c <= 90.0) {
+        return Err(p.error(at, format!("spotlight cutoff `c` must be an angle in (0, 90] degrees, got {c}")));
+    }
+    Ok(c)
+}
+
+fn perspective_camera(p: &mut Parser, tok: Token) -> Result<CameraSpec, SceneError> {
+    let open = p.bump();
+    if open.map(|t| t.text) != Some("{") {
+        return Err(p.error(open, format!("expected `{{` after `PerspectiveCamera`, found {}", describe(open))));
+    }
+    let (mut position, mut look_at, mut up, mut angle) = (None, None, None, None);
+    loop {
+        let key = p.bump();
+        match key.map(|t| t.text) {
+            Some("}") => break,
+            Some("camera_position") => position = Some(p.bracketed("`camera_position`")?),
+            Some("point_of_interest") => look_at = Some(p.bracketed("`point_of_interest`")?),
+            Some("up") => up = Some(p.bracketed("`up`")?),
+            Some("angle") => {
+                let at = p.peek();
+                let a = p.number("`angle`")?;
+                if !(a > 0.0 && a < 180.0) {
+                    return Err(p.error(at, format!("camera `angle` must be in (0, 180) degrees, got {a}")));
+                }
+                angle = Some(a);
+            }
+            _ => {
+                return Err(p.error(key, format!(
+                    "expected a camera field (camera_position, point_of_interest, up, angle) or `}}`, found {}",
+                    describe(key)
+                )));
+            }
+        }
+    }
+    let missing = |name: &str| p.error(Some(tok), format!("`PerspectiveCamera` needs `{name}`"));
+    let spec = CameraSpec {
+        position: position.ok_or_else(|| missing("camera_position"))?,
+        look_at: look_at.ok_or_else(|| missing("point_of_interest"))?,
+        up: up.ok_or_else(|| missing("up"))?,
+        fov: FieldOfView::ShorterSide(angle.ok_or_else(|| missing("angle"))?),
+    };
+    super::check_camera(&spec).map_err(|m| p.error(Some(tok), m))?;
+    Ok(spec)
+}
+
+/// LEGACY-OBJ.md: without a camera, look at the centre of the scene's
+/// bounds from 4 × its largest dimension along +z, 20° field of view.
+fn default_camera(vertices: &[Vec3], spheres: &[(Sphere, usize, usize)]) -> CameraSpec {
+    let bounds = vertices
+        .iter()
+        .fold(Bounds::EMPTY, |b, v| b.include(*v));
+    let bounds = spheres.iter().fold(bounds, |b, (s, _, _)| b.union(s.bounds()));
+    let (center, size) = if bounds.is_empty() {
+        (Vec3::ZERO, 1.0)
+    } else {
+        (bounds.center(), bounds.extent().max_element().max(1e-3))
+    };
+    CameraSpec {
+        position: center + Vec3::Z * (4.0 * size),
+        look_at: center,
+        up: Vec3::Y,
+        fov: FieldOfView::ShorterSide(20.0),
+    }
+}

@@ -1,0 +1,254 @@
+//! The scene: geometry, materials, lights, fog and camera; and its loaders.
+//!
+//! [`Scene`] is what the integrators read. It is built through
+//! [`SceneBuilder`] by the native TOML loader ([`native`]), the paper's
+//! legacy .obj loader ([`legacy`]) and the built-in demo ([`demo`]).
+
+pub mod demo;
+pub mod legacy;
+pub mod mesh;
+pub mod native;
+mod source;
+
+pub use source::{SceneError, SourceText};
+
+use crate::accel::{Geometry, Primitive};
+use crate::camera::CameraSpec;
+use crate::color::Rgb;
+use crate::glass::GlassModel;
+use crate::lights::{Light, QuadLight};
+use crate::materials::{Material, MaterialId};
+use crate::media::Fog;
+use crate::render::RenderSettings;
+use crate::shapes::{Bounds, Quad, Shape};
+use crate::visibility::Visibility;
+use std::path::PathBuf;
+
+/// How glass appears to camera rays and combines along shadow rays.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct GlassSettings {
+    pub model: GlassModel,
+    /// Draw glass as an opaque diffuse surface of its colour to camera
+    /// rays, as the paper did for its figures; shadow rays still pass.
+    pub opaque_to_camera: bool,
+}
+
+/// Everything the integrators need to know about the world.
+pub struct Scene {
+    pub camera: CameraSpec,
+    pub geometry: Geometry,
+    pub materials: Vec<Material>,
+    pub lights: Vec<Light>,
+    pub fog: Option<Fog>,
+    /// Radiance of rays that leave the scene (linear RGB).
+    pub background: Rgb,
+    pub glass: GlassSettings,
+    pub visibility: Visibility,
+}
+
+impl Scene {
+    pub fn material(&self, primitive: u32) -> &Material {
+        &self.materials[self.geometry.primitive(primitive).material as usize]
+    }
+
+    /// Bounds of the geometry and every light position, the region where
+    /// anything can happen.
+    pub fn bounds(&self) -> Bounds {
+        self.lights.iter().fold(self.geometry.bounds(), |b, l| match l {
+            Light::Point(p) => b.include(p.position),
+            Light::Spot(s) => b.include(s.position),
+            Light::Quad(q) => b.union(q.quad.bounds()),
+            Light::Directional(_) => b,
+        })
+    }
+}
+
+/// A loaded scene with its render settings and the warnings the loader
+/// raised (non-physical values it accepted, features it approximated).
+pub struct SceneDescription {
+    pub scene: Scene,
+    pub settings: RenderSettings,
+    /// Output file named by the scene, if any.
+    pub output: Option<PathBuf>,
+    pub warnings: Vec<String>,
+}
+
+/// Collects primitives, materials and lights, then builds the BVH.
+pub struct SceneBuilder {
+    pub camera: CameraSpec,
+    pub fog: Option<Fog>,
+    pub background: Rgb,
+    pub glass: GlassSettings,
+    pub visibility: Visibility,
+    materials: Vec<Material>,
+    primitives: Vec<Primitive>,
+    lights: Vec<Light>,
+}
+
+impl SceneBuilder {
+    pub fn new(camera: CameraSpec) -> Self {
+        Self {
+            camera,
+            fog: None,
+            background: Rgb::ZERO,
+            glass: GlassSettings::default(),
+            visibility: Visibility::default(),
+            materials: Vec::new(),
+            primitives: Vec::new(),
+            lights: Vec::new(),
+        }
+    }
+
+    pub fn add_material(&mut self, material: Material) -> MaterialId {
+        self.materials.push(material);
+        (self.materials.len() - 1) as MaterialId
+    }
+
+    pub fn material(&self, id: MaterialId) -> &Material {
+        &self.materials[id as usize]
+    }
+
+    pub fn add_shape(&mut self, shape: Shape, material: MaterialId) {
+        self.primitives.push(Primitive { shape, material });
+    }
+
+    pub fn add_light(&mut self, light: Light) {
+        self.lights.push(light);
+    }
+
+    /// A quad area light: the light for sampling and an emissive quad so
+    /// it is seen and occludes.
+    pub fn add_quad_light(&mut self, quad: Quad, radiance: Rgb, two_sided: bool) {
+        let material = self.add_material(Material::Emissive {
+            radiance,
+            two_sided,
+        });
+        self.add_shape(Shape::Quad(quad), material);
+        self.add_light(Light::Quad(QuadLight {
+            quad,
+            radiance,
+            two_sided,
+        }));
+    }
+
+    pub fn primitives(&self) -> &[Primitive] {
+        &self.primitives
+    }
+
+    pub fn lights(&self) -> &[Light] {
+        &self.lights
+    }
+
+    pub fn build(self) -> Scene {
+        Scene {
+            camera: self.camera,
+            geometry: Geometry::new(self.primitives),
+            materials: self.materials,
+            lights: self.lights,
+            fog: self.fog,
+            background: self.background,
+            glass: self.glass,
+            visibility: self.visibility,
+        }
+    }
+}
+
+/// Checks that a camera can be built: distinct position and target, an
+/// up vector not parallel to the view direction.
+pub(crate) fn check_camera(spec: &CameraSpec) -> Result<(), String> {
+    let forward = spec.look_at - spec.position;
+    if !(forward.length_squared() > 0.0) {
+        return Err("the camera's look-at point must differ from its position".into());
+    }
+    if !(forward.normalize().cross(spec.up.normalize()).length_squared() > 1e-10) {
+        return Err("the camera's up vector must not be parallel to its view direction".into());
+    }
+    Ok(())
+}
+
+/// Relative tolerance for four corners to form a parallelogram.
+const PARALLELOGRAM_TOLERANCE: f32 = 1e-4;
+
+/// A quad from four corners listed around a parallelogram.
+pub(crate) fn parallelogram(c: [glam::Vec3; 4], one_sided: bool) -> Result<Quad, String> {
+    let scale = c.iter().map(|p| p.abs().max_element()).fold(1.0f32, f32::max);
+    let expected = c[1] + c[3] - c[0];
+    if (expected - c[2]).length() > PARALLELOGRAM_TOLERANCE * scale {
+        return Err(format!(
+            "the corners must form a parallelogram listed in order around it (the third corner should be {:?})",
+            expected.to_array()
+        ));
+    }
+    Quad::new(c[0], c[1] - c[0], c[3] - c[0], one_sided)
+        .ok_or_else(|| "the corners must span a parallelogram of non-zero area".to_string())
+}
+
+/// Warnings about lighting that will silently produce nothing.
+pub(crate) fn check_lighting(builder: &SceneBuilder, warnings: &mut Vec<String>) {
+    if builder.lights().is_empty() {
+        warnings.push("the scene has no lights: only emissive surfaces will be visible".into());
+    }
+    if let Some(fog) = &builder.fog
+        && fog.bounds.is_none()
+        && fog.sigma_t > 0.0
+        && builder
+            .lights()
+            .iter()
+            .any(|l| matches!(l, Light::Directional(_)))
+    {
+        warnings.push(
+            "a directional light shines into fog that fills all space: its light is fully extinguished before it arrives; bound the fog with a box"
+                .into(),
+        );
+    }
+}
+
+impl SceneDescription {
+    /// Applies command-line fog settings (the paper's `--density` and
+    /// `--albedo`): they change the scene's fog, or add fog filling all
+    /// space (albedo 1 unless given) if it has none.
+    pub fn override_fog(&mut self, density: Option<f32>, albedo: Option<f32>) -> Result<(), String> {
+        if let Some(d) = density
+            && !(d >= 0.0 && d.is_finite())
+        {
+            return Err(format!("--density must be a non-negative number, got {d}"));
+        }
+        if let Some(a) = albedo
+            && !(a >= 0.0 && a.is_finite())
+        {
+            return Err(format!("--albedo must be a non-negative number, got {a}"));
+        }
+        match (&mut self.scene.fog, density) {
+            (Some(fog), _) => {
+                if let Some(d) = density {
+                    fog.sigma_t = d;
+                }
+                if let Some(a) = albedo {
+                    fog.albedo = Rgb::splat(a);
+                }
+            }
+            (None, Some(d)) => {
+                self.scene.fog = Some(Fog {
+                    sigma_t: d,
+                    albedo: Rgb::splat(albedo.unwrap_or(1.0)),
+                    phase: crate::phase::PhaseFunction::Isotropic,
+                    bounds: None,
+                });
+            }
+            (None, None) if albedo.is_some() => {
+                return Err("--albedo needs fog: this scene has none, so give --density too".into());
+            }
+            (None, None) => {}
+        }
+        if let Some(fog) = &self.scene.fog
+            && fog.albedo.max_element() > 1.0
+            && albedo.is_some()
+        {
+            self.warnings.push(format!(
+                "fog albedo {} is above 1, which is not physical: only the `march` integrator accepts it (as in the paper's figures)",
+                fog.albedo.max_element()
+            ));
+        }
+        Ok(())
+    }
+}

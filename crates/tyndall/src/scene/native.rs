@@ -1,0 +1,606 @@
+//! The native scene format: TOML, documented in docs/scene-format.md.
+//!
+//! Parsing is serde's (unknown keys are errors); everything checked after
+//! parsing (ranges, references, files) is reported at the offending key's
+//! line and column through the tables' spans.
+
+use super::mesh::{MeshTransform, load_obj_mesh};
+use super::{GlassSettings, SceneBuilder, SceneDescription, SceneError, SourceText};
+use crate::camera::{CameraSpec, FieldOfView};
+use crate::color::Rgb;
+use crate::glass::{Glass, GlassModel};
+use crate::integrators::IntegratorKind;
+use crate::lights::{DirectionalLight, Light, PointLight, SpotLight, SpotProfile};
+use crate::materials::{Material, MaterialId, Surface};
+use crate::media::Fog;
+use crate::phase::PhaseFunction;
+use crate::render::RenderSettings;
+use crate::shapes::{Bounds, Quad, Shape, Sphere, box_faces};
+use glam::Vec3;
+use serde::Deserialize;
+use serde_spanned::Spanned;
+use std::collections::BTreeMap;
+use std::f32::consts::PI;
+use std::ops::Range;
+use std::path::Path;
+
+type V3 = [f32; 3];
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneFile {
+    camera: Spanned<CameraDesc>,
+    #[serde(default)]
+    render: Option<Spanned<RenderDesc>>,
+    #[serde(default)]
+    fog: Option<Spanned<FogDesc>>,
+    #[serde(default)]
+    materials: BTreeMap<String, Spanned<MaterialDesc>>,
+    #[serde(default)]
+    shapes: Vec<Spanned<ShapeDesc>>,
+    #[serde(default)]
+    lights: Vec<Spanned<LightDesc>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CameraDesc {
+    position: V3,
+    look_at: V3,
+    #[serde(default = "default_up")]
+    up: V3,
+    fov_y_deg: f32,
+}
+
+fn default_up() -> V3 {
+    [0.0, 1.0, 0.0]
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RenderDesc {
+    width: Option<u32>,
+    height: Option<u32>,
+    spp: Option<u32>,
+    seed: Option<u64>,
+    integrator: Option<String>,
+    step: Option<f32>,
+    max_bounces: Option<u32>,
+    exposure: Option<f32>,
+    output: Option<String>,
+    glass_model: Option<String>,
+    glass_opaque: Option<bool>,
+    background: Option<ColorValue>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FogDesc {
+    sigma_t: f32,
+    albedo: ColorValue,
+    #[serde(default)]
+    g: f32,
+    #[serde(rename = "box")]
+    bounds: Option<BoxDesc>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BoxDesc {
+    min: V3,
+    max: V3,
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+enum MaterialDesc {
+    Diffuse {
+        reflectance: ColorValue,
+    },
+    Mirror {
+        reflectance: ColorValue,
+    },
+    Glossy {
+        reflectance: ColorValue,
+        roughness: f32,
+        #[serde(default)]
+        diffuse: Option<ColorValue>,
+    },
+    Emissive {
+        radiance: ColorValue,
+        #[serde(default)]
+        two_sided: bool,
+    },
+    Glass {
+        color: ColorValue,
+        #[serde(default = "one")]
+        alpha: f32,
+    },
+}
+
+fn one() -> f32 {
+    1.0
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+enum ShapeDesc {
+    Sphere {
+        center: V3,
+        radius: f32,
+        material: String,
+    },
+    Quad {
+        corners: [V3; 4],
+        material: String,
+        #[serde(default)]
+        one_sided: bool,
+    },
+    Box {
+        min: V3,
+        max: V3,
+        material: String,
+    },
+    Mesh {
+        file: String,
+        material: String,
+        #[serde(default)]
+        translate: Option<V3>,
+        #[serde(default)]
+        scale: Option<ColorValue>,
+        #[serde(default)]
+        rotate_deg: Option<V3>,
+    },
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+enum LightDesc {
+    Point {
+        position: V3,
+        intensity: Option<ColorValue>,
+        power: Option<ColorValue>,
+    },
+    Spot {
+        position: V3,
+        direction: Option<V3>,
+        look_at: Option<V3>,
+        cutoff_deg: f32,
+        #[serde(default)]
+        profile: Option<String>,
+        inner_deg: Option<f32>,
+        intensity: ColorValue,
+    },
+    Directional {
+        direction: V3,
+        irradiance: ColorValue,
+    },
+    Quad {
+        corners: [V3; 4],
+        radiance: ColorValue,
+        #[serde(default)]
+        two_sided: bool,
+    },
+}
+
+/// A colour written as one grey number or an `[r, g, b]` array.
+#[derive(Clone, Copy, Debug)]
+struct ColorValue(V3);
+
+impl<'de> Deserialize<'de> for ColorValue {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = ColorValue;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number or an [r, g, b] array of numbers")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<ColorValue, E> {
+                Ok(ColorValue([v as f32; 3]))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<ColorValue, E> {
+                Ok(ColorValue([v as f32; 3]))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<ColorValue, E> {
+                Ok(ColorValue([v as f32; 3]))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<ColorValue, A::Error> {
+                let mut c = [0.0f32; 3];
+                for (i, slot) in c.iter_mut().enumerate() {
+                    *slot = seq
+                        .next_element()?
+                        .ok_or_else(|| serde::de::Error::invalid_length(i, &self))?;
+                }
+                if seq.next_element::<f32>()?.is_some() {
+                    return Err(serde::de::Error::invalid_length(4, &self));
+                }
+                Ok(ColorValue(c))
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
+}
+
+/// Loads a native scene file.
+pub fn load(path: &Path) -> Result<SceneDescription, SceneError> {
+    let source = SourceText::read(path)?;
+    parse(&source)
+}
+
+/// Parses native scene text; relative paths resolve against the
+/// directory of `source.path`.
+pub fn parse(source: &SourceText) -> Result<SceneDescription, SceneError> {
+    let file: SceneFile = toml::from_str(&source.text).map_err(|e| {
+        let offset = e.span().map_or(0, |s| s.start);
+        source.error_at(offset, e.message().trim_end().to_string())
+    })?;
+    Loader {
+        source,
+        warnings: Vec::new(),
+    }
+    .build(file)
+}
+
+struct Loader<'a> {
+    source: &'a SourceText,
+    warnings: Vec<String>,
+}
+
+impl Loader<'_> {
+    fn err(&self, span: &Range<usize>, key: &str, message: impl Into<String>) -> SceneError {
+        self.source.error_at_key(span.clone(), key, message)
+    }
+
+    fn vec3(&self, span: &Range<usize>, key: &str, v: V3) -> Result<Vec3, SceneError> {
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(Vec3::from_array(v))
+        } else {
+            Err(self.err(span, key, format!("`{key}` must be finite numbers, got {v:?}")))
+        }
+    }
+
+    fn direction(&self, span: &Range<usize>, key: &str, v: V3) -> Result<Vec3, SceneError> {
+        let d = self.vec3(span, key, v)?;
+        if d.length_squared() > 0.0 {
+            Ok(d.normalize())
+        } else {
+            Err(self.err(span, key, format!("`{key}` must be a non-zero direction")))
+        }
+    }
+
+    fn number(&self, span: &Range<usize>, key: &str, v: f32, range: (f32, f32), what: &str) -> Result<f32, SceneError> {
+        if v.is_finite() && v >= range.0 && v <= range.1 {
+            Ok(v)
+        } else {
+            Err(self.err(span, key, format!("`{key}` must be {what}, got {v}")))
+        }
+    }
+
+    /// A non-negative finite colour, optionally at most 1 per channel.
+    fn color(&self, span: &Range<usize>, key: &str, c: ColorValue, at_most_one: bool) -> Result<Rgb, SceneError> {
+        let ok = c.0.iter().all(|x| x.is_finite() && *x >= 0.0 && (!at_most_one || *x <= 1.0));
+        if ok {
+            Ok(Rgb::from_array(c.0))
+        } else {
+            let what = if at_most_one { "between 0 and 1" } else { "non-negative and finite" };
+            Err(self.err(span, key, format!("`{key}` must be {what} in every channel, got {:?}", c.0)))
+        }
+    }
+
+    fn build(mut self, file: SceneFile) -> Result<SceneDescription, SceneError> {
+        let camera = self.camera(&file.camera)?;
+        let mut builder = SceneBuilder::new(camera);
+        let (settings, output) = self.render(&file.render, &mut builder)?;
+        if let Some(fog) = &file.fog {
+            builder.fog = Some(self.fog(fog)?);
+        }
+        let mut material_ids: BTreeMap<&str, MaterialId> = BTreeMap::new();
+        for (name, desc) in &file.materials {
+            let material = self.material(desc)?;
+            material_ids.insert(name.as_str(), builder.add_material(material));
+        }
+        for shape in &file.shapes {
+            self.shape(shape, &material_ids, &mut builder)?;
+        }
+        for light in &file.lights {
+            self.light(light, &mut builder)?;
+        }
+        super::check_lighting(&builder, &mut self.warnings);
+        Ok(SceneDescription {
+            scene: builder.build(),
+            settings,
+            output,
+            warnings: self.warnings,
+        })
+    }
+
+    fn camera(&self, desc: &Spanned<CameraDesc>) -> Result<CameraSpec, SceneError> {
+        let span = desc.span();
+        let c = desc.get_ref();
+        let position = self.vec3(&span, "position", c.position)?;
+        let look_at = self.vec3(&span, "look_at", c.look_at)?;
+        let up = self.direction(&span, "up", c.up)?;
+        let fov = self.number(&span, "fov_y_deg", c.fov_y_deg, (1e-3, 179.0), "an angle in (0°, 179°]")?;
+        let spec = CameraSpec {
+            position,
+            look_at,
+            up,
+            fov: FieldOfView::Vertical(fov),
+        };
+        super::check_camera(&spec).map_err(|m| self.err(&span, "look_at", m))?;
+        Ok(spec)
+    }
+
+    fn render(
+        &self,
+        desc: &Option<Spanned<RenderDesc>>,
+        builder: &mut SceneBuilder,
+    ) -> Result<(RenderSettings, Option<std::path::PathBuf>), SceneError> {
+        let mut s = RenderSettings::default();
+        let Some(desc) = desc else {
+            return Ok((s, None));
+        };
+        let span = desc.span();
+        let r = desc.get_ref();
+        if let Some(w) = r.width {
+            s.width = w;
+        }
+        if let Some(h) = r.height {
+            s.height = h;
+        }
+        for (key, v) in [("width", s.width), ("height", s.height)] {
+            if !(1..=crate::render::MAX_IMAGE_SIDE).contains(&v) {
+                return Err(self.err(&span, key, format!("`{key}` must be between 1 and {} pixels, got {v}", crate::render::MAX_IMAGE_SIDE)));
+            }
+        }
+        if let Some(spp) = r.spp {
+            if spp == 0 {
+                return Err(self.err(&span, "spp", "`spp` must be at least 1"));
+            }
+            s.spp = spp;
+        }
+        if let Some(seed) = r.seed {
+            s.seed = seed;
+        }
+        if let Some(name) = &r.integrator {
+            s.integrator = IntegratorKind::from_name(name).ok_or_else(|| {
+                self.err(&span, "integrator", format!("unknown integrator `{name}`: expected `march` or `single`"))
+            })?;
+        }
+        if let Some(step) = r.step {
+            s.step = self.number(&span, "step", step, (f32::MIN_POSITIVE, f32::MAX), "a positive length")?;
+        }
+        if let Some(b) = r.max_bounces {
+            s.max_bounces = b;
+        }
+        if let Some(e) = r.exposure {
+            s.exposure = self.number(&span, "exposure", e, (-64.0, 64.0), "a number of stops in [−64, 64]")?;
+        }
+        if let Some(m) = &r.glass_model {
+            builder.glass.model = match m.as_str() {
+                "filter" => GlassModel::Filter,
+                "blend" => GlassModel::Blend,
+                other => {
+                    return Err(self.err(&span, "glass_model", format!("unknown glass model `{other}`: expected `filter` or `blend`")));
+                }
+            };
+        }
+        if let Some(o) = r.glass_opaque {
+            builder.glass = GlassSettings {
+                opaque_to_camera: o,
+                ..builder.glass
+            };
+        }
+        if let Some(bg) = r.background {
+            builder.background = self.color(&span, "background", bg, false)?;
+        }
+        let output = r.output.as_ref().map(|o| self.relative(o));
+        Ok((s, output))
+    }
+
+    fn relative(&self, p: &str) -> std::path::PathBuf {
+        let dir = self.source.path.parent().unwrap_or(Path::new(""));
+        dir.join(p)
+    }
+
+    fn fog(&mut self, desc: &Spanned<FogDesc>) -> Result<Fog, SceneError> {
+        let span = desc.span();
+        let f = desc.get_ref();
+        let sigma_t = self.number(&span, "sigma_t", f.sigma_t, (0.0, f32::MAX), "a non-negative density")?;
+        let albedo = self.color(&span, "albedo", f.albedo, false)?;
+        if albedo.max_element() > 1.0 {
+            self.warnings.push(format!(
+                "{}: fog albedo {:?} is above 1, which is not physical: only the `march` integrator accepts it (as in the paper's figures)",
+                self.source.path.display(),
+                albedo.to_array()
+            ));
+        }
+        let g = self.number(&span, "g", f.g, (-0.999, 0.999), "in (−1, 1)")?;
+        let bounds = match &f.bounds {
+            None => None,
+            Some(b) => Some(self.bounds(&span, "box", b.min, b.max)?),
+        };
+        Ok(Fog {
+            sigma_t,
+            albedo,
+            phase: PhaseFunction::from_asymmetry(g),
+            bounds,
+        })
+    }
+
+    fn bounds(&self, span: &Range<usize>, key: &str, min: V3, max: V3) -> Result<Bounds, SceneError> {
+        let (lo, hi) = (self.vec3(span, key, min)?, self.vec3(span, key, max)?);
+        if lo.cmplt(hi).all() {
+            Ok(Bounds { min: lo, max: hi })
+        } else {
+            Err(self.err(span, key, format!("box `min` {min:?} must be below `max` {max:?} on every axis")))
+        }
+    }
+
+    fn material(&self, desc: &Spanned<MaterialDesc>) -> Result<Material, SceneError> {
+        let span = desc.span();
+        Ok(match *desc.get_ref() {
+            MaterialDesc::Diffuse { reflectance } => {
+                Material::Opaque(Surface::diffuse(self.color(&span, "reflectance", reflectance, true)?))
+            }
+            MaterialDesc::Mirror { reflectance } => Material::Opaque(Surface {
+                diffuse: Rgb::ZERO,
+                specular: self.color(&span, "reflectance", reflectance, true)?,
+                roughness: 0.0,
+            }),
+            MaterialDesc::Glossy {
+                reflectance,
+                roughness,
+                diffuse,
+            } => Material::Opaque(Surface {
+                diffuse: match diffuse {
+                    Some(d) => self.color(&span, "diffuse", d, true)?,
+                    None => Rgb::ZERO,
+                },
+                specular: self.color(&span, "reflectance", reflectance, true)?,
+                roughness: self.number(&span, "roughness", roughness, (0.0, 1.0), "in [0, 1]")?,
+            }),
+            MaterialDesc::Emissive { radiance, two_sided } => Material::Emissive {
+                radiance: self.color(&span, "radiance", radiance, false)?,
+                two_sided,
+            },
+            MaterialDesc::Glass { color, alpha } => Material::Glass(Glass {
+                color: self.color(&span, "color", color, true)?,
+                alpha: self.number(&span, "alpha", alpha, (0.0, 1.0), "an opacity in [0, 1]")?,
+            }),
+        })
+    }
+
+    fn material_id(&self, span: &Range<usize>, name: &str, ids: &BTreeMap<&str, MaterialId>) -> Result<MaterialId, SceneError> {
+        ids.get(name).copied().ok_or_else(|| {
+            let known: Vec<&str> = ids.keys().copied().collect();
+            self.err(span, "material", format!("unknown material `{name}`; defined materials: {}", if known.is_empty() { "none".into() } else { known.join(", ") }))
+        })
+    }
+
+    fn quad(&self, span: &Range<usize>, corners: &[V3; 4], one_sided: bool) -> Result<Quad, SceneError> {
+        let mut c = [Vec3::ZERO; 4];
+        for (slot, v) in c.iter_mut().zip(corners) {
+            *slot = self.vec3(span, "corners", *v)?;
+        }
+        super::parallelogram(c, one_sided).map_err(|m| self.err(span, "corners", m))
+    }
+
+    fn shape(&mut self, desc: &Spanned<ShapeDesc>, ids: &BTreeMap<&str, MaterialId>, builder: &mut SceneBuilder) -> Result<(), SceneError> {
+        let span = desc.span();
+        match desc.get_ref() {
+            ShapeDesc::Sphere { center, radius, material } => {
+                let m = self.material_id(&span, material, ids)?;
+                let sphere = Sphere {
+                    center: self.vec3(&span, "center", *center)?,
+                    radius: self.number(&span, "radius", *radius, (f32::MIN_POSITIVE, f32::MAX), "a positive length")?,
+                };
+                builder.add_shape(Shape::Sphere(sphere), m);
+            }
+            ShapeDesc::Quad { corners, material, one_sided } => {
+                let m = self.material_id(&span, material, ids)?;
+                let q = self.quad(&span, corners, *one_sided)?;
+                builder.add_shape(Shape::Quad(q), m);
+            }
+            ShapeDesc::Box { min, max, material } => {
+                let m = self.material_id(&span, material, ids)?;
+                let b = self.bounds(&span, "min", *min, *max)?;
+                for face in box_faces(b) {
+                    builder.add_shape(Shape::Quad(face), m);
+                }
+            }
+            ShapeDesc::Mesh { file, material, translate, scale, rotate_deg } => {
+                let m = self.material_id(&span, material, ids)?;
+                let transform = MeshTransform {
+                    translate: self.vec3(&span, "translate", translate.unwrap_or([0.0; 3]))?,
+                    scale: match scale {
+                        Some(s) => {
+                            let v = self.vec3(&span, "scale", s.0)?;
+                            if v.cmpeq(Vec3::ZERO).any() {
+                                return Err(self.err(&span, "scale", "`scale` must be non-zero on every axis"));
+                            }
+                            v
+                        }
+                        None => Vec3::ONE,
+                    },
+                    rotate_deg: self.vec3(&span, "rotate_deg", rotate_deg.unwrap_or([0.0; 3]))?,
+                };
+                let path = self.relative(file);
+                let triangles = load_obj_mesh(&path, &transform).map_err(|m| self.err(&span, "file", m))?;
+                if triangles.skipped_degenerate > 0 {
+                    self.warnings.push(format!("{}: skipped {} degenerate triangles", path.display(), triangles.skipped_degenerate));
+                }
+                for t in triangles.triangles {
+                    builder.add_shape(Shape::Triangle(t), m);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn light(&self, desc: &Spanned<LightDesc>, builder: &mut SceneBuilder) -> Result<(), SceneError> {
+        let span = desc.span();
+        match desc.get_ref() {
+            LightDesc::Point { position, intensity, power } => {
+                let intensity = match (intensity, power) {
+                    (Some(i), None) => self.color(&span, "intensity", *i, false)?,
+                    (None, Some(p)) => self.color(&span, "power", *p, false)? / (4.0 * PI),
+                    _ => return Err(self.err(&span, "position", "a point light needs exactly one of `intensity` (W/sr) or `power` (W)")),
+                };
+                builder.add_light(Light::Point(PointLight {
+                    position: self.vec3(&span, "position", *position)?,
+                    intensity,
+                }));
+            }
+            LightDesc::Spot { position, direction, look_at, cutoff_deg, profile, inner_deg, intensity } => {
+                let position = self.vec3(&span, "position", *position)?;
+                let direction = match (direction, look_at) {
+                    (Some(d), None) => self.direction(&span, "direction", *d)?,
+                    (None, Some(t)) => {
+                        let t = self.vec3(&span, "look_at", *t)?;
+                        if t == position {
+                            return Err(self.err(&span, "look_at", "`look_at` must differ from `position`"));
+                        }
+                        (t - position).normalize()
+                    }
+                    _ => return Err(self.err(&span, "position", "a spot light needs exactly one of `direction` or `look_at`")),
+                };
+                let cutoff = self.number(&span, "cutoff_deg", *cutoff_deg, (f32::MIN_POSITIVE, 90.0), "a half-angle in (0°, 90°]")?;
+                let cos_cutoff = cutoff.to_radians().cos();
+                let profile = match (profile.as_deref().unwrap_or("linear"), inner_deg) {
+                    ("linear", None) => SpotProfile::Linear,
+                    ("hard", None) => SpotProfile::Hard,
+                    ("smooth", Some(inner)) => {
+                        let inner = self.number(&span, "inner_deg", *inner, (0.0, cutoff), "an angle in [0°, cutoff_deg)")?;
+                        if inner >= cutoff {
+                            return Err(self.err(&span, "inner_deg", format!("`inner_deg` must be below `cutoff_deg` ({cutoff}), got {inner}")));
+                        }
+                        SpotProfile::Smooth { cos_inner: inner.to_radians().cos() }
+                    }
+                    ("smooth", None) => return Err(self.err(&span, "profile", "the `smooth` profile needs `inner_deg`, the angle where the fall-off starts")),
+                    ("linear" | "hard", Some(_)) => return Err(self.err(&span, "inner_deg", "`inner_deg` applies only to the `smooth` profile")),
+                    (other, _) => return Err(self.err(&span, "profile", format!("unknown spot profile `{other}`: expected `linear`, `smooth` or `hard`"))),
+                };
+                builder.add_light(Light::Spot(SpotLight {
+                    position,
+                    direction,
+                    cos_cutoff,
+                    profile,
+                    intensity: self.color(&span, "intensity", *intensity, false)?,
+                }));
+            }
+            LightDesc::Directional { direction, irradiance } => {
+                builder.add_light(Light::Directional(DirectionalLight {
+                    direction: self.direction(&span, "direction", *direction)?,
+                    irradiance: self.color(&span, "irradiance", *irradiance, false)?,
+                }));
+            }
+            LightDesc::Quad { corners, radiance, two_sided } => {
+                let quad = self.quad(&span, corners, false)?;
+                let radiance = self.color(&span, "radiance", *radiance, false)?;
+                builder.add_quad_light(quad, radiance, *two_sided);
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,142 @@
+//! Scene source text and errors that point into it.
+
+use std::fmt;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+/// An error in a scene file: where it is and what was expected.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SceneError {
+    pub path: PathBuf,
+    /// 1-based line and column (in characters); 0 when the error concerns
+    /// the whole file.
+    pub line: usize,
+    pub column: usize,
+    pub message: String,
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.line == 0 {
+            write!(f, "{}: {}", self.path.display(), self.message)
+        } else {
+            write!(
+                f,
+                "{}:{}:{}: {}",
+                self.path.display(),
+                self.line,
+                self.column,
+                self.message
+            )
+        }
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+/// A scene file's text with its path, to turn byte offsets into
+/// line:column positions.
+pub struct SourceText {
+    pub path: PathBuf,
+    pub text: String,
+}
+
+impl SourceText {
+    pub fn new(path: impl Into<PathBuf>, text: impl Into<String>) -> Self {
+        Self {
+            path: path.into(),
+            text: text.into(),
+        }
+    }
+
+    /// Reads a file; the error names the file.
+    pub fn read(path: &Path) -> Result<Self, SceneError> {
+        std::fs::read_to_string(path)
+            .map(|text| Self::new(path, text))
+            .map_err(|e| SceneError {
+                path: path.to_owned(),
+                line: 0,
+                column: 0,
+                message: format!("cannot read the file: {e}"),
+            })
+    }
+
+    /// 1-based (line, column) of a byte offset.
+    pub fn line_col(&self, offset: usize) -> (usize, usize) {
+        let offset = offset.min(self.text.len());
+        let before = &self.text[..offset];
+        let line = before.matches('\n').count() + 1;
+        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+        let column = before[line_start..].chars().count() + 1;
+        (line, column)
+    }
+
+    /// An error at a byte offset.
+    pub fn error_at(&self, offset: usize, message: impl Into<String>) -> SceneError {
+        let (line, column) = self.line_col(offset);
+        SceneError {
+            path: self.path.clone(),
+            line,
+            column,
+            message: message.into(),
+        }
+    }
+
+    /// An error at the key `key` inside the byte range `within` (a table's
+    /// span), or at the start of the range if the key is not written there.
+    pub fn error_at_key(&self, within: Range<usize>, key: &str, message: impl Into<String>) -> SceneError {
+        let start = within.start.min(self.text.len());
+        let end = within.end.min(self.text.len());
+        let slice = &self.text[start..end];
+        let offset = find_key(slice, key).map_or(start, |i| start + i);
+        self.error_at(offset, message)
+    }
+
+    /// An error about the whole file.
+    pub fn error(&self, message: impl Into<String>) -> SceneError {
+        SceneError {
+            path: self.path.clone(),
+            line: 0,
+            column: 0,
+            message: message.into(),
+        }
+    }
+}
+
+/// Byte offset of `key` written as a TOML key (at a line start or after
+/// `{`/`,`, followed by `=`) within `text`.
+fn find_key(text: &str, key: &str) -> Option<usize> {
+    let mut from = 0;
+    while let Some(i) = text[from..].find(key) {
+        let at = from + i;
+        let before = text[..at].trim_end_matches([' ', '\t']);
+        let after = text[at + key.len()..].trim_start_matches([' ', '\t']);
+        let starts_key = before.is_empty() || before.ends_with(['\n', '{', ',']);
+        if starts_key && after.starts_with('=') {
+            return Some(at);
+        }
+        from = at + key.len();
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_and_column() {
+        let s = SourceText::new("a.toml", "ab\ncdé\nf");
+        assert_eq!(s.line_col(0), (1, 1));
+        assert_eq!(s.line_col(3), (2, 1));
+        assert_eq!(s.line_col(7), (2, 4));
+        assert_eq!(s.line_col(8), (3, 1));
+    }
+
+    #[test]
+    fn finds_keys_not_substrings() {
+        let s = SourceText::new("a.toml", "[x]\nmy_cutoff = 1\ncutoff = 2\n");
+        let e = s.error_at_key(0..s.text.len(), "cutoff", "bad");
+        assert_eq!((e.line, e.column), (3, 1));
+    }
+}

@@ -1,0 +1,366 @@
+//! Geometric shapes: spheres, parallelogram quads and triangles.
+//!
+//! Shapes answer two questions: where does a ray first meet me within
+//! `(t_min, t_max)`, and what is my geometric normal at a point. Boxes and
+//! meshes are built from quads and triangles by the scene loaders.
+
+use crate::ray::Ray;
+use glam::Vec3;
+
+/// Smallest ray parameter accepted as a hit, relative to nothing: origins
+/// are already offset off surfaces (see [`crate::ray::offset_origin`]).
+pub const T_MIN: f32 = 0.0;
+
+/// An axis-aligned bounding box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Bounds {
+    /// The empty box (the identity of [`Bounds::union`]).
+    pub const EMPTY: Bounds = Bounds {
+        min: Vec3::splat(f32::INFINITY),
+        max: Vec3::splat(f32::NEG_INFINITY),
+    };
+
+    pub fn new(a: Vec3, b: Vec3) -> Self {
+        Self {
+            min: a.min(b),
+            max: a.max(b),
+        }
+    }
+
+    pub fn union(self, other: Bounds) -> Bounds {
+        Bounds {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max),
+        }
+    }
+
+    pub fn include(self, p: Vec3) -> Bounds {
+        Bounds {
+            min: self.min.min(p),
+            max: self.max.max(p),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.min.cmpgt(self.max).any()
+    }
+
+    pub fn center(&self) -> Vec3 {
+        0.5 * (self.min + self.max)
+    }
+
+    pub fn extent(&self) -> Vec3 {
+        self.max - self.min
+    }
+
+    /// The parameter interval where `ray` is inside the box, clipped to
+    /// `[t0, t1]` (slab test); `None` if it does not enter it there.
+    pub fn clip_ray(&self, ray: &Ray, t0: f32, t1: f32) -> Option<(f32, f32)> {
+        let inv = ray.direction.recip();
+        let a = (self.min - ray.origin) * inv;
+        let b = (self.max - ray.origin) * inv;
+        // NaN (0·∞ on a slab boundary) is discarded by min/max ordering.
+        let near = a.min(b).max_element().max(t0);
+        let far = a.max(b).min_element().min(t1);
+        (near <= far).then_some((near, far))
+    }
+}
+
+/// A sphere, closed and hit from either side.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    pub center: Vec3,
+    pub radius: f32,
+}
+
+impl Sphere {
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
+        // |o + t d − c|² = r² with |d| = 1: t² + 2 b t + c = 0.
+        let oc = ray.origin - self.center;
+        let b = oc.dot(ray.direction);
+        let c = oc.length_squared() - self.radius * self.radius;
+        // Numerically stable discriminant (Hearn & Baker; pbrt-v4 §6.8.1):
+        // b² − c computed as r² − |oc − b d|².
+        let perp = oc - b * ray.direction;
+        let disc = self.radius * self.radius - perp.length_squared();
+        if disc < 0.0 {
+            return None;
+        }
+        let sq = disc.sqrt();
+        let q = if b > 0.0 { -b - sq } else { -b + sq };
+        let (mut t0, mut t1) = (q, c / q);
+        if t0 > t1 {
+            std::mem::swap(&mut t0, &mut t1);
+        }
+        if t0 > T_MIN && t0 < t_max {
+            Some(t0)
+        } else if t1 > T_MIN && t1 < t_max {
+            Some(t1)
+        } else {
+            None
+        }
+    }
+
+    pub fn normal(&self, p: Vec3) -> Vec3 {
+        (p - self.center).normalize()
+    }
+
+    pub fn bounds(&self) -> Bounds {
+        Bounds::new(
+            self.center - Vec3::splat(self.radius),
+            self.center + Vec3::splat(self.radius),
+        )
+    }
+}
+
+/// A parallelogram `origin + u·edge_u + v·edge_v`, `u, v ∈ [0, 1]`.
+///
+/// Its normal is `normalize(edge_u × edge_v)`. A one-sided quad is hit
+/// only by rays that meet its front (`direction · normal < 0`); the course
+/// code base the paper extends made quads one-sided (LEGACY-OBJ.md).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Quad {
+    pub origin: Vec3,
+    pub edge_u: Vec3,
+    pub edge_v: Vec3,
+    pub normal: Vec3,
+    pub one_sided: bool,
+    /// `n / |n|²` for the unnormalised normal `n = edge_u × edge_v`, used
+    /// to find the hit's (u, v) coordinates.
+    w: Vec3,
+}
+
+impl Quad {
+    /// A quad from a corner and two edges; `None` if the edges are
+    /// parallel or zero (a degenerate quad has no area and no normal).
+    pub fn new(origin: Vec3, edge_u: Vec3, edge_v: Vec3, one_sided: bool) -> Option<Self> {
+        let n = edge_u.cross(edge_v);
+        let n2 = n.length_squared();
+        if !(n2 > 0.0) || !n2.is_finite() {
+            return None;
+        }
+        Some(Self {
+            origin,
+            edge_u,
+            edge_v,
+            normal: n / n2.sqrt(),
+            one_sided,
+            w: n / n2,
+        })
+    }
+
+    /// Area in square scene units.
+    pub fn area(&self) -> f32 {
+        self.edge_u.cross(self.edge_v).length()
+    }
+
+    pub fn centroid(&self) -> Vec3 {
+        self.origin + 0.5 * (self.edge_u + self.edge_v)
+    }
+
+    /// The point at parametric coordinates `(u, v) ∈ [0,1]²`.
+    pub fn point(&self, u: f32, v: f32) -> Vec3 {
+        self.origin + u * self.edge_u + v * self.edge_v
+    }
+
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
+        let denom = self.normal.dot(ray.direction);
+        if denom == 0.0 || (self.one_sided && denom > 0.0) {
+            return None;
+        }
+        let t = self.normal.dot(self.origin - ray.origin) / denom;
+        if !(t > T_MIN && t < t_max) {
+            return None;
+        }
+        let p = ray.at(t) - self.origin;
+        let u = self.w.dot(p.cross(self.edge_v));
+        let v = self.w.dot(self.edge_u.cross(p));
+        ((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v)).then_some(t)
+    }
+
+    pub fn bounds(&self) -> Bounds {
+        Bounds::new(self.origin, self.origin)
+            .include(self.origin + self.edge_u)
+            .include(self.origin + self.edge_v)
+            .include(self.origin + self.edge_u + self.edge_v)
+    }
+}
+
+/// A triangle with normal `normalize((b − a) × (c − a))`; one-sided
+/// triangles are hit only from the front, like one-sided quads.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triangle {
+    pub v0: Vec3,
+    pub e1: Vec3,
+    pub e2: Vec3,
+    pub normal: Vec3,
+    pub one_sided: bool,
+}
+
+impl Triangle {
+    /// `None` for a degenerate (zero-area) triangle.
+    pub fn new(a: Vec3, b: Vec3, c: Vec3) -> Option<Self> {
+        let (e1, e2) = (b - a, c - a);
+        let n = e1.cross(e2);
+        let len = n.length();
+        (len > 0.0 && len.is_finite()).then(|| Self {
+            v0: a,
+            e1,
+            e2,
+            normal: n / len,
+            one_sided: false,
+        })
+    }
+
+    /// A triangle hit only by rays meeting its front face.
+    pub fn new_one_sided(a: Vec3, b: Vec3, c: Vec3) -> Option<Self> {
+        Self::new(a, b, c).map(|t| Self { one_sided: true, ..t })
+    }
+
+    /// Möller–Trumbore ray/triangle intersection.
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
+        let p = ray.direction.cross(self.e2);
+        // det = −direction·(e1 × e2): positive for a front-face hit.
+        let det = self.e1.dot(p);
+        if det == 0.0 || (self.one_sided && det < 0.0) {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let s = ray.origin - self.v0;
+        let u = s.dot(p) * inv;
+        if !(0.0..=1.0).contains(&u) {
+            return None;
+        }
+        let q = s.cross(self.e1);
+        let v = ray.direction.dot(q) * inv;
+        if v < 0.0 || u + v > 1.0 {
+            return None;
+        }
+        let t = self.e2.dot(q) * inv;
+        (t > T_MIN && t < t_max).then_some(t)
+    }
+
+    pub fn bounds(&self) -> Bounds {
+        Bounds::new(self.v0, self.v0)
+            .include(self.v0 + self.e1)
+            .include(self.v0 + self.e2)
+    }
+}
+
+/// The closed set of shapes; an enum so the BVH's leaf test is a `match`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shape {
+    Sphere(Sphere),
+    Quad(Quad),
+    Triangle(Triangle),
+}
+
+impl Shape {
+    /// Distance to the first intersection in `(0, t_max)`.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
+        match self {
+            Shape::Sphere(s) => s.intersect(ray, t_max),
+            Shape::Quad(q) => q.intersect(ray, t_max),
+            Shape::Triangle(t) => t.intersect(ray, t_max),
+        }
+    }
+
+    /// Outward (sphere) or front-face (quad, triangle) unit normal at `p`.
+    pub fn normal(&self, p: Vec3) -> Vec3 {
+        match self {
+            Shape::Sphere(s) => s.normal(p),
+            Shape::Quad(q) => q.normal,
+            Shape::Triangle(t) => t.normal,
+        }
+    }
+
+    pub fn bounds(&self) -> Bounds {
+        match self {
+            Shape::Sphere(s) => s.bounds(),
+            Shape::Quad(q) => q.bounds(),
+            Shape::Triangle(t) => t.bounds(),
+        }
+    }
+}
+
+/// The six outward-facing, two-sided quads of an axis-aligned box.
+pub fn box_faces(b: Bounds) -> [Quad; 6] {
+    let (lo, hi) = (b.min, b.max);
+    let d = hi - lo;
+    let (dx, dy, dz) = (Vec3::X * d.x, Vec3::Y * d.y, Vec3::Z * d.z);
+    let face = |o: Vec3, u: Vec3, v: Vec3| {
+        // Box extents are validated positive by the loaders, so faces are
+        // never degenerate.
+        Quad::new(o, u, v, false).expect("validated non-degenerate box face")
+    };
+    [
+        face(lo, dz, dy), // −x
+        face(lo + dx, dy, dz), // +x
+        face(lo, dx, dz), // −y
+        face(lo + dy, dz, dx), // +y
+        face(lo, dy, dx), // −z
+        face(lo + dz, dx, dy), // +z
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sphere_hit_from_outside_and_inside() {
+        let s = Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        };
+        let r = Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z);
+        assert!((s.intersect(&r, f32::INFINITY).unwrap() - 4.0).abs() < 1e-5);
+        let inside = Ray::new(Vec3::ZERO, Vec3::X);
+        assert!((s.intersect(&inside, f32::INFINITY).unwrap() - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn one_sided_quad_is_invisible_from_behind() {
+        let q = Quad::new(Vec3::new(-1.0, -1.0, 0.0), 2.0 * Vec3::X, 2.0 * Vec3::Y, true).unwrap();
+        assert_eq!(q.normal, Vec3::Z);
+        let front = Ray::new(Vec3::new(0.0, 0.0, 1.0), -Vec3::Z);
+        let back = Ray::new(Vec3::new(0.0, 0.0, -1.0), Vec3::Z);
+        assert!(q.intersect(&front, f32::INFINITY).is_some());
+        assert!(q.intersect(&back, f32::INFINITY).is_none());
+        let two_sided = Quad::new(q.origin, q.edge_u, q.edge_v, false).unwrap();
+        assert!(two_sided.intersect(&back, f32::INFINITY).is_some());
+    }
+
+    #[test]
+    fn box_faces_point_outward() {
+        let b = Bounds::new(Vec3::ZERO, Vec3::new(1.0, 2.0, 3.0));
+        for f in box_faces(b) {
+            let out = f.centroid() - b.center();
+            assert!(f.normal.dot(out) > 0.0, "{f:?}");
+        }
+    }
+
+    #[test]
+    fn triangle_hit() {
+        let t = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y).unwrap();
+        let r = Ray::new(Vec3::new(0.2, 0.2, 1.0), -Vec3::Z);
+        assert!((t.intersect(&r, 10.0).unwrap() - 1.0).abs() < 1e-6);
+        let miss = Ray::new(Vec3::new(0.8, 0.8, 1.0), -Vec3::Z);
+        assert!(t.intersect(&miss, 10.0).is_none());
+    }
+
+    #[test]
+    fn bounds_clip() {
+        let b = Bounds::new(Vec3::splat(-1.0), Vec3::splat(1.0));
+        let r = Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z);
+        let (a, c) = b.clip_ray(&r, 0.0, f32::INFINITY).unwrap();
+        assert!((a - 4.0).abs() < 1e-6 && (c - 6.0).abs() < 1e-6);
+        assert!(b.clip_ray(&r, 0.0, 3.0).is_none());
+    }
+}
