@@ -31,6 +31,9 @@ enum Command {
     Compare {
         candidate: PathBuf,
         reference: PathBuf,
+        /// Also list the N pixels that contribute most to the error.
+        #[arg(long, default_value_t = 0)]
+        worst: usize,
     },
     /// Measure time to equal error for `march` and `single` (see docs/benchmarks.md).
     Bench(bench::BenchArgs),
@@ -154,21 +157,12 @@ fn render(args: RenderArgs) -> Result<()> {
         .unwrap_or_else(|| PathBuf::from("tyndall.png"));
     // Fail on a bad output name before spending time on the render.
     tyndall::film::ImageFormat::from_path(&output)?;
-    if let Some(fog) = &desc.scene.fog
-        && fog.albedo.max_element() > 1.0
-        && desc.settings.integrator == IntegratorKind::March
-    {
-        desc.warnings.push(format!(
-            "fog albedo {} is above 1, which is not physical; rendering anyway with `march`, as the paper did",
-            fog.albedo.max_element()
-        ));
-    }
-    desc.warnings.dedup();
-    for w in &desc.warnings {
+    settings_checked(&desc)?;
+    let warnings = desc.warnings.iter().cloned().chain(desc.settings.warnings(&desc.scene));
+    for w in warnings {
         eprintln!("warning: {w}");
     }
     let settings = desc.settings;
-    settings.validate(&desc.scene)?;
     let bar = progress_bar(settings.height as u64, args.quiet);
     let render = tyndall::render(&desc.scene, &settings, &|_| bar.inc(1))?;
     bar.finish_and_clear();
@@ -179,6 +173,12 @@ fn render(args: RenderArgs) -> Result<()> {
     if !args.quiet {
         report(&settings, &render.stats, &output);
     }
+    Ok(())
+}
+
+/// Rejects settings the scene cannot be rendered with, before warnings.
+fn settings_checked(desc: &SceneDescription) -> Result<()> {
+    desc.settings.validate(&desc.scene)?;
     Ok(())
 }
 
@@ -217,7 +217,7 @@ fn report(settings: &tyndall::RenderSettings, stats: &RenderStats, output: &Path
     }
 }
 
-fn compare(candidate: &Path, reference: &Path) -> Result<()> {
+fn compare(candidate: &Path, reference: &Path, worst: usize) -> Result<()> {
     let c = tyndall::Image::read_exr(candidate)?;
     let r = tyndall::Image::read_exr(reference)?;
     if (c.width(), c.height()) != (r.width(), r.height()) {
@@ -232,6 +232,14 @@ fn compare(candidate: &Path, reference: &Path) -> Result<()> {
         );
     }
     println!("{:.6e}", tyndall::metrics::relative_mse(&c, &r));
+    let mut pixels: Vec<(f64, u32, u32)> = (0..c.height())
+        .flat_map(|y| (0..c.width()).map(move |x| (x, y)))
+        .map(|(x, y)| (tyndall::metrics::pixel_relative_se(c.pixel(x, y), r.pixel(x, y)), x, y))
+        .collect();
+    pixels.sort_by(|a, b| b.0.total_cmp(&a.0));
+    for (e, x, y) in pixels.into_iter().take(worst) {
+        println!("  pixel ({x}, {y}): {:.3e}  candidate {:?}  reference {:?}", e, c.pixel(x, y).to_array(), r.pixel(x, y).to_array());
+    }
     Ok(())
 }
 
@@ -240,7 +248,11 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render(args),
         Command::Bench(args) => bench::run(args),
-        Command::Compare { candidate, reference } => compare(&candidate, &reference),
+        Command::Compare {
+            candidate,
+            reference,
+            worst,
+        } => compare(&candidate, &reference, worst),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,5 +1,6 @@
 //! Image error metrics.
 
+use crate::color::Rgb;
 use crate::film::Image;
 
 /// The regulariser ε of [`relative_mse`] (shared/reference/README.md).
@@ -21,8 +22,18 @@ pub fn relative_mse(candidate: &Image, reference: &Image) -> f64 {
         .pixels()
         .iter()
         .zip(reference.pixels())
-        .flat_map(|(c, r)| (0..3).map(move |i| (c[i] as f64, r[i] as f64)))
-        .map(|(c, r)| (c - r) * (c - r) / (r * r + RELATIVE_MSE_EPSILON))
+        .map(|(c, r)| 3.0 * pixel_relative_se(*c, *r))
         .sum();
     sum / (3 * candidate.pixels().len()) as f64
+}
+
+/// One pixel's relative squared error, averaged over its channels.
+pub fn pixel_relative_se(c: Rgb, r: Rgb) -> f64 {
+    (0..3)
+        .map(|i| {
+            let (c, r) = (c[i] as f64, r[i] as f64);
+            (c - r) * (c - r) / (r * r + RELATIVE_MSE_EPSILON)
+        })
+        .sum::<f64>()
+        / 3.0
 }

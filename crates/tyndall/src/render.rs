@@ -111,6 +111,25 @@ impl RenderSettings {
     }
 }
 
+impl RenderSettings {
+    /// Things about to be rendered that are allowed but worth a warning:
+    /// non-physical fog albedo under `march` (the paper's figures).
+    pub fn warnings(&self, scene: &Scene) -> Vec<String> {
+        let mut warnings = Vec::new();
+        if let Some(fog) = &scene.fog
+            && fog.albedo.max_element() > 1.0
+            && self.integrator.accepts_non_physical_albedo()
+        {
+            warnings.push(format!(
+                "fog albedo {:?} is above 1, which is not physical; `{}` renders it anyway, as the paper did",
+                fog.albedo.to_array(),
+                self.integrator.name()
+            ));
+        }
+        warnings
+    }
+}
+
 /// What a render did, for the end-of-run report.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RenderStats {

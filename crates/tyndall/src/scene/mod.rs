@@ -240,15 +240,6 @@ impl SceneDescription {
             }
             (None, None) => {}
         }
-        if let Some(fog) = &self.scene.fog
-            && fog.albedo.max_element() > 1.0
-            && albedo.is_some()
-        {
-            self.warnings.push(format!(
-                "fog albedo {} is above 1, which is not physical: only the `march` integrator accepts it (as in the paper's figures)",
-                fog.albedo.max_element()
-            ));
-        }
         Ok(())
     }
 }

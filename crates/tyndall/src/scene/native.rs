@@ -408,13 +408,6 @@ impl Loader<'_> {
         let f = desc.get_ref();
         let sigma_t = self.number(&span, "sigma_t", f.sigma_t, (0.0, f32::MAX), "a non-negative density")?;
         let albedo = self.color(&span, "albedo", f.albedo, false)?;
-        if albedo.max_element() > 1.0 {
-            self.warnings.push(format!(
-                "{}: fog albedo {:?} is above 1, which is not physical: only the `march` integrator accepts it (as in the paper's figures)",
-                self.source.path.display(),
-                albedo.to_array()
-            ));
-        }
         let g = self.number(&span, "g", f.g, (-0.999, 0.999), "in (−1, 1)")?;
         let bounds = match &f.bounds {
             None => None,

@@ -1,0 +1,68 @@
+//! `march` with a small step and `single` converge to the same image, and
+//! images do not depend on the thread count.
+mod common;
+
+use common::{average, mean_and_stderr, pixel_distances, render, repo};
+use tyndall::Image;
+use tyndall::IntegratorKind;
+use tyndall::scene::native;
+
+/// Both integrators are unbiased estimators of the same image. For
+/// independent renders A₁, A₂ (march) and B₁, B₂ (single) and a common
+/// denominator r, the per-pixel term
+/// `z = d(A₁, B₁) − (d(A₁, A₂) + d(B₁, B₂))/2`, with `d` the relative
+/// squared difference, has expectation 0 when the two agree (each `d` is
+/// the sum of the two renders' variances) and the squared bias where they
+/// do not. So the mean of `z` over the image, divided by its standard
+/// error, is approximately standard normal without bias: the test fails
+/// above 4 (a false alarm once in 30 000 runs) and any bias visible in
+/// the image pushes it far above.
+#[test]
+fn march_and_single_agree_on_fig7() {
+    let desc = native::load(&repo().join("scenes/fig07-spot-sphere.toml")).expect("scene");
+    let shot = |kind: IntegratorKind, seed: u64| {
+        render(&desc, |s| {
+            s.width = 96;
+            s.height = 72;
+            s.spp = 16;
+            s.integrator = kind;
+            s.step = 0.05;
+            s.seed = seed;
+        })
+    };
+    let (a1, a2) = (shot(IntegratorKind::March, 1), shot(IntegratorKind::March, 2));
+    let (b1, b2) = (shot(IntegratorKind::Single, 3), shot(IntegratorKind::Single, 4));
+    let r = average(&[&a1, &a2, &b1, &b2]);
+    let (aa, bb) = (pixel_distances(&a1, &a2, &r), pixel_distances(&b1, &b2, &r));
+    let ab = pixel_distances(&a1, &b1, &r);
+    let z: Vec<f64> = (0..ab.len()).map(|i| ab[i] - 0.5 * (aa[i] + bb[i])).collect();
+    let (mean, stderr) = mean_and_stderr(&z);
+    assert!(mean <= 4.0 * stderr, "march vs single: excess {mean:.3e} is {:.1} standard errors", mean / stderr);
+    // The check has power: the beam is there, and a 5 % bias would show.
+    let biased: Vec<f64> = {
+        let scaled = Image::from_pixels(b1.width(), b1.height(), b1.pixels().iter().map(|p| *p * 1.05).collect());
+        let ab = pixel_distances(&a1, &scaled, &r);
+        (0..ab.len()).map(|i| ab[i] - 0.5 * (aa[i] + bb[i])).collect()
+    };
+    let (bmean, bstderr) = mean_and_stderr(&biased);
+    assert!(bmean > 4.0 * bstderr, "a 5 % bias should be detected: {:.1} standard errors", bmean / bstderr);
+}
+
+#[test]
+fn image_is_identical_for_one_and_two_threads() {
+    let desc = tyndall::scene::demo::load().expect("demo");
+    for kind in IntegratorKind::ALL {
+        let shot = |threads: usize| {
+            render(&desc, |s| {
+                s.width = 48;
+                s.height = 27;
+                s.spp = 2;
+                s.integrator = kind;
+                s.step = 0.2;
+                s.threads = Some(threads);
+            })
+        };
+        assert_eq!(shot(1), shot(2), "{kind:?}");
+    }
+}
+

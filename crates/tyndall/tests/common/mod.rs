@@ -1,0 +1,112 @@
+//! Shared helpers for the integration tests.
+#![allow(dead_code)]
+
+use glam::{Vec2, Vec3};
+use tyndall::integrators::Integrator;
+use tyndall::ray::Ray;
+use tyndall::sampler::PixelSampler;
+use tyndall::scene::{SceneDescription, SourceText, native};
+use tyndall::visibility::RayCounts;
+use tyndall::{Image, IntegratorKind, RenderSettings, Rgb};
+
+/// Parses a native scene from text.
+pub fn scene(text: &str) -> SceneDescription {
+    native::parse(&SourceText::new("test.toml", text)).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The repository's root directory.
+pub fn repo() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// Renders with the scene's settings changed by `f`.
+pub fn render(desc: &SceneDescription, f: impl FnOnce(&mut RenderSettings)) -> Image {
+    let mut settings = desc.settings;
+    f(&mut settings);
+    tyndall::render(&desc.scene, &settings, &|_| {}).expect("render").image
+}
+
+/// Mean and standard error of the mean of `n` one-sample estimates of the
+/// radiance along one fixed ray.
+pub fn estimate_ray(desc: &SceneDescription, kind: IntegratorKind, step: f32, ray: Ray, n: u32) -> (Rgb, Rgb) {
+    let settings = RenderSettings {
+        integrator: kind,
+        step,
+        ..desc.settings
+    };
+    let integrator = Integrator::new(&settings);
+    let mut counts = RayCounts::default();
+    let (mut sum, mut sum2) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
+    for i in 0..n {
+        let mut sampler = PixelSampler::new(17, 0, i);
+        // Keep the first two dimensions for the pixel, as a render does.
+        let _: Vec2 = sampler.next_2d();
+        let l = integrator.radiance(&desc.scene, ray, &mut sampler, &mut counts).as_dvec3();
+        sum += l;
+        sum2 += l * l;
+    }
+    let mean = sum / n as f64;
+    let var = (sum2 / n as f64 - mean * mean).max(glam::DVec3::ZERO) * (n as f64 / (n as f64 - 1.0));
+    (mean.as_vec3(), (var / n as f64).map(f64::sqrt).as_vec3())
+}
+
+/// `mean((a − b)² / (r² + 0.01))` with a common denominator image `r`.
+pub fn relative_distance(a: &Image, b: &Image, r: &Image) -> f64 {
+    let mut sum = 0.0;
+    for ((pa, pb), pr) in a.pixels().iter().zip(b.pixels()).zip(r.pixels()) {
+        for i in 0..3 {
+            let d = (pa[i] - pb[i]) as f64;
+            sum += d * d / ((pr[i] as f64).powi(2) + 0.01);
+        }
+    }
+    sum / (3 * a.pixels().len()) as f64
+}
+
+/// Per-pixel relative squared error of `a` against `b` over the common
+/// denominator `r`, summed over channels.
+pub fn pixel_distances(a: &Image, b: &Image, r: &Image) -> Vec<f64> {
+    a.pixels()
+        .iter()
+        .zip(b.pixels())
+        .zip(r.pixels())
+        .map(|((pa, pb), pr)| {
+            (0..3)
+                .map(|i| {
+                    let d = (pa[i] - pb[i]) as f64;
+                    d * d / ((pr[i] as f64).powi(2) + 0.01)
+                })
+                .sum()
+        })
+        .collect()
+}
+
+/// Mean of per-pixel terms and the standard error of that mean.
+pub fn mean_and_stderr(z: &[f64]) -> (f64, f64) {
+    let n = z.len() as f64;
+    let mean = z.iter().sum::<f64>() / n;
+    let var = z.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1.0);
+    (mean, (var / n).sqrt())
+}
+
+/// Per-pixel average of images.
+pub fn average(images: &[&Image]) -> Image {
+    let n = images.len() as f32;
+    let pixels = (0..images[0].pixels().len())
+        .map(|i| images.iter().map(|im| im.pixels()[i]).sum::<Rgb>() / n)
+        .collect();
+    Image::from_pixels(images[0].width(), images[0].height(), pixels)
+}
+
+/// Composite Simpson's rule of `f` over `[a, b]` with `n` (even) intervals.
+pub fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64, n: usize) -> f64 {
+    let h = (b - a) / n as f64;
+    let mut s = f(a) + f(b);
+    for i in 1..n {
+        s += f(a + i as f64 * h) * if i % 2 == 1 { 4.0 } else { 2.0 };
+    }
+    s * h / 3.0
+}
+
+pub fn v3(x: f32, y: f32, z: f32) -> Vec3 {
+    Vec3::new(x, y, z)
+}
