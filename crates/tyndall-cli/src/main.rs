@@ -75,15 +75,15 @@ pub struct Overrides {
     #[arg(long, value_parser = parse_integrator)]
     pub integrator: Option<IntegratorKind>,
     /// March step length in scene units (the paper used 0.1); `march` only.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub step: Option<f32>,
     /// Fog extinction σt per scene unit (the paper's air density τ). Adds fog
     /// filling all space if the scene has none, as the paper's legacy scenes need.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub density: Option<f32>,
     /// Fog single-scattering albedo (grey). Values above 1 are not physical:
     /// only `march` accepts them, with a warning, as in the paper's figures.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub albedo: Option<f32>,
     /// Worker threads (default: all cores). The image does not depend on it.
     #[arg(long)]

@@ -92,30 +92,50 @@ struct BoxDesc {
 }
 
 #[derive(Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(tag = "type", rename_all = "snake_case")]
 enum MaterialDesc {
-    Diffuse {
-        reflectance: ColorValue,
-    },
-    Mirror {
-        reflectance: ColorValue,
-    },
-    Glossy {
-        reflectance: ColorValue,
-        roughness: f32,
-        #[serde(default)]
-        diffuse: Option<ColorValue>,
-    },
-    Emissive {
-        radiance: ColorValue,
-        #[serde(default)]
-        two_sided: bool,
-    },
-    Glass {
-        color: ColorValue,
-        #[serde(default = "one")]
-        alpha: f32,
-    },
+    Diffuse(DiffuseDesc),
+    Mirror(MirrorDesc),
+    Glossy(GlossyDesc),
+    Emissive(EmissiveDesc),
+    Glass(GlassDesc),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DiffuseDesc {
+    reflectance: ColorValue,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MirrorDesc {
+    reflectance: ColorValue,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GlossyDesc {
+    reflectance: ColorValue,
+    roughness: f32,
+    #[serde(default)]
+    diffuse: Option<ColorValue>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EmissiveDesc {
+    radiance: ColorValue,
+    #[serde(default)]
+    two_sided: bool,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GlassDesc {
+    color: ColorValue,
+    #[serde(default = "one")]
+    alpha: f32,
 }
 
 fn one() -> f32 {
@@ -123,64 +143,152 @@ fn one() -> f32 {
 }
 
 #[derive(Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(tag = "type", rename_all = "snake_case")]
 enum ShapeDesc {
-    Sphere {
-        center: V3,
-        radius: f32,
-        material: String,
-    },
-    Quad {
-        corners: [V3; 4],
-        material: String,
-        #[serde(default)]
-        one_sided: bool,
-    },
-    Box {
-        min: V3,
-        max: V3,
-        material: String,
-    },
-    Mesh {
-        file: String,
-        material: String,
-        #[serde(default)]
-        translate: Option<V3>,
-        #[serde(default)]
-        scale: Option<ColorValue>,
-        #[serde(default)]
-        rotate_deg: Option<V3>,
-    },
+    Sphere(SphereDesc),
+    Quad(QuadDesc),
+    Box(BoxShapeDesc),
+    Mesh(MeshDesc),
 }
 
 #[derive(Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(deny_unknown_fields)]
+struct SphereDesc {
+    center: V3,
+    radius: f32,
+    material: String,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct QuadDesc {
+    corners: [V3; 4],
+    material: String,
+    #[serde(default)]
+    one_sided: bool,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BoxShapeDesc {
+    min: V3,
+    max: V3,
+    material: String,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MeshDesc {
+    file: String,
+    material: String,
+    #[serde(default)]
+    translate: Option<V3>,
+    #[serde(default)]
+    scale: Option<ColorValue>,
+    #[serde(default)]
+    rotate_deg: Option<V3>,
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
 enum LightDesc {
-    Point {
-        position: V3,
-        intensity: Option<ColorValue>,
-        power: Option<ColorValue>,
-    },
-    Spot {
-        position: V3,
-        direction: Option<V3>,
-        look_at: Option<V3>,
-        cutoff_deg: f32,
-        #[serde(default)]
-        profile: Option<String>,
-        inner_deg: Option<f32>,
-        intensity: ColorValue,
-    },
-    Directional {
-        direction: V3,
-        irradiance: ColorValue,
-    },
-    Quad {
-        corners: [V3; 4],
-        radiance: ColorValue,
-        #[serde(default)]
-        two_sided: bool,
-    },
+    Point(PointDesc),
+    Spot(SpotDesc),
+    Directional(DirectionalDesc),
+    Quad(QuadLightDesc),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PointDesc {
+    position: V3,
+    intensity: Option<ColorValue>,
+    power: Option<ColorValue>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SpotDesc {
+    position: V3,
+    direction: Option<V3>,
+    look_at: Option<V3>,
+    cutoff_deg: f32,
+    #[serde(default)]
+    profile: Option<String>,
+    inner_deg: Option<f32>,
+    intensity: ColorValue,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DirectionalDesc {
+    direction: V3,
+    irradiance: ColorValue,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct QuadLightDesc {
+    corners: [V3; 4],
+    radiance: ColorValue,
+    #[serde(default)]
+    two_sided: bool,
+}
+
+/// Re-parses the body of a `type`-tagged table as its variant's struct.
+/// serde reports errors inside internally tagged enums at the table's
+/// header only; parsed alone, the body gives toml's exact span.
+fn variant_error(section: &str, kind: &str, body: &str) -> Option<toml::de::Error> {
+    fn check<T: serde::de::DeserializeOwned>(body: &str) -> Option<toml::de::Error> {
+        toml::from_str::<T>(body).err()
+    }
+    match (section, kind) {
+        ("materials", "diffuse") => check::<DiffuseDesc>(body),
+        ("materials", "mirror") => check::<MirrorDesc>(body),
+        ("materials", "glossy") => check::<GlossyDesc>(body),
+        ("materials", "emissive") => check::<EmissiveDesc>(body),
+        ("materials", "glass") => check::<GlassDesc>(body),
+        ("shapes", "sphere") => check::<SphereDesc>(body),
+        ("shapes", "quad") => check::<QuadDesc>(body),
+        ("shapes", "box") => check::<BoxShapeDesc>(body),
+        ("shapes", "mesh") => check::<MeshDesc>(body),
+        ("lights", "point") => check::<PointDesc>(body),
+        ("lights", "spot") => check::<SpotDesc>(body),
+        ("lights", "directional") => check::<DirectionalDesc>(body),
+        ("lights", "quad") => check::<QuadLightDesc>(body),
+        _ => None,
+    }
+}
+
+/// The most precise location for a parse error at byte `offset`: inside
+/// a tagged table, the offending key (see [`variant_error`]).
+fn locate_parse_error(source: &SourceText, offset: usize, message: &str) -> SceneError {
+    let text = &source.text;
+    let line_start = text[..offset.min(text.len())].rfind('\n').map_or(0, |i| i + 1);
+    let header = text[line_start..].lines().next().unwrap_or("").trim();
+    let section = header.trim_matches(['[', ']']).split('.').next().unwrap_or("");
+    if header.starts_with('[') && matches!(section, "materials" | "shapes" | "lights") {
+        let body = source.table_body(line_start);
+        let mut blanked = text[body.clone()].to_string();
+        let kind = toml::from_str::<toml::Table>(&blanked)
+            .ok()
+            .and_then(|t| t.get("type").and_then(|v| v.as_str()).map(str::to_owned));
+        if let Some(kind) = kind {
+            // Blank the `type = …` line, keeping every other offset.
+            if let Some(at) = super::source::find_key(&blanked, "type") {
+                let end = blanked[at..].find('\n').map_or(blanked.len(), |i| at + i);
+                blanked.replace_range(at..end, &" ".repeat(end - at));
+            }
+            if let Some(e) = variant_error(section, &kind, &blanked)
+                && let Some(span) = e.span()
+            {
+                return source.error_at(body.start + span.start, e.message().trim_end().to_string());
+            }
+        } else if message.contains("missing field `type`") || message.contains("unknown variant") {
+            return source.error_at_key(body, "type", message.to_string());
+        }
+    }
+    source.error_at(offset, message.to_string())
 }
 
 /// A colour written as one grey number or an `[r, g, b]` array.
@@ -232,7 +340,7 @@ pub fn load(path: &Path) -> Result<SceneDescription, SceneError> {
 pub fn parse(source: &SourceText) -> Result<SceneDescription, SceneError> {
     let file: SceneFile = toml::from_str(&source.text).map_err(|e| {
         let offset = e.span().map_or(0, |s| s.start);
-        source.error_at(offset, e.message().trim_end().to_string())
+        locate_parse_error(source, offset, e.message().trim_end())
     })?;
     Loader {
         source,
@@ -433,19 +541,19 @@ impl Loader<'_> {
     fn material(&self, desc: &Spanned<MaterialDesc>) -> Result<Material, SceneError> {
         let span = desc.span();
         Ok(match *desc.get_ref() {
-            MaterialDesc::Diffuse { reflectance } => {
+            MaterialDesc::Diffuse(DiffuseDesc { reflectance }) => {
                 Material::Opaque(Surface::diffuse(self.color(&span, "reflectance", reflectance, true)?))
             }
-            MaterialDesc::Mirror { reflectance } => Material::Opaque(Surface {
+            MaterialDesc::Mirror(MirrorDesc { reflectance }) => Material::Opaque(Surface {
                 diffuse: Rgb::ZERO,
                 specular: self.color(&span, "reflectance", reflectance, true)?,
                 roughness: 0.0,
             }),
-            MaterialDesc::Glossy {
+            MaterialDesc::Glossy(GlossyDesc {
                 reflectance,
                 roughness,
                 diffuse,
-            } => Material::Opaque(Surface {
+            }) => Material::Opaque(Surface {
                 diffuse: match diffuse {
                     Some(d) => self.color(&span, "diffuse", d, true)?,
                     None => Rgb::ZERO,
@@ -453,11 +561,11 @@ impl Loader<'_> {
                 specular: self.color(&span, "reflectance", reflectance, true)?,
                 roughness: self.number(&span, "roughness", roughness, (0.0, 1.0), "in [0, 1]")?,
             }),
-            MaterialDesc::Emissive { radiance, two_sided } => Material::Emissive {
+            MaterialDesc::Emissive(EmissiveDesc { radiance, two_sided }) => Material::Emissive {
                 radiance: self.color(&span, "radiance", radiance, false)?,
                 two_sided,
             },
-            MaterialDesc::Glass { color, alpha } => Material::Glass(Glass {
+            MaterialDesc::Glass(GlassDesc { color, alpha }) => Material::Glass(Glass {
                 color: self.color(&span, "color", color, true)?,
                 alpha: self.number(&span, "alpha", alpha, (0.0, 1.0), "an opacity in [0, 1]")?,
             }),
@@ -482,7 +590,7 @@ impl Loader<'_> {
     fn shape(&mut self, desc: &Spanned<ShapeDesc>, ids: &BTreeMap<&str, MaterialId>, builder: &mut SceneBuilder) -> Result<(), SceneError> {
         let span = desc.span();
         match desc.get_ref() {
-            ShapeDesc::Sphere { center, radius, material } => {
+            ShapeDesc::Sphere(SphereDesc { center, radius, material }) => {
                 let m = self.material_id(&span, material, ids)?;
                 let sphere = Sphere {
                     center: self.vec3(&span, "center", *center)?,
@@ -490,19 +598,19 @@ impl Loader<'_> {
                 };
                 builder.add_shape(Shape::Sphere(sphere), m);
             }
-            ShapeDesc::Quad { corners, material, one_sided } => {
+            ShapeDesc::Quad(QuadDesc { corners, material, one_sided }) => {
                 let m = self.material_id(&span, material, ids)?;
                 let q = self.quad(&span, corners, *one_sided)?;
                 builder.add_shape(Shape::Quad(q), m);
             }
-            ShapeDesc::Box { min, max, material } => {
+            ShapeDesc::Box(BoxShapeDesc { min, max, material }) => {
                 let m = self.material_id(&span, material, ids)?;
                 let b = self.bounds(&span, "min", *min, *max)?;
                 for face in box_faces(b) {
                     builder.add_shape(Shape::Quad(face), m);
                 }
             }
-            ShapeDesc::Mesh { file, material, translate, scale, rotate_deg } => {
+            ShapeDesc::Mesh(MeshDesc { file, material, translate, scale, rotate_deg }) => {
                 let m = self.material_id(&span, material, ids)?;
                 let transform = MeshTransform {
                     translate: self.vec3(&span, "translate", translate.unwrap_or([0.0; 3]))?,
@@ -534,7 +642,7 @@ impl Loader<'_> {
     fn light(&self, desc: &Spanned<LightDesc>, builder: &mut SceneBuilder) -> Result<(), SceneError> {
         let span = desc.span();
         match desc.get_ref() {
-            LightDesc::Point { position, intensity, power } => {
+            LightDesc::Point(PointDesc { position, intensity, power }) => {
                 let intensity = match (intensity, power) {
                     (Some(i), None) => self.color(&span, "intensity", *i, false)?,
                     (None, Some(p)) => self.color(&span, "power", *p, false)? / (4.0 * PI),
@@ -545,7 +653,7 @@ impl Loader<'_> {
                     intensity,
                 }));
             }
-            LightDesc::Spot { position, direction, look_at, cutoff_deg, profile, inner_deg, intensity } => {
+            LightDesc::Spot(SpotDesc { position, direction, look_at, cutoff_deg, profile, inner_deg, intensity }) => {
                 let position = self.vec3(&span, "position", *position)?;
                 let direction = match (direction, look_at) {
                     (Some(d), None) => self.direction(&span, "direction", *d)?,
@@ -582,13 +690,13 @@ impl Loader<'_> {
                     intensity: self.color(&span, "intensity", *intensity, false)?,
                 }));
             }
-            LightDesc::Directional { direction, irradiance } => {
+            LightDesc::Directional(DirectionalDesc { direction, irradiance }) => {
                 builder.add_light(Light::Directional(DirectionalLight {
                     direction: self.direction(&span, "direction", *direction)?,
                     irradiance: self.color(&span, "irradiance", *irradiance, false)?,
                 }));
             }
-            LightDesc::Quad { corners, radiance, two_sided } => {
+            LightDesc::Quad(QuadLightDesc { corners, radiance, two_sided }) => {
                 let quad = self.quad(&span, corners, false)?;
                 let radiance = self.color(&span, "radiance", *radiance, false)?;
                 builder.add_quad_light(quad, radiance, *two_sided);

@@ -82,14 +82,26 @@ impl SourceText {
         }
     }
 
-    /// An error at the key `key` inside the byte range `within` (a table's
-    /// span), or at the start of the range if the key is not written there.
-    pub fn error_at_key(&self, within: Range<usize>, key: &str, message: impl Into<String>) -> SceneError {
-        let start = within.start.min(self.text.len());
-        let end = within.end.min(self.text.len());
-        let slice = &self.text[start..end];
-        let offset = find_key(slice, key).map_or(start, |i| start + i);
+    /// An error at the key `key` in the table whose header starts the byte
+    /// range `table` (a table's span covers its header), or at the header
+    /// if the key is not written there.
+    pub fn error_at_key(&self, table: Range<usize>, key: &str, message: impl Into<String>) -> SceneError {
+        let body = self.table_body(table.start);
+        let offset = find_key(&self.text[body.clone()], key).map_or(table.start, |i| body.start + i);
         self.error_at(offset, message)
+    }
+
+    /// The byte range from `start` to the next table header (a line that
+    /// starts with `[`) or the end of the text.
+    pub fn table_body(&self, start: usize) -> Range<usize> {
+        let start = start.min(self.text.len());
+        let after_header = self.text[start..].find('\n').map_or(self.text.len(), |i| start + i + 1);
+        let end = self.text[after_header..]
+            .match_indices('\n')
+            .map(|(i, _)| after_header + i + 1)
+            .find(|&line| self.text[line..].starts_with('['))
+            .unwrap_or(self.text.len());
+        after_header..end
     }
 
     /// An error about the whole file.
@@ -105,7 +117,7 @@ impl SourceText {
 
 /// Byte offset of `key` written as a TOML key (at a line start or after
 /// `{`/`,`, followed by `=`) within `text`.
-fn find_key(text: &str, key: &str) -> Option<usize> {
+pub(crate) fn find_key(text: &str, key: &str) -> Option<usize> {
     let mut from = 0;
     while let Some(i) = text[from..].find(key) {
         let at = from + i;

@@ -1,0 +1,93 @@
+//! The `tyndall` binary: exit status 0 only when the image was written;
+//! errors name file, line and column.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn tyndall(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_tyndall")).args(args).output().expect("run tyndall")
+}
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn temp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("tyndall-cli-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join(name);
+    let _ = std::fs::remove_file(&path);
+    path
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn renders_demo_to_png_and_exr() {
+    for name in ["demo.png", "demo.exr"] {
+        let out = temp(name);
+        let o = tyndall(&["render", "-o", out.to_str().unwrap(), "--width", "32", "--height", "18", "--spp", "1", "-q"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(out.exists());
+    }
+    let image = tyndall::Image::read_exr(&temp_existing("demo.exr")).expect("readable EXR");
+    assert_eq!((image.width(), image.height()), (32, 18));
+    assert!(image.pixels().iter().any(|p| p.max_element() > 0.0));
+}
+
+fn temp_existing(name: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("tyndall-cli-test-{}", std::process::id())).join(name)
+}
+
+#[test]
+fn renders_legacy_scene_with_fog_from_flags() {
+    let out = temp("legacy.png");
+    let scene = repo().join("scenes/legacy/fig07-spot-sphere.obj");
+    let o = tyndall(&[
+        "render", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "--width", "40", "--height", "30",
+        "--spp", "2", "--step", "0.2", "--density", "0.1", "--albedo", "5", "--threads", "2", "--seed", "3", "--exposure", "-1",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("not physical"), "albedo 5 warns: {}", stderr(&o));
+    assert!(stderr(&o).contains("rays/s"), "statistics at the end: {}", stderr(&o));
+    assert!(out.exists());
+}
+
+#[test]
+fn bad_inputs_fail_without_writing_an_image() {
+    let bad_scene = temp("bad.toml");
+    let good = std::fs::read_to_string(repo().join("scenes/fig07-spot-sphere.toml")).expect("scene");
+    std::fs::write(&bad_scene, good.replace("cutoff_deg = 30.0", "cutoff_deg = 120.0")).expect("write");
+    let bad = bad_scene.to_str().unwrap().to_owned();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["render", &bad], "bad.toml:"),
+        (vec!["render", "--width", "0"], "image size"),
+        (vec!["render", "--density", "-1"], "--density"),
+        (vec!["render", "--integrator", "fast"], "unknown integrator"),
+        (vec!["render", "no-such-scene.toml"], "no-such-scene.toml"),
+        (vec!["render", "--albedo", "5", "--integrator", "single"], "not physical"),
+    ];
+    for (mut args, words) in cases {
+        let out = temp("never.png");
+        args.extend(["-o", out.to_str().unwrap()]);
+        let o = tyndall(&args);
+        assert!(!o.status.success(), "{args:?} should fail");
+        assert!(stderr(&o).contains(words), "{args:?}: `{words}` not in {}", stderr(&o));
+        assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+        assert!(!out.exists(), "{args:?} wrote an image");
+    }
+    let o = tyndall(&["render", &bad]);
+    let line = stderr(&o);
+    assert!(line.contains(":56:1:") && line.contains("cutoff_deg"), "line and column: {line}");
+}
+
+#[test]
+fn help_explains_every_flag() {
+    let o = tyndall(&["render", "--help"]);
+    let help = String::from_utf8_lossy(&o.stdout);
+    for flag in ["--width", "--height", "--spp", "--integrator", "--step", "--density", "--albedo", "--threads", "--seed", "--exposure", "--output"] {
+        assert!(help.contains(flag), "{flag} missing from --help");
+    }
+}

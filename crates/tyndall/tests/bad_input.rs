@@ -1,0 +1,139 @@
+//! Bad input gives an error naming the file, line and column and what was
+//! expected; never a panic.
+mod common;
+
+use tyndall::scene::legacy::{self, LegacyOptions};
+use tyndall::scene::{SourceText, native};
+
+const GOOD: &str = r#"[camera]
+position = [0, 1, 5]
+look_at = [0, 1, 0]
+fov_y_deg = 40
+
+[fog]
+sigma_t = 0.1
+albedo = 0.9
+
+[materials.grey]
+type = "diffuse"
+reflectance = 0.5
+
+[[shapes]]
+type = "sphere"
+center = [0, 1, 0]
+radius = 0.5
+material = "grey"
+
+[[lights]]
+type = "spot"
+position = [0, 3, 0]
+direction = [0, -1, 0]
+cutoff_deg = 30
+intensity = 10
+"#;
+
+fn native_error(text: &str) -> tyndall::SceneError {
+    match native::parse(&SourceText::new("scene.toml", text)) {
+        Ok(_) => panic!("expected an error for:\n{text}"),
+        Err(e) => e,
+    }
+}
+
+/// Asserts the error is at `line` (1-based) and mentions `words`.
+fn assert_error(e: &tyndall::SceneError, line: usize, words: &str) {
+    let text = e.to_string();
+    assert!(text.starts_with(&format!("scene.toml:{line}:")), "wrong place: {text}");
+    assert!(e.column >= 1, "{text}");
+    assert!(text.contains(words), "`{words}` not in: {text}");
+}
+
+#[test]
+fn good_scene_parses() {
+    native::parse(&SourceText::new("scene.toml", GOOD)).expect("good scene");
+}
+
+#[test]
+fn malformed_toml() {
+    let e = native_error(&GOOD.replace("fov_y_deg = 40", "fov_y_deg = 40 40"));
+    assert_error(&e, 4, "");
+    let e = native_error(&GOOD.replace("radius = 0.5", "radius = \"big\""));
+    assert_error(&e, 17, "");
+    let e = native_error(&GOOD.replace("radius = 0.5", "radius = 0.5\ncolour = 1"));
+    assert_error(&e, 18, "colour");
+}
+
+#[test]
+fn negative_density() {
+    let e = native_error(&GOOD.replace("sigma_t = 0.1", "sigma_t = -0.1"));
+    assert_error(&e, 7, "sigma_t");
+}
+
+#[test]
+fn cutoff_out_of_range() {
+    for bad in ["0", "120"] {
+        let e = native_error(&GOOD.replace("cutoff_deg = 30", &format!("cutoff_deg = {bad}")));
+        assert_error(&e, 24, "cutoff_deg");
+    }
+}
+
+#[test]
+fn nan_values() {
+    let e = native_error(&GOOD.replace("albedo = 0.9", "albedo = nan"));
+    assert_error(&e, 8, "albedo");
+    let e = native_error(&GOOD.replace("center = [0, 1, 0]", "center = [0, nan, 0]"));
+    assert_error(&e, 16, "center");
+}
+
+#[test]
+fn missing_mesh_file() {
+    let text = GOOD.replace(
+        "[[lights]]",
+        "[[shapes]]\ntype = \"mesh\"\nfile = \"no-such-mesh.obj\"\nmaterial = \"grey\"\n\n[[lights]]",
+    );
+    let e = native_error(&text);
+    assert_error(&e, 22, "no-such-mesh.obj");
+}
+
+#[test]
+fn unknown_material_and_zero_size_image() {
+    let e = native_error(&GOOD.replace("material = \"grey\"", "material = \"gray\""));
+    assert_error(&e, 18, "unknown material `gray`");
+    let e = native_error(&GOOD.replace("[fog]", "[render]\nwidth = 0\n\n[fog]"));
+    assert_error(&e, 7, "width");
+}
+
+#[test]
+fn zero_size_image_settings_are_rejected() {
+    let desc = native::parse(&SourceText::new("scene.toml", GOOD)).expect("good");
+    for (w, h) in [(0, 10), (10, 0)] {
+        let settings = tyndall::RenderSettings { width: w, height: h, ..desc.settings };
+        assert!(tyndall::render(&desc.scene, &settings, &|_| {}).is_err());
+    }
+}
+
+fn legacy_error(text: &str) -> tyndall::SceneError {
+    match legacy::parse(&SourceText::new("scene.obj", text), LegacyOptions::default()) {
+        Ok(_) => panic!("expected an error for:\n{text}"),
+        Err(e) => e,
+    }
+}
+
+#[test]
+fn legacy_errors_name_line_and_column() {
+    let base = "material\ndiffuse 1 1 1\nreflective 0 0 0\nemitted 5 5 5\n\nm 0\nv 0 1 0\nv 1 1 0\nv 1 1 1\nv 0 1 1\nf 1 2 3 4\n";
+    let cases = [
+        (format!("{base}banana 3\n"), "scene.obj:12:1:", "unknown token `banana`"),
+        (base.replace("emitted 5 5 5", "emitted 5 5 5\nc 120"), "scene.obj:5:3:", "cutoff"),
+        (base.replace("emitted 5 5 5", "emitted 5 5 5\nc 0"), "scene.obj:5:3:", "cutoff"),
+        (base.replace("f 1 2 3 4", "f 1 2 3 9"), "scene.obj:11:9:", "vertex 9"),
+        (base.replace("v 1 1 0", "v 1 x 0"), "scene.obj:8:5:", "expected a number"),
+        (base.replace("v 1 1 0", "v 1 NaN 0"), "scene.obj:8:5:", "finite"),
+        (format!("{base}PerspectiveCamera {{ camera_position < 1, 2 > }}"), "scene.obj:12:", "three finite numbers"),
+        (format!("{base}r 0 0 0 1 1 2"), "scene.obj:12:1:", "not supported"),
+        (format!("{base}alpha 0.5"), "scene.obj:12:1:", "must follow a `material`"),
+    ];
+    for (text, place, words) in cases {
+        let e = legacy_error(&text).to_string();
+        assert!(e.starts_with(place) && e.contains(words), "expected {place} … {words}, got: {e}");
+    }
+}
