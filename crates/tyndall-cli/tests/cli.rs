@@ -79,8 +79,9 @@ fn bad_inputs_fail_without_writing_an_image() {
         assert!(!out.exists(), "{args:?} wrote an image");
     }
     let o = tyndall(&["render", &bad]);
-    let line = stderr(&o);
-    assert!(line.contains(":56:1:") && line.contains("cutoff_deg"), "line and column: {line}");
+    let message = stderr(&o);
+    let line = good.lines().position(|l| l.starts_with("cutoff_deg")).expect("cutoff line") + 1;
+    assert!(message.contains(&format!("bad.toml:{line}:1:")) && message.contains("cutoff_deg"), "line and column: {message}");
 }
 
 #[test]
