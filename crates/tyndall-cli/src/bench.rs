@@ -1,10 +1,267 @@
-//! `tyndall bench`: time to equal error.
-use anyhow::Result;
+//! `tyndall bench`: time to equal error, per integrator.
+//!
+//! For each case, an integrator renders at a ladder of sample counts; each
+//! point is timed (median of several runs: these machines are noisy) and
+//! its relative MSE measured against a reference — an independent
+//! renderer's converged image, or a long `single` render with another seed
+//! cached under `target/tyndall-bench/`. The time to reach a target error
+//! is interpolated log-log between the two ladder points around it
+//! (Monte Carlo error falls like 1/spp, time grows like spp).
+
+use anyhow::{Context, Result, bail};
 use clap::Args;
+use std::path::PathBuf;
+use std::time::Duration;
+use tyndall::metrics::relative_mse;
+use tyndall::scene::{SceneDescription, demo, native};
+use tyndall::{Image, IntegratorKind, RenderSettings};
 
 #[derive(Args)]
-pub struct BenchArgs {}
+pub struct BenchArgs {
+    /// Directory holding the repository's scenes (for the reference and fig. 7 cases).
+    #[arg(long, default_value = "scenes")]
+    scenes: PathBuf,
+    /// Where long reference renders are cached.
+    #[arg(long, default_value = "target/tyndall-bench")]
+    cache: PathBuf,
+    /// Timed runs per point (the median is reported).
+    #[arg(long, default_value_t = 3)]
+    runs: usize,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// A small, fast version of every case (to check the benchmark runs).
+    #[arg(long)]
+    quick: bool,
+    /// Stop a curve after a point whose render takes longer than this (seconds).
+    #[arg(long, default_value_t = 20.0)]
+    max_seconds: f64,
+}
 
-pub fn run(_args: BenchArgs) -> Result<()> {
-    anyhow::bail!("not yet")
+/// One measured point of an error curve.
+#[derive(Clone, Copy, Debug)]
+struct Point {
+    spp: u32,
+    seconds: f64,
+    rel_mse: f64,
+}
+
+/// A configuration that is benchmarked: an integrator and, for `march`, a step.
+#[derive(Clone, Copy, Debug)]
+struct Method {
+    kind: IntegratorKind,
+    step: f32,
+}
+
+impl Method {
+    fn label(&self) -> String {
+        match self.kind {
+            IntegratorKind::March => format!("march (step {})", self.step),
+            IntegratorKind::Single => "single".to_string(),
+        }
+    }
+}
+
+pub fn run(args: BenchArgs) -> Result<()> {
+    let quick = args.quick;
+    println!("# tyndall bench{}\n", if quick { " --quick (sizes reduced: figures are not meaningful)" } else { "" });
+    println!("Times are medians of {} runs, wall clock, {} threads.\n", args.runs, args.threads.map_or("all".into(), |t| t.to_string()));
+
+    // 1. Against an independent renderer.
+    let dir = args.scenes.join("reference");
+    let desc = native::load(&dir.join("fog-spot-sphere.toml"))?;
+    let reference = Image::read_exr(&dir.join("fog-spot-sphere.exr")).context("reading the reference image")?;
+    let (width, height) = if quick { (320, 240) } else { (reference.width(), reference.height()) };
+    if (width, height) != (reference.width(), reference.height()) {
+        bail!("the reference is {}×{}", reference.width(), reference.height());
+    }
+    let ladder: &[u32] = if quick { &[1, 2, 4] } else { &[1, 2, 4, 8, 16, 32] };
+    println!("## fog-spot-sphere 320×240 against Mitsuba 3 (shared/reference)\n");
+    let single = Method { kind: IntegratorKind::Single, step: 0.1 };
+    let march = Method { kind: IntegratorKind::March, step: 0.1 };
+    let mut curves = Vec::new();
+    for method in [single, march] {
+        let curve = measure(&desc, &args, width, height, method, ladder, &reference)?;
+        print_curve(&method, &curve);
+        curves.push((method, curve));
+    }
+    report_time_to_error(&curves, 1e-3);
+
+    // 2. The paper's fig. 7: `single` against the best `march` step.
+    let desc = native::load(&args.scenes.join("fig07-spot-sphere.toml"))?;
+    let (w, h, ref_spp) = if quick { (80, 60, 64) } else { (320, 240, 2048) };
+    equal_error_case("fig. 7 (scenes/fig07-spot-sphere.toml)", "fig07", &desc, &args, w, h, ref_spp, ladder, 1e-3)?;
+
+    // 3. The demo at 1280×720.
+    let desc = demo::load()?;
+    let (w, h, ref_spp) = if quick { (128, 72, 16) } else { (1280, 720, 512) };
+    let demo_ladder: &[u32] = if quick { &[1, 2] } else { &[2, 4, 8, 16, 32, 64] };
+    equal_error_case("the demo (built in, scenes/stained-glass.toml)", "demo", &desc, &args, w, h, ref_spp, demo_ladder, 2e-3)?;
+    Ok(())
+}
+
+/// Error curves of `single` and of `march` at several steps against a
+/// long `single` render; prints time to `target` relMSE for each.
+#[allow(clippy::too_many_arguments)]
+fn equal_error_case(
+    title: &str,
+    key: &str,
+    desc: &SceneDescription,
+    args: &BenchArgs,
+    width: u32,
+    height: u32,
+    reference_spp: u32,
+    ladder: &[u32],
+    target: f64,
+) -> Result<()> {
+    println!("## {title} at {width}×{height}\n");
+    let reference = long_render(desc, args, key, width, height, reference_spp)?;
+    println!("Reference: `single`, {reference_spp} spp, seed 1000 (independent of the seeds below).\n");
+    let mut curves = Vec::new();
+    let steps: &[f32] = if args.quick { &[0.1] } else { &[0.05, 0.1, 0.2, 0.4] };
+    let methods = std::iter::once(Method { kind: IntegratorKind::Single, step: 0.1 })
+        .chain(steps.iter().map(|&step| Method { kind: IntegratorKind::March, step }));
+    for method in methods {
+        let curve = measure(desc, args, width, height, method, ladder, &reference)?;
+        print_curve(&method, &curve);
+        curves.push((method, curve));
+    }
+    report_time_to_error(&curves, target);
+    Ok(())
+}
+
+fn settings(desc: &SceneDescription, args: &BenchArgs, width: u32, height: u32, method: Method, spp: u32, seed: u64) -> RenderSettings {
+    RenderSettings {
+        width,
+        height,
+        spp,
+        seed,
+        threads: args.threads,
+        integrator: method.kind,
+        step: method.step,
+        ..desc.settings
+    }
+}
+
+fn measure(
+    desc: &SceneDescription,
+    args: &BenchArgs,
+    width: u32,
+    height: u32,
+    method: Method,
+    ladder: &[u32],
+    reference: &Image,
+) -> Result<Vec<Point>> {
+    let mut curve: Vec<Point> = Vec::new();
+    for &spp in ladder {
+        // Enough once the curve is far below every target or too slow.
+        if curve.last().is_some_and(|p| p.seconds > args.max_seconds || p.rel_mse < 2e-4) {
+            break;
+        }
+        let s = settings(desc, args, width, height, method, spp, 1);
+        let mut times = Vec::new();
+        let mut image = None;
+        for _ in 0..args.runs.max(1) {
+            let r = tyndall::render(&desc.scene, &s, &|_| {})?;
+            times.push(r.stats.elapsed);
+            image = Some(r.image);
+        }
+        let image = image.expect("at least one run");
+        curve.push(Point { spp, seconds: median(&mut times).as_secs_f64(), rel_mse: relative_mse(&image, reference) });
+    }
+    Ok(curve)
+}
+
+fn median(times: &mut [Duration]) -> Duration {
+    times.sort();
+    times[times.len() / 2]
+}
+
+/// A long `single` render, cached by scene text, size and sample count.
+fn long_render(desc: &SceneDescription, args: &BenchArgs, key: &str, width: u32, height: u32, spp: u32) -> Result<Image> {
+    let path = args.cache.join(format!("{key}-{width}x{height}-{spp}spp-{:016x}.exr", scene_fingerprint(desc, width, height)));
+    if let Ok(image) = Image::read_exr(&path) {
+        return Ok(image);
+    }
+    eprintln!("rendering the reference {} (once; cached)…", path.display());
+    let method = Method { kind: IntegratorKind::Single, step: 0.1 };
+    let s = settings(desc, args, width, height, method, spp, 1000);
+    let r = tyndall::render(&desc.scene, &s, &|_| {})?;
+    std::fs::create_dir_all(&args.cache).with_context(|| format!("creating {}", args.cache.display()))?;
+    r.image.write(&path, 0.0)?;
+    Ok(r.image)
+}
+
+/// Identifies what a cached reference was rendered from: the scene's
+/// geometry, lights and fog as printed, and the size.
+fn scene_fingerprint(desc: &SceneDescription, width: u32, height: u32) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    format!("{:?}{:?}{:?}{:?}", desc.scene.geometry.primitives(), desc.scene.lights, desc.scene.fog, desc.scene.camera).hash(&mut h);
+    (width, height, env!("CARGO_PKG_VERSION")).hash(&mut h);
+    h.finish()
+}
+
+fn print_curve(method: &Method, curve: &[Point]) {
+    println!("{}:\n\n| spp | time (s) | relMSE |\n|---:|---:|---:|", method.label());
+    for p in curve {
+        println!("| {} | {:.3} | {:.3e} |", p.spp, p.seconds, p.rel_mse);
+    }
+    println!();
+}
+
+/// Seconds to reach `target` relMSE, interpolated log-log; `None` if the
+/// curve never reaches it. Below the first point, 1/error scaling of the
+/// first point is used.
+fn time_to_error(curve: &[Point], target: f64) -> Option<f64> {
+    let first = curve.first()?;
+    if first.rel_mse <= target {
+        return Some(first.seconds * first.rel_mse / target);
+    }
+    curve.windows(2).find(|w| w[1].rel_mse <= target).map(|w| {
+        let (a, b) = (w[0], w[1]);
+        let f = (target.ln() - a.rel_mse.ln()) / (b.rel_mse.ln() - a.rel_mse.ln());
+        (a.seconds.ln() + f * (b.seconds.ln() - a.seconds.ln())).exp()
+    })
+}
+
+fn report_time_to_error(curves: &[(Method, Vec<Point>)], target: f64) {
+    println!("Time to relMSE {target:.0e}:\n");
+    let mut best_march: Option<(f64, String)> = None;
+    let mut single = None;
+    for (method, curve) in curves {
+        match time_to_error(curve, target) {
+            Some(t) => {
+                println!("- {}: {t:.3} s", method.label());
+                match method.kind {
+                    IntegratorKind::Single => single = Some(t),
+                    IntegratorKind::March => {
+                        if best_march.as_ref().is_none_or(|(b, _)| t < *b) {
+                            best_march = Some((t, method.label()));
+                        }
+                    }
+                }
+            }
+            None => println!("- {}: not reached (best {:.3e})", method.label(), curve.iter().map(|p| p.rel_mse).fold(f64::INFINITY, f64::min)),
+        }
+    }
+    if let (Some(s), Some((m, label))) = (single, best_march) {
+        println!("\n`single` needs {:.2}× the time of the best march, {label}.", s / m);
+    }
+    println!();
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn interpolates_time_log_log() {
+        // error ∝ 1/time: 1e-2 at 1 s, 1e-3 at 10 s → 3.16e-3 at 3.16 s.
+        let curve = [Point { spp: 1, seconds: 1.0, rel_mse: 1e-2 }, Point { spp: 10, seconds: 10.0, rel_mse: 1e-3 }];
+        let t = time_to_error(&curve, 10f64.powf(-2.5)).unwrap();
+        assert!((t - 10f64.sqrt()).abs() < 1e-9);
+        assert!(time_to_error(&curve, 1e-4).is_none());
+        assert!((time_to_error(&curve, 2e-2).unwrap() - 0.5).abs() < 1e-12);
+    }
 }
