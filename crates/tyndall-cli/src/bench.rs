@@ -13,6 +13,7 @@ use clap::Args;
 use std::path::PathBuf;
 use std::time::Duration;
 use tyndall::metrics::relative_mse;
+use tyndall::render::DEFAULT_VOLUME_SAMPLES;
 use tyndall::scene::{SceneDescription, demo, native};
 use tyndall::{Image, IntegratorKind, RenderSettings};
 
@@ -51,52 +52,126 @@ struct Point {
 struct Method {
     kind: IntegratorKind,
     step: f32,
+    /// Equiangular samples per light per ray (`single`).
+    volume_samples: u32,
 }
 
 impl Method {
+    fn single(volume_samples: u32) -> Self {
+        Self {
+            kind: IntegratorKind::Single,
+            step: 0.1,
+            volume_samples,
+        }
+    }
+
+    fn march(step: f32) -> Self {
+        Self {
+            kind: IntegratorKind::March,
+            step,
+            volume_samples: 1,
+        }
+    }
+
     fn label(&self) -> String {
         match self.kind {
             IntegratorKind::March => format!("march (step {})", self.step),
-            IntegratorKind::Single => "single".to_string(),
+            IntegratorKind::Single => format!("single ({} samples per ray)", self.volume_samples),
         }
     }
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
     let quick = args.quick;
-    println!("# tyndall bench{}\n", if quick { " --quick (sizes reduced: figures are not meaningful)" } else { "" });
-    println!("Times are medians of {} runs, wall clock, {} threads.\n", args.runs, args.threads.map_or("all".into(), |t| t.to_string()));
+    println!(
+        "# tyndall bench{}\n",
+        if quick {
+            " --quick (sizes reduced: figures are not meaningful)"
+        } else {
+            ""
+        }
+    );
+    println!(
+        "Times are medians of {} runs, wall clock, {} threads.\n",
+        args.runs,
+        args.threads.map_or("all".into(), |t| t.to_string())
+    );
 
     // 1. Against an independent renderer.
     let dir = args.scenes.join("reference");
     let desc = native::load(&dir.join("fog-spot-sphere.toml"))?;
-    let reference = Image::read_exr(&dir.join("fog-spot-sphere.exr")).context("reading the reference image")?;
-    let (width, height) = if quick { (320, 240) } else { (reference.width(), reference.height()) };
+    let reference =
+        Image::read_exr(&dir.join("fog-spot-sphere.exr")).context("reading the reference image")?;
+    let (width, height) = if quick {
+        (320, 240)
+    } else {
+        (reference.width(), reference.height())
+    };
     if (width, height) != (reference.width(), reference.height()) {
-        bail!("the reference is {}×{}", reference.width(), reference.height());
+        bail!(
+            "the reference is {}×{}",
+            reference.width(),
+            reference.height()
+        );
     }
-    let ladder: &[u32] = if quick { &[1, 2, 4] } else { &[1, 2, 4, 8, 16, 32] };
+    let ladder: &[u32] = if quick {
+        &[1, 2, 4]
+    } else {
+        &[1, 2, 4, 8, 16, 32]
+    };
     println!("## fog-spot-sphere 320×240 against Mitsuba 3 (shared/reference)\n");
-    let single = Method { kind: IntegratorKind::Single, step: 0.1 };
-    let march = Method { kind: IntegratorKind::March, step: 0.1 };
     let mut curves = Vec::new();
-    for method in [single, march] {
+    for method in [
+        Method::single(DEFAULT_VOLUME_SAMPLES),
+        Method::single(1),
+        Method::march(0.1),
+    ] {
         let curve = measure(&desc, &args, width, height, method, ladder, &reference)?;
         print_curve(&method, &curve);
         curves.push((method, curve));
     }
-    report_time_to_error(&curves, 1e-3);
+    report_time_to_error(&curves, &[1e-3, 3e-4]);
 
     // 2. The paper's fig. 7: `single` against the best `march` step.
     let desc = native::load(&args.scenes.join("fig07-spot-sphere.toml"))?;
-    let (w, h, ref_spp) = if quick { (80, 60, 64) } else { (320, 240, 2048) };
-    equal_error_case("fig. 7 (scenes/fig07-spot-sphere.toml)", "fig07", &desc, &args, w, h, ref_spp, ladder, 1e-3)?;
+    let (w, h, ref_spp) = if quick {
+        (80, 60, 64)
+    } else {
+        (320, 240, 2048)
+    };
+    equal_error_case(
+        "fig. 7 (scenes/fig07-spot-sphere.toml)",
+        "fig07",
+        &desc,
+        &args,
+        w,
+        h,
+        ref_spp,
+        ladder,
+    )?;
 
     // 3. The demo at 1280×720.
     let desc = demo::load()?;
-    let (w, h, ref_spp) = if quick { (128, 72, 16) } else { (1280, 720, 512) };
-    let demo_ladder: &[u32] = if quick { &[1, 2] } else { &[2, 4, 8, 16, 32, 64] };
-    equal_error_case("the demo (built in, scenes/stained-glass.toml)", "demo", &desc, &args, w, h, ref_spp, demo_ladder, 2e-3)?;
+    let (w, h, ref_spp) = if quick {
+        (128, 72, 16)
+    } else {
+        (1280, 720, 512)
+    };
+    let demo_ladder: &[u32] = if quick {
+        &[1, 2]
+    } else {
+        &[1, 2, 4, 8, 16, 32]
+    };
+    equal_error_case(
+        "the demo (built in, scenes/stained-glass.toml)",
+        "demo",
+        &desc,
+        &args,
+        w,
+        h,
+        ref_spp,
+        demo_ladder,
+    )?;
     Ok(())
 }
 
@@ -112,25 +187,39 @@ fn equal_error_case(
     height: u32,
     reference_spp: u32,
     ladder: &[u32],
-    target: f64,
 ) -> Result<()> {
     println!("## {title} at {width}×{height}\n");
     let reference = long_render(desc, args, key, width, height, reference_spp)?;
-    println!("Reference: `single`, {reference_spp} spp, seed 1000 (independent of the seeds below).\n");
+    println!(
+        "Reference: `single`, {reference_spp} spp, seed 1000 (independent of the seeds below).\n"
+    );
     let mut curves = Vec::new();
-    let steps: &[f32] = if args.quick { &[0.1] } else { &[0.05, 0.1, 0.2, 0.4] };
-    let methods = std::iter::once(Method { kind: IntegratorKind::Single, step: 0.1 })
-        .chain(steps.iter().map(|&step| Method { kind: IntegratorKind::March, step }));
+    let steps: &[f32] = if args.quick {
+        &[0.1]
+    } else {
+        &[0.05, 0.1, 0.2, 0.4]
+    };
+    let methods = [Method::single(DEFAULT_VOLUME_SAMPLES), Method::single(1)]
+        .into_iter()
+        .chain(steps.iter().map(|&step| Method::march(step)));
     for method in methods {
         let curve = measure(desc, args, width, height, method, ladder, &reference)?;
         print_curve(&method, &curve);
         curves.push((method, curve));
     }
-    report_time_to_error(&curves, target);
+    report_time_to_error(&curves, &[1e-3, 3e-4]);
     Ok(())
 }
 
-fn settings(desc: &SceneDescription, args: &BenchArgs, width: u32, height: u32, method: Method, spp: u32, seed: u64) -> RenderSettings {
+fn settings(
+    desc: &SceneDescription,
+    args: &BenchArgs,
+    width: u32,
+    height: u32,
+    method: Method,
+    spp: u32,
+    seed: u64,
+) -> RenderSettings {
     RenderSettings {
         width,
         height,
@@ -139,6 +228,7 @@ fn settings(desc: &SceneDescription, args: &BenchArgs, width: u32, height: u32, 
         threads: args.threads,
         integrator: method.kind,
         step: method.step,
+        volume_samples: method.volume_samples,
         ..desc.settings
     }
 }
@@ -155,7 +245,10 @@ fn measure(
     let mut curve: Vec<Point> = Vec::new();
     for &spp in ladder {
         // Enough once the curve is far below every target or too slow.
-        if curve.last().is_some_and(|p| p.seconds > args.max_seconds || p.rel_mse < 2e-4) {
+        if curve
+            .last()
+            .is_some_and(|p| p.seconds > args.max_seconds || p.rel_mse < 2e-4)
+        {
             break;
         }
         let s = settings(desc, args, width, height, method, spp, 1);
@@ -167,7 +260,11 @@ fn measure(
             image = Some(r.image);
         }
         let image = image.expect("at least one run");
-        curve.push(Point { spp, seconds: median(&mut times).as_secs_f64(), rel_mse: relative_mse(&image, reference) });
+        curve.push(Point {
+            spp,
+            seconds: median(&mut times).as_secs_f64(),
+            rel_mse: relative_mse(&image, reference),
+        });
     }
     Ok(curve)
 }
@@ -178,16 +275,34 @@ fn median(times: &mut [Duration]) -> Duration {
 }
 
 /// A long `single` render, cached by scene text, size and sample count.
-fn long_render(desc: &SceneDescription, args: &BenchArgs, key: &str, width: u32, height: u32, spp: u32) -> Result<Image> {
-    let path = args.cache.join(format!("{key}-{width}x{height}-{spp}spp-{:016x}.exr", scene_fingerprint(desc, width, height)));
+fn long_render(
+    desc: &SceneDescription,
+    args: &BenchArgs,
+    key: &str,
+    width: u32,
+    height: u32,
+    spp: u32,
+) -> Result<Image> {
+    let path = args.cache.join(format!(
+        "{key}-{width}x{height}-{spp}spp-{:016x}.exr",
+        scene_fingerprint(desc, width, height)
+    ));
     if let Ok(image) = Image::read_exr(&path) {
         return Ok(image);
     }
     eprintln!("rendering the reference {} (once; cached)…", path.display());
-    let method = Method { kind: IntegratorKind::Single, step: 0.1 };
-    let s = settings(desc, args, width, height, method, spp, 1000);
+    let s = settings(
+        desc,
+        args,
+        width,
+        height,
+        Method::single(DEFAULT_VOLUME_SAMPLES),
+        spp,
+        1000,
+    );
     let r = tyndall::render(&desc.scene, &s, &|_| {})?;
-    std::fs::create_dir_all(&args.cache).with_context(|| format!("creating {}", args.cache.display()))?;
+    std::fs::create_dir_all(&args.cache)
+        .with_context(|| format!("creating {}", args.cache.display()))?;
     r.image.write(&path, 0.0)?;
     Ok(r.image)
 }
@@ -197,58 +312,101 @@ fn long_render(desc: &SceneDescription, args: &BenchArgs, key: &str, width: u32,
 fn scene_fingerprint(desc: &SceneDescription, width: u32, height: u32) -> u64 {
     use std::hash::{Hash, Hasher};
     let mut h = std::collections::hash_map::DefaultHasher::new();
-    format!("{:?}{:?}{:?}{:?}", desc.scene.geometry.primitives(), desc.scene.lights, desc.scene.fog, desc.scene.camera).hash(&mut h);
+    format!(
+        "{:?}{:?}{:?}{:?}",
+        desc.scene.geometry.primitives(),
+        desc.scene.lights,
+        desc.scene.fog,
+        desc.scene.camera
+    )
+    .hash(&mut h);
     (width, height, env!("CARGO_PKG_VERSION")).hash(&mut h);
     h.finish()
 }
 
 fn print_curve(method: &Method, curve: &[Point]) {
-    println!("{}:\n\n| spp | time (s) | relMSE |\n|---:|---:|---:|", method.label());
+    println!(
+        "{}:\n\n| spp | time (s) | relMSE |\n|---:|---:|---:|",
+        method.label()
+    );
     for p in curve {
         println!("| {} | {:.3} | {:.3e} |", p.spp, p.seconds, p.rel_mse);
     }
     println!();
 }
 
-/// Seconds to reach `target` relMSE, interpolated log-log; `None` if the
-/// curve never reaches it. Below the first point, 1/error scaling of the
-/// first point is used.
-fn time_to_error(curve: &[Point], target: f64) -> Option<f64> {
-    let first = curve.first()?;
-    if first.rel_mse <= target {
-        return Some(first.seconds * first.rel_mse / target);
-    }
-    curve.windows(2).find(|w| w[1].rel_mse <= target).map(|w| {
-        let (a, b) = (w[0], w[1]);
-        let f = (target.ln() - a.rel_mse.ln()) / (b.rel_mse.ln() - a.rel_mse.ln());
-        (a.seconds.ln() + f * (b.seconds.ln() - a.seconds.ln())).exp()
-    })
+/// How long a curve takes to reach a target error.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum TimeToError {
+    /// Interpolated log-log between the two points around the target.
+    Seconds(f64),
+    /// The first point (1 spp) is already below the target: at most this.
+    AtMost(f64),
+    /// Not reached within the curve.
+    NotReached,
 }
 
-fn report_time_to_error(curves: &[(Method, Vec<Point>)], target: f64) {
-    println!("Time to relMSE {target:.0e}:\n");
-    let mut best_march: Option<(f64, String)> = None;
-    let mut single = None;
-    for (method, curve) in curves {
-        match time_to_error(curve, target) {
-            Some(t) => {
-                println!("- {}: {t:.3} s", method.label());
-                match method.kind {
-                    IntegratorKind::Single => single = Some(t),
-                    IntegratorKind::March => {
-                        if best_march.as_ref().is_none_or(|(b, _)| t < *b) {
-                            best_march = Some((t, method.label()));
-                        }
+fn time_to_error(curve: &[Point], target: f64) -> TimeToError {
+    let Some(first) = curve.first() else {
+        return TimeToError::NotReached;
+    };
+    if first.rel_mse <= target {
+        return TimeToError::AtMost(first.seconds);
+    }
+    curve
+        .windows(2)
+        .find(|w| w[1].rel_mse <= target)
+        .map_or(TimeToError::NotReached, |w| {
+            let (a, b) = (w[0], w[1]);
+            let f = (target.ln() - a.rel_mse.ln()) / (b.rel_mse.ln() - a.rel_mse.ln());
+            TimeToError::Seconds((a.seconds.ln() + f * (b.seconds.ln() - a.seconds.ln())).exp())
+        })
+}
+
+fn report_time_to_error(curves: &[(Method, Vec<Point>)], targets: &[f64]) {
+    for &target in targets {
+        println!("Time to relMSE {target:.0e}:\n");
+        let mut best_march: Option<(f64, String)> = None;
+        let mut single = None;
+        for (method, curve) in curves {
+            let t = match time_to_error(curve, target) {
+                TimeToError::Seconds(t) => {
+                    println!("- {}: {t:.3} s", method.label());
+                    t
+                }
+                TimeToError::AtMost(t) => {
+                    println!("- {}: ≤ {t:.3} s (reached at 1 spp)", method.label());
+                    continue;
+                }
+                TimeToError::NotReached => {
+                    let best = curve
+                        .iter()
+                        .map(|p| p.rel_mse)
+                        .fold(f64::INFINITY, f64::min);
+                    println!("- {}: not reached (best {best:.3e})", method.label());
+                    continue;
+                }
+            };
+            match method.kind {
+                IntegratorKind::Single if method.volume_samples == DEFAULT_VOLUME_SAMPLES => {
+                    single = Some(t)
+                }
+                IntegratorKind::Single => {}
+                IntegratorKind::March => {
+                    if best_march.as_ref().is_none_or(|(b, _)| t < *b) {
+                        best_march = Some((t, method.label()));
                     }
                 }
             }
-            None => println!("- {}: not reached (best {:.3e})", method.label(), curve.iter().map(|p| p.rel_mse).fold(f64::INFINITY, f64::min)),
         }
+        if let (Some(s), Some((m, label))) = (single, best_march) {
+            println!(
+                "\n`single` (default) / best `march` ({label}): {:.2}",
+                s / m
+            );
+        }
+        println!();
     }
-    if let (Some(s), Some((m, label))) = (single, best_march) {
-        println!("\n`single` needs {:.2}× the time of the best march, {label}.", s / m);
-    }
-    println!();
 }
 
 #[cfg(test)]
@@ -258,10 +416,23 @@ mod tests {
     #[test]
     fn interpolates_time_log_log() {
         // error ∝ 1/time: 1e-2 at 1 s, 1e-3 at 10 s → 3.16e-3 at 3.16 s.
-        let curve = [Point { spp: 1, seconds: 1.0, rel_mse: 1e-2 }, Point { spp: 10, seconds: 10.0, rel_mse: 1e-3 }];
-        let t = time_to_error(&curve, 10f64.powf(-2.5)).unwrap();
+        let curve = [
+            Point {
+                spp: 1,
+                seconds: 1.0,
+                rel_mse: 1e-2,
+            },
+            Point {
+                spp: 10,
+                seconds: 10.0,
+                rel_mse: 1e-3,
+            },
+        ];
+        let TimeToError::Seconds(t) = time_to_error(&curve, 10f64.powf(-2.5)) else {
+            panic!()
+        };
         assert!((t - 10f64.sqrt()).abs() < 1e-9);
-        assert!(time_to_error(&curve, 1e-4).is_none());
-        assert!((time_to_error(&curve, 2e-2).unwrap() - 0.5).abs() < 1e-12);
+        assert_eq!(time_to_error(&curve, 1e-4), TimeToError::NotReached);
+        assert_eq!(time_to_error(&curve, 2e-2), TimeToError::AtMost(1.0));
     }
 }

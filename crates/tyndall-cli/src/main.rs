@@ -16,7 +16,11 @@ use tyndall::scene::{SceneDescription, demo, legacy, native};
 use tyndall::{IntegratorKind, RenderStats};
 
 #[derive(Parser)]
-#[command(name = "tyndall", version, about = "Tyndall renders light in participating media: beams from spotlights in fog, volumetric shadows and light coloured by stained glass.")]
+#[command(
+    name = "tyndall",
+    version,
+    about = "Tyndall renders light in participating media: beams from spotlights in fog, volumetric shadows and light coloured by stained glass."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -77,6 +81,10 @@ pub struct Overrides {
     /// March step length in scene units (the paper used 0.1); `march` only.
     #[arg(long, allow_negative_numbers = true)]
     pub step: Option<f32>,
+    /// Equiangular samples per light per camera ray, stratified along the ray
+    /// (`single` only; default 8).
+    #[arg(long)]
+    pub volume_samples: Option<u32>,
     /// Fog extinction σt per scene unit (the paper's air density τ). Adds fog
     /// filling all space if the scene has none, as the paper's legacy scenes need.
     #[arg(long, allow_negative_numbers = true)]
@@ -97,7 +105,8 @@ pub struct Overrides {
 }
 
 fn parse_integrator(s: &str) -> Result<IntegratorKind, String> {
-    IntegratorKind::from_name(s).ok_or_else(|| format!("unknown integrator `{s}`: expected `march` or `single`"))
+    IntegratorKind::from_name(s)
+        .ok_or_else(|| format!("unknown integrator `{s}`: expected `march` or `single`"))
 }
 
 impl Overrides {
@@ -119,6 +128,9 @@ impl Overrides {
         if let Some(v) = self.step {
             s.step = v;
         }
+        if let Some(v) = self.volume_samples {
+            s.volume_samples = v;
+        }
         if let Some(v) = self.threads {
             s.threads = Some(v);
         }
@@ -128,7 +140,8 @@ impl Overrides {
         if let Some(v) = self.exposure {
             s.exposure = v;
         }
-        desc.override_fog(self.density, self.albedo).map_err(anyhow::Error::msg)
+        desc.override_fog(self.density, self.albedo)
+            .map_err(anyhow::Error::msg)
     }
 }
 
@@ -137,7 +150,10 @@ pub fn load_scene(path: Option<&Path>, two_sided: bool) -> Result<SceneDescripti
     let Some(path) = path else {
         return Ok(demo::load()?);
     };
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
     Ok(match ext.as_deref() {
         Some("toml") => native::load(path)?,
         Some("obj") => legacy::load(path, LegacyOptions { two_sided })?,
@@ -158,7 +174,11 @@ fn render(args: RenderArgs) -> Result<()> {
     // Fail on a bad output name before spending time on the render.
     tyndall::film::ImageFormat::from_path(&output)?;
     settings_checked(&desc)?;
-    let warnings = desc.warnings.iter().cloned().chain(desc.settings.warnings(&desc.scene));
+    let warnings = desc
+        .warnings
+        .iter()
+        .cloned()
+        .chain(desc.settings.warnings(&desc.scene));
     for w in warnings {
         eprintln!("warning: {w}");
     }
@@ -213,7 +233,10 @@ fn report(settings: &tyndall::RenderSettings, stats: &RenderStats, output: &Path
         stats.rays_per_second() * 1e-6,
     );
     if stats.invalid_samples > 0 {
-        eprintln!("warning: {} samples were NaN or infinite and were dropped", stats.invalid_samples);
+        eprintln!(
+            "warning: {} samples were NaN or infinite and were dropped",
+            stats.invalid_samples
+        );
     }
 }
 
@@ -234,11 +257,22 @@ fn compare(candidate: &Path, reference: &Path, worst: usize) -> Result<()> {
     println!("{:.6e}", tyndall::metrics::relative_mse(&c, &r));
     let mut pixels: Vec<(f64, u32, u32)> = (0..c.height())
         .flat_map(|y| (0..c.width()).map(move |x| (x, y)))
-        .map(|(x, y)| (tyndall::metrics::pixel_relative_se(c.pixel(x, y), r.pixel(x, y)), x, y))
+        .map(|(x, y)| {
+            (
+                tyndall::metrics::pixel_relative_se(c.pixel(x, y), r.pixel(x, y)),
+                x,
+                y,
+            )
+        })
         .collect();
     pixels.sort_by(|a, b| b.0.total_cmp(&a.0));
     for (e, x, y) in pixels.into_iter().take(worst) {
-        println!("  pixel ({x}, {y}): {:.3e}  candidate {:?}  reference {:?}", e, c.pixel(x, y).to_array(), r.pixel(x, y).to_array());
+        println!(
+            "  pixel ({x}, {y}): {:.3e}  candidate {:?}  reference {:?}",
+            e,
+            c.pixel(x, y).to_array(),
+            r.pixel(x, y).to_array()
+        );
     }
     Ok(())
 }

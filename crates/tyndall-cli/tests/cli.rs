@@ -5,7 +5,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn tyndall(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tyndall")).args(args).output().expect("run tyndall")
+    Command::new(env!("CARGO_BIN_EXE_tyndall"))
+        .args(args)
+        .output()
+        .expect("run tyndall")
 }
 
 fn repo() -> PathBuf {
@@ -28,7 +31,18 @@ fn stderr(o: &Output) -> String {
 fn renders_demo_to_png_and_exr() {
     for name in ["demo.png", "demo.exr"] {
         let out = temp(name);
-        let o = tyndall(&["render", "-o", out.to_str().unwrap(), "--width", "32", "--height", "18", "--spp", "1", "-q"]);
+        let o = tyndall(&[
+            "render",
+            "-o",
+            out.to_str().unwrap(),
+            "--width",
+            "32",
+            "--height",
+            "18",
+            "--spp",
+            "1",
+            "-q",
+        ]);
         assert!(o.status.success(), "{}", stderr(&o));
         assert!(out.exists());
     }
@@ -38,7 +52,9 @@ fn renders_demo_to_png_and_exr() {
 }
 
 fn temp_existing(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("tyndall-cli-test-{}", std::process::id())).join(name)
+    std::env::temp_dir()
+        .join(format!("tyndall-cli-test-{}", std::process::id()))
+        .join(name)
 }
 
 #[test]
@@ -46,20 +62,53 @@ fn renders_legacy_scene_with_fog_from_flags() {
     let out = temp("legacy.png");
     let scene = repo().join("scenes/legacy/fig07-spot-sphere.obj");
     let o = tyndall(&[
-        "render", scene.to_str().unwrap(), "-o", out.to_str().unwrap(), "--width", "40", "--height", "30",
-        "--spp", "2", "--step", "0.2", "--density", "0.1", "--albedo", "5", "--threads", "2", "--seed", "3", "--exposure", "-1",
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "40",
+        "--height",
+        "30",
+        "--spp",
+        "2",
+        "--step",
+        "0.2",
+        "--density",
+        "0.1",
+        "--albedo",
+        "5",
+        "--threads",
+        "2",
+        "--seed",
+        "3",
+        "--exposure",
+        "-1",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stderr(&o).contains("not physical"), "albedo 5 warns: {}", stderr(&o));
-    assert!(stderr(&o).contains("rays/s"), "statistics at the end: {}", stderr(&o));
+    assert!(
+        stderr(&o).contains("not physical"),
+        "albedo 5 warns: {}",
+        stderr(&o)
+    );
+    assert!(
+        stderr(&o).contains("rays/s"),
+        "statistics at the end: {}",
+        stderr(&o)
+    );
     assert!(out.exists());
 }
 
 #[test]
 fn bad_inputs_fail_without_writing_an_image() {
     let bad_scene = temp("bad.toml");
-    let good = std::fs::read_to_string(repo().join("scenes/fig07-spot-sphere.toml")).expect("scene");
-    std::fs::write(&bad_scene, good.replace("cutoff_deg = 30.0", "cutoff_deg = 120.0")).expect("write");
+    let good =
+        std::fs::read_to_string(repo().join("scenes/fig07-spot-sphere.toml")).expect("scene");
+    std::fs::write(
+        &bad_scene,
+        good.replace("cutoff_deg = 30.0", "cutoff_deg = 120.0"),
+    )
+    .expect("write");
     let bad = bad_scene.to_str().unwrap().to_owned();
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["render", &bad], "bad.toml:"),
@@ -67,28 +116,54 @@ fn bad_inputs_fail_without_writing_an_image() {
         (vec!["render", "--density", "-1"], "--density"),
         (vec!["render", "--integrator", "fast"], "unknown integrator"),
         (vec!["render", "no-such-scene.toml"], "no-such-scene.toml"),
-        (vec!["render", "--albedo", "5", "--integrator", "single"], "not physical"),
+        (
+            vec!["render", "--albedo", "5", "--integrator", "single"],
+            "not physical",
+        ),
     ];
     for (mut args, words) in cases {
         let out = temp("never.png");
         args.extend(["-o", out.to_str().unwrap()]);
         let o = tyndall(&args);
         assert!(!o.status.success(), "{args:?} should fail");
-        assert!(stderr(&o).contains(words), "{args:?}: `{words}` not in {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(words),
+            "{args:?}: `{words}` not in {}",
+            stderr(&o)
+        );
         assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
         assert!(!out.exists(), "{args:?} wrote an image");
     }
     let o = tyndall(&["render", &bad]);
     let message = stderr(&o);
-    let line = good.lines().position(|l| l.starts_with("cutoff_deg")).expect("cutoff line") + 1;
-    assert!(message.contains(&format!("bad.toml:{line}:1:")) && message.contains("cutoff_deg"), "line and column: {message}");
+    let line = good
+        .lines()
+        .position(|l| l.starts_with("cutoff_deg"))
+        .expect("cutoff line")
+        + 1;
+    assert!(
+        message.contains(&format!("bad.toml:{line}:1:")) && message.contains("cutoff_deg"),
+        "line and column: {message}"
+    );
 }
 
 #[test]
 fn help_explains_every_flag() {
     let o = tyndall(&["render", "--help"]);
     let help = String::from_utf8_lossy(&o.stdout);
-    for flag in ["--width", "--height", "--spp", "--integrator", "--step", "--density", "--albedo", "--threads", "--seed", "--exposure", "--output"] {
+    for flag in [
+        "--width",
+        "--height",
+        "--spp",
+        "--integrator",
+        "--step",
+        "--density",
+        "--albedo",
+        "--threads",
+        "--seed",
+        "--exposure",
+        "--output",
+    ] {
         assert!(help.contains(flag), "{flag} missing from --help");
     }
 }

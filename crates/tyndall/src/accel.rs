@@ -128,7 +128,8 @@ impl Geometry {
         mut visit: impl FnMut(&mut obvhs::ray::Ray, u32) -> ControlFlow<()>,
     ) {
         let Some(bvh) = &self.bvh else {
-            let mut bvh_ray = obvhs::ray::Ray::new(ray.origin.into(), ray.direction.into(), 0.0, t_max);
+            let mut bvh_ray =
+                obvhs::ray::Ray::new(ray.origin.into(), ray.direction.into(), 0.0, t_max);
             for index in 0..self.primitives.len() as u32 {
                 if visit(&mut bvh_ray, index).is_break() {
                     break;
@@ -178,7 +179,15 @@ mod tests {
             });
         }
         prims.push(Primitive {
-            shape: Shape::Quad(Quad::new(Vec3::new(-20.0, -5.0, -10.0), Vec3::X * 40.0, Vec3::Y * 10.0, false).unwrap()),
+            shape: Shape::Quad(
+                Quad::new(
+                    Vec3::new(-20.0, -5.0, -10.0),
+                    Vec3::X * 40.0,
+                    Vec3::Y * 10.0,
+                    false,
+                )
+                .unwrap(),
+            ),
             material: 1,
         });
         Geometry::new(prims)
@@ -190,12 +199,19 @@ mod tests {
         let g = scene();
         for k in 0..500 {
             let a = k as f32 * 0.013;
-            let ray = Ray::new(Vec3::new(0.0, 0.0, 10.0), Vec3::new(a.sin() * 1.5, (a * 3.1).cos() * 0.4, -1.0));
+            let ray = Ray::new(
+                Vec3::new(0.0, 0.0, 10.0),
+                Vec3::new(a.sin() * 1.5, (a * 3.1).cos() * 0.4, -1.0),
+            );
             let brute = g
                 .primitives()
                 .iter()
                 .enumerate()
-                .filter_map(|(i, p)| p.shape.intersect(&ray, f32::INFINITY).map(|t| (t, i as u32)))
+                .filter_map(|(i, p)| {
+                    p.shape
+                        .intersect(&ray, f32::INFINITY)
+                        .map(|t| (t, i as u32))
+                })
                 .min_by(|a, b| a.0.total_cmp(&b.0));
             let hit = g.intersect(&ray, f32::INFINITY).map(|h| (h.t, h.primitive));
             assert_eq!(hit, brute, "ray {k}");
@@ -204,7 +220,11 @@ mod tests {
                 count += 1;
                 ControlFlow::Continue(())
             });
-            let brute_count = g.primitives().iter().filter(|p| p.shape.intersect(&ray, f32::INFINITY).is_some()).count();
+            let brute_count = g
+                .primitives()
+                .iter()
+                .filter(|p| p.shape.intersect(&ray, f32::INFINITY).is_some())
+                .count();
             assert_eq!(count, brute_count);
         }
     }
@@ -214,7 +234,10 @@ mod tests {
         let ray = Ray::new(Vec3::Z, -Vec3::Z);
         assert!(Geometry::new(Vec::new()).intersect(&ray, 10.0).is_none());
         let one = Geometry::new(vec![Primitive {
-            shape: Shape::Sphere(Sphere { center: Vec3::ZERO, radius: 0.5 }),
+            shape: Shape::Sphere(Sphere {
+                center: Vec3::ZERO,
+                radius: 0.5,
+            }),
             material: 0,
         }]);
         assert!((one.intersect(&ray, 10.0).unwrap().t - 0.5).abs() < 1e-6);

@@ -126,7 +126,9 @@ impl Image {
                     vec![Rgb::ZERO; resolution.width() * resolution.height()],
                 )
             },
-            |(width, pixels): &mut (usize, Vec<Rgb>), position, (r, g, b, _a): (f32, f32, f32, f32)| {
+            |(width, pixels): &mut (usize, Vec<Rgb>),
+             position,
+             (r, g, b, _a): (f32, f32, f32, f32)| {
                 pixels[position.y() * *width + position.x()] = Rgb::new(r, g, b);
             },
         )
@@ -136,6 +138,10 @@ impl Image {
         })?;
         let size = image.layer_data.size;
         let (_, pixels) = image.layer_data.channel_data.pixels;
-        Ok(Self::from_pixels(size.width() as u32, size.height() as u32, pixels))
+        Ok(Self::from_pixels(
+            size.width() as u32,
+            size.height() as u32,
+            pixels,
+        ))
     }
 }

@@ -118,7 +118,11 @@ impl SpotLight {
             if hi <= lo {
                 continue;
             }
-            let mid = if hi.is_infinite() { lo + 1.0 + lo.abs() } else { 0.5 * (lo + hi) };
+            let mid = if hi.is_infinite() {
+                lo + 1.0 + lo.abs()
+            } else {
+                0.5 * (lo + hi)
+            };
             if inside(mid) {
                 result = Some(match result {
                     None => (lo, hi),
@@ -322,7 +326,10 @@ mod tests {
                     (scan, clip) => {
                         // A sliver thinner than the scan step may be missed.
                         let width = clip.map_or(0.0, |(a, b)| b - a);
-                        assert!(scan.is_none() && width < 0.01, "{cutoff} {k}: {scan:?} vs {clip:?}");
+                        assert!(
+                            scan.is_none() && width < 0.01,
+                            "{cutoff} {k}: {scan:?} vs {clip:?}"
+                        );
                     }
                 }
             }

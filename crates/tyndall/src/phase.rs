@@ -17,7 +17,9 @@ pub enum PhaseFunction {
     Isotropic,
     /// Henyey–Greenstein with asymmetry `g ∈ (−1, 1)`, the mean cosine of
     /// the scattering angle.
-    HenyeyGreenstein { g: f32 },
+    HenyeyGreenstein {
+        g: f32,
+    },
 }
 
 impl PhaseFunction {

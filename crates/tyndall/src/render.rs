@@ -16,6 +16,9 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
+/// Default equiangular samples per light per camera ray (`single`).
+pub const DEFAULT_VOLUME_SAMPLES: u32 = 8;
+
 /// Largest accepted image side, in pixels.
 pub const MAX_IMAGE_SIDE: u32 = 1 << 15;
 
@@ -32,6 +35,9 @@ pub struct RenderSettings {
     pub integrator: IntegratorKind,
     /// March step length (scene units) for [`IntegratorKind::March`].
     pub step: f32,
+    /// Equiangular samples per light per camera ray for
+    /// [`IntegratorKind::Single`] (stratified along the ray).
+    pub volume_samples: u32,
     /// Most reflections followed from a camera ray (glass crossings do not
     /// count).
     pub max_bounces: u32,
@@ -49,6 +55,7 @@ impl Default for RenderSettings {
             threads: None,
             integrator: IntegratorKind::Single,
             step: 0.1,
+            volume_samples: DEFAULT_VOLUME_SAMPLES,
             max_bounces: 4,
             exposure: 0.0,
         }
@@ -58,10 +65,14 @@ impl Default for RenderSettings {
 /// Why a render could not start.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum RenderError {
-    #[error("image size {width}×{height} is invalid: both sides must be between 1 and {MAX_IMAGE_SIDE} pixels")]
+    #[error(
+        "image size {width}×{height} is invalid: both sides must be between 1 and {MAX_IMAGE_SIDE} pixels"
+    )]
     ImageSize { width: u32, height: u32 },
     #[error("samples per pixel must be at least 1")]
     NoSamples,
+    #[error("volume samples per light must be between 1 and 1024, got {0}")]
+    VolumeSamples(u32),
     #[error("march step must be a positive finite length, got {0}")]
     Step(f32),
     #[error("exposure must be finite, got {0}")]
@@ -88,6 +99,9 @@ impl RenderSettings {
         }
         if self.spp == 0 {
             return Err(RenderError::NoSamples);
+        }
+        if !(1..=1024).contains(&self.volume_samples) {
+            return Err(RenderError::VolumeSamples(self.volume_samples));
         }
         if !(self.step > 0.0 && self.step.is_finite()) {
             return Err(RenderError::Step(self.step));
@@ -177,7 +191,8 @@ pub fn render(
     let width = settings.width as usize;
     let mut pixels = vec![Rgb::ZERO; width * settings.height as usize];
     let rows_done = AtomicU64::new(0);
-    let (camera_rays, shadow_rays, invalid) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
+    let (camera_rays, shadow_rays, invalid) =
+        (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
     pool.install(|| {
         pixels
             .par_chunks_mut(width)

@@ -31,7 +31,8 @@ const MIN_EQUIANGULAR_DISTANCE: f32 = 1e-5;
 impl EquiangularSampler {
     /// `None` for an empty interval.
     pub fn new(ray: &Ray, y: Vec3, a: f32, b: f32) -> Option<Self> {
-        if !(a < b) {
+        let non_empty = a < b; // false for NaN too
+        if !non_empty {
             return None;
         }
         let delta = (y - ray.origin).dot(ray.direction);
@@ -144,16 +145,23 @@ mod tests {
     #[test]
     fn samples_invert_the_cdf() {
         let ray = Ray::new(Vec3::ZERO, Vec3::X);
-        let eq = EquiangularSampler::new(&ray, Vec3::new(2.0, 0.5, 0.0), 0.0, f32::INFINITY).unwrap();
+        let eq =
+            EquiangularSampler::new(&ray, Vec3::new(2.0, 0.5, 0.0), 0.0, f32::INFINITY).unwrap();
         let ex = ExponentialSampler::new(0.3, 1.0, f32::INFINITY).unwrap();
         for u in [0.1f32, 0.5, 0.9] {
             for (t, pdf_fn, a) in [
-                (eq.sample(u).0, &(|t| eq.pdf(t)) as &dyn Fn(f32) -> f32, 0.0f32),
+                (
+                    eq.sample(u).0,
+                    &(|t| eq.pdf(t)) as &dyn Fn(f32) -> f32,
+                    0.0f32,
+                ),
                 (ex.sample(u).0, &(|t| ex.pdf(t)) as &dyn Fn(f32) -> f32, 1.0),
             ] {
                 let n = 100_000;
                 let h = (t - a) as f64 / n as f64;
-                let cdf: f64 = (0..n).map(|i| pdf_fn(a + ((i as f64 + 0.5) * h) as f32) as f64 * h).sum();
+                let cdf: f64 = (0..n)
+                    .map(|i| pdf_fn(a + ((i as f64 + 0.5) * h) as f32) as f64 * h)
+                    .sum();
                 assert!((cdf - u as f64).abs() < 2e-3, "u {u}: {cdf}");
             }
         }

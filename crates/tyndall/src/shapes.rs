@@ -141,7 +141,8 @@ impl Quad {
     pub fn new(origin: Vec3, edge_u: Vec3, edge_v: Vec3, one_sided: bool) -> Option<Self> {
         let n = edge_u.cross(edge_v);
         let n2 = n.length_squared();
-        if !(n2 > 0.0) || !n2.is_finite() {
+        let has_area = n2 > 0.0 && n2.is_finite();
+        if !has_area {
             return None;
         }
         Some(Self {
@@ -219,7 +220,10 @@ impl Triangle {
 
     /// A triangle hit only by rays meeting its front face.
     pub fn new_one_sided(a: Vec3, b: Vec3, c: Vec3) -> Option<Self> {
-        Self::new(a, b, c).map(|t| Self { one_sided: true, ..t })
+        Self::new(a, b, c).map(|t| Self {
+            one_sided: true,
+            ..t
+        })
     }
 
     /// Möller–Trumbore ray/triangle intersection.
@@ -300,11 +304,11 @@ pub fn box_faces(b: Bounds) -> [Quad; 6] {
         Quad::new(o, u, v, false).expect("validated non-degenerate box face")
     };
     [
-        face(lo, dz, dy), // −x
+        face(lo, dz, dy),      // −x
         face(lo + dx, dy, dz), // +x
-        face(lo, dx, dz), // −y
+        face(lo, dx, dz),      // −y
         face(lo + dy, dz, dx), // +y
-        face(lo, dy, dx), // −z
+        face(lo, dy, dx),      // −z
         face(lo + dz, dx, dy), // +z
     ]
 }
@@ -327,7 +331,13 @@ mod tests {
 
     #[test]
     fn one_sided_quad_is_invisible_from_behind() {
-        let q = Quad::new(Vec3::new(-1.0, -1.0, 0.0), 2.0 * Vec3::X, 2.0 * Vec3::Y, true).unwrap();
+        let q = Quad::new(
+            Vec3::new(-1.0, -1.0, 0.0),
+            2.0 * Vec3::X,
+            2.0 * Vec3::Y,
+            true,
+        )
+        .unwrap();
         assert_eq!(q.normal, Vec3::Z);
         let front = Ray::new(Vec3::new(0.0, 0.0, 1.0), -Vec3::Z);
         let back = Ray::new(Vec3::new(0.0, 0.0, -1.0), Vec3::Z);

@@ -30,22 +30,44 @@ fn march_and_single_agree_on_fig7() {
             s.seed = seed;
         })
     };
-    let (a1, a2) = (shot(IntegratorKind::March, 1), shot(IntegratorKind::March, 2));
-    let (b1, b2) = (shot(IntegratorKind::Single, 3), shot(IntegratorKind::Single, 4));
+    let (a1, a2) = (
+        shot(IntegratorKind::March, 1),
+        shot(IntegratorKind::March, 2),
+    );
+    let (b1, b2) = (
+        shot(IntegratorKind::Single, 3),
+        shot(IntegratorKind::Single, 4),
+    );
     let r = average(&[&a1, &a2, &b1, &b2]);
     let (aa, bb) = (pixel_distances(&a1, &a2, &r), pixel_distances(&b1, &b2, &r));
     let ab = pixel_distances(&a1, &b1, &r);
-    let z: Vec<f64> = (0..ab.len()).map(|i| ab[i] - 0.5 * (aa[i] + bb[i])).collect();
+    let z: Vec<f64> = (0..ab.len())
+        .map(|i| ab[i] - 0.5 * (aa[i] + bb[i]))
+        .collect();
     let (mean, stderr) = mean_and_stderr(&z);
-    assert!(mean <= 4.0 * stderr, "march vs single: excess {mean:.3e} is {:.1} standard errors", mean / stderr);
+    assert!(
+        mean <= 4.0 * stderr,
+        "march vs single: excess {mean:.3e} is {:.1} standard errors",
+        mean / stderr
+    );
     // The check has power: the beam is there, and a 5 % bias would show.
     let biased: Vec<f64> = {
-        let scaled = Image::from_pixels(b1.width(), b1.height(), b1.pixels().iter().map(|p| *p * 1.05).collect());
+        let scaled = Image::from_pixels(
+            b1.width(),
+            b1.height(),
+            b1.pixels().iter().map(|p| *p * 1.05).collect(),
+        );
         let ab = pixel_distances(&a1, &scaled, &r);
-        (0..ab.len()).map(|i| ab[i] - 0.5 * (aa[i] + bb[i])).collect()
+        (0..ab.len())
+            .map(|i| ab[i] - 0.5 * (aa[i] + bb[i]))
+            .collect()
     };
     let (bmean, bstderr) = mean_and_stderr(&biased);
-    assert!(bmean > 4.0 * bstderr, "a 5 % bias should be detected: {:.1} standard errors", bmean / bstderr);
+    assert!(
+        bmean > 4.0 * bstderr,
+        "a 5 % bias should be detected: {:.1} standard errors",
+        bmean / bstderr
+    );
 }
 
 #[test]
@@ -65,4 +87,3 @@ fn image_is_identical_for_one_and_two_threads() {
         assert_eq!(shot(1), shot(2), "{kind:?}");
     }
 }
-

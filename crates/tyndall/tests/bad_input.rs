@@ -42,7 +42,10 @@ fn native_error(text: &str) -> tyndall::SceneError {
 /// Asserts the error is at `line` (1-based) and mentions `words`.
 fn assert_error(e: &tyndall::SceneError, line: usize, words: &str) {
     let text = e.to_string();
-    assert!(text.starts_with(&format!("scene.toml:{line}:")), "wrong place: {text}");
+    assert!(
+        text.starts_with(&format!("scene.toml:{line}:")),
+        "wrong place: {text}"
+    );
     assert!(e.column >= 1, "{text}");
     assert!(text.contains(words), "`{words}` not in: {text}");
 }
@@ -106,13 +109,20 @@ fn unknown_material_and_zero_size_image() {
 fn zero_size_image_settings_are_rejected() {
     let desc = native::parse(&SourceText::new("scene.toml", GOOD)).expect("good");
     for (w, h) in [(0, 10), (10, 0)] {
-        let settings = tyndall::RenderSettings { width: w, height: h, ..desc.settings };
+        let settings = tyndall::RenderSettings {
+            width: w,
+            height: h,
+            ..desc.settings
+        };
         assert!(tyndall::render(&desc.scene, &settings, &|_| {}).is_err());
     }
 }
 
 fn legacy_error(text: &str) -> tyndall::SceneError {
-    match legacy::parse(&SourceText::new("scene.obj", text), LegacyOptions::default()) {
+    match legacy::parse(
+        &SourceText::new("scene.obj", text),
+        LegacyOptions::default(),
+    ) {
         Ok(_) => panic!("expected an error for:\n{text}"),
         Err(e) => e,
     }
@@ -122,18 +132,57 @@ fn legacy_error(text: &str) -> tyndall::SceneError {
 fn legacy_errors_name_line_and_column() {
     let base = "material\ndiffuse 1 1 1\nreflective 0 0 0\nemitted 5 5 5\n\nm 0\nv 0 1 0\nv 1 1 0\nv 1 1 1\nv 0 1 1\nf 1 2 3 4\n";
     let cases = [
-        (format!("{base}banana 3\n"), "scene.obj:12:1:", "unknown token `banana`"),
-        (base.replace("emitted 5 5 5", "emitted 5 5 5\nc 120"), "scene.obj:5:3:", "cutoff"),
-        (base.replace("emitted 5 5 5", "emitted 5 5 5\nc 0"), "scene.obj:5:3:", "cutoff"),
-        (base.replace("f 1 2 3 4", "f 1 2 3 9"), "scene.obj:11:9:", "vertex 9"),
-        (base.replace("v 1 1 0", "v 1 x 0"), "scene.obj:8:5:", "expected a number"),
-        (base.replace("v 1 1 0", "v 1 NaN 0"), "scene.obj:8:5:", "finite"),
-        (format!("{base}PerspectiveCamera {{ camera_position < 1, 2 > }}"), "scene.obj:12:", "three finite numbers"),
-        (format!("{base}r 0 0 0 1 1 2"), "scene.obj:12:1:", "not supported"),
-        (format!("{base}alpha 0.5"), "scene.obj:12:1:", "must follow a `material`"),
+        (
+            format!("{base}banana 3\n"),
+            "scene.obj:12:1:",
+            "unknown token `banana`",
+        ),
+        (
+            base.replace("emitted 5 5 5", "emitted 5 5 5\nc 120"),
+            "scene.obj:5:3:",
+            "cutoff",
+        ),
+        (
+            base.replace("emitted 5 5 5", "emitted 5 5 5\nc 0"),
+            "scene.obj:5:3:",
+            "cutoff",
+        ),
+        (
+            base.replace("f 1 2 3 4", "f 1 2 3 9"),
+            "scene.obj:11:9:",
+            "vertex 9",
+        ),
+        (
+            base.replace("v 1 1 0", "v 1 x 0"),
+            "scene.obj:8:5:",
+            "expected a number",
+        ),
+        (
+            base.replace("v 1 1 0", "v 1 NaN 0"),
+            "scene.obj:8:5:",
+            "finite",
+        ),
+        (
+            format!("{base}PerspectiveCamera {{ camera_position < 1, 2 > }}"),
+            "scene.obj:12:",
+            "three finite numbers",
+        ),
+        (
+            format!("{base}r 0 0 0 1 1 2"),
+            "scene.obj:12:1:",
+            "not supported",
+        ),
+        (
+            format!("{base}alpha 0.5"),
+            "scene.obj:12:1:",
+            "must follow a `material`",
+        ),
     ];
     for (text, place, words) in cases {
         let e = legacy_error(&text).to_string();
-        assert!(e.starts_with(place) && e.contains(words), "expected {place} … {words}, got: {e}");
+        assert!(
+            e.starts_with(place) && e.contains(words),
+            "expected {place} … {words}, got: {e}"
+        );
     }
 }

@@ -17,7 +17,9 @@ const BLUE: ([f32; 3], f32) = ([0.1, 0.2, 0.9], 0.8);
 /// at y = 1; light at y = 4, intensity 16, floor reflectance 0.5.
 fn floor_radiance(model: &str, upper: ([f32; 3], f32), lower: ([f32; 3], f32)) -> Rgb {
     let pane = |y: f32, name: &str| {
-        format!("[[shapes]]\ntype = \"quad\"\ncorners = [[-2, {y}, -2], [-2, {y}, 2], [2, {y}, 2], [2, {y}, -2]]\nmaterial = \"{name}\"\n")
+        format!(
+            "[[shapes]]\ntype = \"quad\"\ncorners = [[-2, {y}, -2], [-2, {y}, 2], [2, {y}, 2], [2, {y}, -2]]\nmaterial = \"{name}\"\n"
+        )
     };
     let desc = scene(&format!(
         r#"
@@ -81,29 +83,62 @@ fn assert_close(a: Rgb, b: Rgb, what: &str) {
 #[test]
 fn filter_model_multiplies_and_commutes() {
     let both = filter(RED) * filter(BLUE);
-    assert_close(floor_radiance("filter", RED, BLUE), expected(both), "red over blue");
-    assert_close(floor_radiance("filter", BLUE, RED), expected(both), "blue over red");
+    assert_close(
+        floor_radiance("filter", RED, BLUE),
+        expected(both),
+        "red over blue",
+    );
+    assert_close(
+        floor_radiance("filter", BLUE, RED),
+        expected(both),
+        "blue over red",
+    );
 }
 
 #[test]
 fn blend_model_is_eq6_in_light_order() {
     let red_first = blend(blend(Rgb::ONE, RED), BLUE);
     let blue_first = blend(blend(Rgb::ONE, BLUE), RED);
-    assert!((red_first - blue_first).abs().max_element() > 0.1, "the test needs order to matter");
-    assert_close(floor_radiance("blend", RED, BLUE), expected(red_first), "red over blue");
-    assert_close(floor_radiance("blend", BLUE, RED), expected(blue_first), "blue over red");
+    assert!(
+        (red_first - blue_first).abs().max_element() > 0.1,
+        "the test needs order to matter"
+    );
+    assert_close(
+        floor_radiance("blend", RED, BLUE),
+        expected(red_first),
+        "red over blue",
+    );
+    assert_close(
+        floor_radiance("blend", BLUE, RED),
+        expected(blue_first),
+        "blue over red",
+    );
 }
 
 /// Eq. 6 at values worked by hand: white through (c = red, α = 0.5) is
 /// (1, 0.5, 0.5); then through (c = blue, α = 0.5) is (0.5, 0.25, 0.75).
 #[test]
 fn eq6_hand_values() {
-    let red = tyndall::glass::Glass { color: Rgb::X, alpha: 0.5 };
-    let blue = tyndall::glass::Glass { color: Rgb::Z, alpha: 0.5 };
+    let red = tyndall::glass::Glass {
+        color: Rgb::X,
+        alpha: 0.5,
+    };
+    let blue = tyndall::glass::Glass {
+        color: Rgb::Z,
+        alpha: 0.5,
+    };
     let once = red.blend(Rgb::ONE);
     assert_close(once, Rgb::new(1.0, 0.5, 0.5), "one pane");
     assert_close(blue.blend(once), Rgb::new(0.5, 0.25, 0.75), "two panes");
     let model = tyndall::glass::GlassModel::Blend;
-    assert_close(model.tint([&red, &blue]), Rgb::new(0.5, 0.25, 0.75), "GlassModel::tint");
-    assert_close(red.filter_transmittance(), Rgb::new(1.0, 0.5, 0.5), "filter, one pane");
+    assert_close(
+        model.tint([&red, &blue]),
+        Rgb::new(0.5, 0.25, 0.75),
+        "GlassModel::tint",
+    );
+    assert_close(
+        red.filter_transmittance(),
+        Rgb::new(1.0, 0.5, 0.5),
+        "filter, one pane",
+    );
 }

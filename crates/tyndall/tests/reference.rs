@@ -26,7 +26,8 @@ fn integrators_converge_to_references() {
     for name in ["fog-spot-empty", "fog-spot-sphere", "fog-spot-glass-pair"] {
         let dir = repo().join("scenes/reference");
         let desc = native::load(&dir.join(format!("{name}.toml"))).expect("scene");
-        let reference = tyndall::Image::read_exr(&dir.join(format!("{name}.exr"))).expect("reference");
+        let reference =
+            tyndall::Image::read_exr(&dir.join(format!("{name}.exr"))).expect("reference");
         for kind in IntegratorKind::ALL {
             let shot = |seed: u64| {
                 render(&desc, |s| {
@@ -40,7 +41,9 @@ fn integrators_converge_to_references() {
             let to_ref = pixel_distances(&c1, &reference, &reference);
             let between = pixel_distances(&c1, &c2, &reference);
             // Per pixel, summed over channels: divide by 3 for relMSE units.
-            let z: Vec<f64> = (0..to_ref.len()).map(|i| (to_ref[i] - 0.5 * between[i]) / 3.0).collect();
+            let z: Vec<f64> = (0..to_ref.len())
+                .map(|i| (to_ref[i] - 0.5 * between[i]) / 3.0)
+                .collect();
             let (excess, stderr) = mean_and_stderr(&z);
             let bound = 2.0 * REFERENCE_ERROR + 4.0 * stderr;
             assert!(

@@ -5,10 +5,10 @@
 //! `L = ∫₀^∞ e^{−σt s} · σs · I(dir)/d(s)² · e^{−σt d(s)} · p(cos θ(s)) ds`.
 mod common;
 
-use common::{estimate_ray, scene, simpson};
+use common::{estimate_ray, estimate_ray_with, scene, simpson};
 use std::f64::consts::PI;
-use tyndall::IntegratorKind;
 use tyndall::ray::Ray;
+use tyndall::{IntegratorKind, RenderSettings};
 
 const SIGMA_T: f64 = 0.2;
 const ALBEDO: [f64; 3] = [0.8, 0.6, 0.4];
@@ -31,7 +31,10 @@ fn quadrature(light: [f64; 3], intensity: [f64; 3], profile: impl Fn([f64; 3]) -
         // camera ray points along −z, so cos θ = (to_light/d)·(0, 0, −1).
         let cos = -to_light[2] / d;
         let from_light = [-to_light[0] / d, -to_light[1] / d, -to_light[2] / d];
-        (-SIGMA_T * s).exp() * SIGMA_T * ALBEDO[channel] * intensity[channel] * profile(from_light) / d2 * (-SIGMA_T * d).exp() * hg(cos)
+        (-SIGMA_T * s).exp() * SIGMA_T * ALBEDO[channel] * intensity[channel] * profile(from_light)
+            / d2
+            * (-SIGMA_T * d).exp()
+            * hg(cos)
     };
     // Beyond s = 250 the camera-side transmittance is e^{−50}.
     [0, 1, 2].map(|c| simpson(|s| f(s, c), 0.0, 250.0, 400_000))
@@ -59,14 +62,33 @@ fn fog_scene(light: &str) -> tyndall::SceneDescription {
 /// float rounding and the march's documented 10⁻⁴ truncation). The Sobol
 /// samples are stratified, so the i.i.d. standard error is an upper bound
 /// of the real one.
+/// `single` is checked with 1, 3 and 8 equiangular samples per ray (the
+/// multi-sample MIS weights must stay unbiased for any count).
 fn check(desc: &tyndall::SceneDescription, expected: [f64; 3], what: &str) {
     let ray = Ray::new(glam::Vec3::ZERO, -glam::Vec3::Z);
-    for (kind, step) in [(IntegratorKind::Single, 0.1), (IntegratorKind::March, 0.05)] {
-        let (mean, stderr) = estimate_ray(desc, kind, step, ray, 4096);
+    let configs = [
+        (IntegratorKind::Single, 1),
+        (IntegratorKind::Single, 3),
+        (IntegratorKind::Single, 8),
+        (IntegratorKind::March, 1),
+    ];
+    for (kind, volume_samples) in configs {
+        let settings = RenderSettings {
+            integrator: kind,
+            step: 0.05,
+            volume_samples,
+            ..desc.settings
+        };
+        let (mean, stderr) = estimate_ray_with(desc, settings, ray, 4096);
         for c in 0..3 {
             let tol = 5.0 * stderr[c] as f64 + 2e-4 * expected[c];
             let err = (mean[c] as f64 - expected[c]).abs();
-            assert!(err <= tol, "{what}, {kind:?}, channel {c}: {} vs quadrature {} (tolerance {tol})", mean[c], expected[c]);
+            assert!(
+                err <= tol,
+                "{what}, {kind:?} ×{volume_samples}, channel {c}: {} vs quadrature {} (tolerance {tol})",
+                mean[c],
+                expected[c]
+            );
         }
     }
 }
@@ -88,7 +110,11 @@ fn linear_spot_matches_quadrature() {
     let cos_c = 30f64.to_radians().cos();
     let eq5 = |dir: [f64; 3]| {
         let cos = -dir[1];
-        if cos > cos_c { 1.0 - (1.0 - cos) / (1.0 - cos_c) } else { 0.0 }
+        if cos > cos_c {
+            1.0 - (1.0 - cos) / (1.0 - cos_c)
+        } else {
+            0.0
+        }
     };
     let expected = quadrature([0.0, 2.0, -3.0], [10.0, 20.0, 30.0], eq5);
     check(&desc, expected, "linear spot");
@@ -107,8 +133,13 @@ fn forward_scattering_brightens_beam_towards_light() {
         if let Some(f) = desc.scene.fog.as_mut() {
             f.phase = tyndall::phase::PhaseFunction::from_asymmetry(g);
         }
-        estimate_ray(&desc, IntegratorKind::Single, 0.1, ray, 256).0.x
+        estimate_ray(&desc, IntegratorKind::Single, 0.1, ray, 256)
+            .0
+            .x
     };
     let (back, iso, fwd) = (with_g(-0.5), with_g(0.0), with_g(0.5));
-    assert!(fwd > 1.5 * iso && iso > 1.5 * back, "g −0.5: {back}, 0: {iso}, 0.5: {fwd}");
+    assert!(
+        fwd > 1.5 * iso && iso > 1.5 * back,
+        "g −0.5: {back}, 0: {iso}, 0.5: {fwd}"
+    );
 }

@@ -11,7 +11,10 @@ use tyndall::ray::Ray;
 /// exact up to float rounding.
 #[test]
 fn emitter_seen_through_fog() {
-    for (fog_box, length) in [("", 5.0f32), ("box = { min = [-9, -9, -3.5], max = [9, 9, -1.5] }", 2.0)] {
+    for (fog_box, length) in [
+        ("", 5.0f32),
+        ("box = { min = [-9, -9, -3.5], max = [9, 9, -1.5] }", 2.0),
+    ] {
         let desc = scene(&format!(
             r#"
             [camera]
@@ -35,7 +38,10 @@ fn emitter_seen_through_fog() {
         let expected = tyndall::Rgb::new(2.0, 3.0, 4.0) * (-0.37f32 * length).exp();
         for kind in IntegratorKind::ALL {
             let (mean, _) = estimate_ray(&desc, kind, 0.1, ray, 4);
-            assert!((mean - expected).abs().max_element() < 1e-5 * 4.0, "{kind:?} {fog_box}: {mean} vs {expected}");
+            assert!(
+                (mean - expected).abs().max_element() < 1e-5 * 4.0,
+                "{kind:?} {fog_box}: {mean} vs {expected}"
+            );
         }
     }
 }

@@ -67,6 +67,7 @@ const MAX_GLASS_CROSSINGS: u32 = 64;
 pub struct Integrator {
     kind: IntegratorKind,
     step: f32,
+    volume_samples: u32,
     max_bounces: u32,
 }
 
@@ -75,12 +76,19 @@ impl Integrator {
         Self {
             kind: settings.integrator,
             step: settings.step,
+            volume_samples: settings.volume_samples,
             max_bounces: settings.max_bounces,
         }
     }
 
     /// Radiance arriving at the camera along `ray` (one sample).
-    pub fn radiance(&self, scene: &Scene, mut ray: Ray, sampler: &mut PixelSampler, counts: &mut RayCounts) -> Rgb {
+    pub fn radiance(
+        &self,
+        scene: &Scene,
+        mut ray: Ray,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+    ) -> Rgb {
         let mut radiance = Rgb::ZERO;
         let mut throughput = Rgb::ONE;
         let (mut bounces, mut crossings) = (0u32, 0u32);
@@ -89,7 +97,8 @@ impl Integrator {
             let hit = scene.geometry.intersect(&ray, f32::INFINITY);
             let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
             if let Some(fog) = &scene.fog {
-                radiance += throughput * self.in_scattered(scene, fog, &ray, t_hit, sampler, counts);
+                radiance +=
+                    throughput * self.in_scattered(scene, fog, &ray, t_hit, sampler, counts);
                 throughput *= fog.transmittance(&ray, 0.0, t_hit);
             }
             let Some(hit) = hit else {
@@ -101,9 +110,16 @@ impl Integrator {
             let p = ray.at(hit.t);
             let geometric_normal = scene.geometry.normal(hit.primitive, p);
             let front = geometric_normal.dot(ray.direction) < 0.0;
-            let normal = if front { geometric_normal } else { -geometric_normal };
+            let normal = if front {
+                geometric_normal
+            } else {
+                -geometric_normal
+            };
             match *scene.material(hit.primitive) {
-                Material::Emissive { radiance: le, two_sided } => {
+                Material::Emissive {
+                    radiance: le,
+                    two_sided,
+                } => {
                     if front || two_sided {
                         radiance += throughput * le;
                     }
@@ -123,15 +139,18 @@ impl Integrator {
                 }
                 Material::Glass(glass) => {
                     let surface = Surface::diffuse(glass.color);
-                    radiance += throughput * direct_lighting(scene, &surface, p, normal, sampler, counts);
+                    radiance +=
+                        throughput * direct_lighting(scene, &surface, p, normal, sampler, counts);
                     return radiance;
                 }
                 Material::Opaque(surface) => {
-                    radiance += throughput * direct_lighting(scene, &surface, p, normal, sampler, counts);
+                    radiance +=
+                        throughput * direct_lighting(scene, &surface, p, normal, sampler, counts);
                     if !surface.has_specular() || bounces >= self.max_bounces {
                         return radiance;
                     }
-                    let Some(direction) = surface.reflect(ray.direction, normal, sampler.next_2d()) else {
+                    let Some(direction) = surface.reflect(ray.direction, normal, sampler.next_2d())
+                    else {
                         return radiance;
                     };
                     bounces += 1;
@@ -157,8 +176,12 @@ impl Integrator {
         counts: &mut RayCounts,
     ) -> Rgb {
         match self.kind {
-            IntegratorKind::March => march::in_scattered(scene, fog, ray, t_hit, self.step, sampler, counts),
-            IntegratorKind::Single => single::in_scattered(scene, fog, ray, t_hit, sampler, counts),
+            IntegratorKind::March => {
+                march::in_scattered(scene, fog, ray, t_hit, self.step, sampler, counts)
+            }
+            IntegratorKind::Single => {
+                single::in_scattered(scene, fog, ray, t_hit, self.volume_samples, sampler, counts)
+            }
         }
     }
 }

@@ -3,14 +3,21 @@
 //! the camera ray, combined by multiple importance sampling with the
 //! balance heuristic (Veach 1997).
 //!
-//! For each light, one emitting point `y` is chosen; then one equiangular
-//! sample (restricted to the light's reach: a spotlight's cone) and the
-//! ray's one distance sample (shared by all lights) each estimate the
+//! For each light, one emitting point `y` is chosen; then `n` equiangular
+//! samples (restricted to the light's reach: a spotlight's cone) and the
+//! ray's one distance sample (shared by all lights) estimate the
 //! in-scattering integral for that `y`. With densities `p_e`, `p_d`, the
-//! estimator `f(t_e)/(p_e(t_e) + p_d(t_e)) + f(t_d)/(p_e(t_d) + p_d(t_d))`
-//! is unbiased and takes the better of the two strategies where each is
-//! good: equiangular near point lights, distance sampling in dense fog and
-//! for suns.
+//! multi-sample balance heuristic gives the unbiased estimator
+//! `Σ_k f(t_k)/(n·p_e(t_k) + p_d(t_k)) + f(t_d)/(n·p_e(t_d) + p_d(t_d))`,
+//! which takes the better strategy where each is good: equiangular near
+//! point lights, distance sampling in dense fog and for suns.
+//!
+//! The `n` equiangular samples of a ray are stratified: they share one
+//! sample dimension `u` and use `(k + u)/n`, so along the ray they cover
+//! the light's reach evenly, as a march's steps do, while each pixel
+//! sample's `u` is stratified against the others. Visibility (shadows,
+//! window frames) is what makes one sample per ray noisy; several cost a
+//! shadow ray each but no new camera ray.
 
 use super::{light_point, scattered_radiance};
 use crate::color::Rgb;
@@ -28,6 +35,7 @@ pub fn in_scattered(
     fog: &Fog,
     ray: &Ray,
     t_hit: f32,
+    samples_per_light: u32,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
 ) -> Rgb {
@@ -52,17 +60,20 @@ pub fn in_scattered(
             let (ea, eb) = light.reach(ray, a, b)?;
             EquiangularSampler::new(ray, y, ea, eb)
         });
+        let n = samples_per_light as f32;
         if let Some(eq) = &equiangular {
-            let (t, pdf_e) = eq.sample(u_equiangular);
-            let f = scattered_radiance(scene, fog, light, y, ray.at(t), ray.direction, counts);
-            if f != Rgb::ZERO {
-                sum += f * (camera_t(t) / (pdf_e + distance.pdf(t)));
+            for k in 0..samples_per_light {
+                let (t, pdf_e) = eq.sample((k as f32 + u_equiangular) / n);
+                let f = scattered_radiance(scene, fog, light, y, ray.at(t), ray.direction, counts);
+                if f != Rgb::ZERO {
+                    sum += f * (camera_t(t) / (n * pdf_e + distance.pdf(t)));
+                }
             }
         }
         let pdf_e = equiangular.map_or(0.0, |eq| eq.pdf(t_d));
         let f = scattered_radiance(scene, fog, light, y, x_d, ray.direction, counts);
         if f != Rgb::ZERO {
-            sum += f * (camera_t(t_d) / (pdf_d + pdf_e));
+            sum += f * (camera_t(t_d) / (pdf_d + n * pdf_e));
         }
     }
     sum

@@ -62,7 +62,10 @@ impl<'a> Parser<'a> {
         for (i, ch) in text.char_indices() {
             match (ch.is_whitespace(), start) {
                 (true, Some(s)) => {
-                    tokens.push(Token { text: &text[s..i], offset: s });
+                    tokens.push(Token {
+                        text: &text[s..i],
+                        offset: s,
+                    });
                     start = None;
                 }
                 (false, None) => start = Some(i),
@@ -70,9 +73,16 @@ impl<'a> Parser<'a> {
             }
         }
         if let Some(s) = start {
-            tokens.push(Token { text: &text[s..], offset: s });
+            tokens.push(Token {
+                text: &text[s..],
+                offset: s,
+            });
         }
-        Self { source, tokens, next: 0 }
+        Self {
+            source,
+            tokens,
+            next: 0,
+        }
     }
 
     fn peek(&self) -> Option<Token<'a>> {
@@ -90,7 +100,8 @@ impl<'a> Parser<'a> {
     }
 
     fn error(&self, token: Option<Token>, message: impl Into<String>) -> SceneError {
-        self.source.error_at(token.map_or(self.end_offset(), |t| t.offset), message)
+        self.source
+            .error_at(token.map_or(self.end_offset(), |t| t.offset), message)
     }
 
     /// A number for `what`; the error names what was expected.
@@ -98,9 +109,21 @@ impl<'a> Parser<'a> {
         let t = self.bump();
         match t.map(|t| t.text.parse::<f32>()) {
             Some(Ok(v)) if v.is_finite() => Ok(v),
-            Some(Ok(v)) => Err(self.error(t, format!("expected a finite number for {what}, found `{v}`"))),
-            Some(Err(_)) => Err(self.error(t, format!("expected a number for {what}, found `{}`", t.map_or("", |t| t.text)))),
-            None => Err(self.error(None, format!("expected a number for {what}, found the end of the file"))),
+            Some(Ok(v)) => Err(self.error(
+                t,
+                format!("expected a finite number for {what}, found `{v}`"),
+            )),
+            Some(Err(_)) => Err(self.error(
+                t,
+                format!(
+                    "expected a number for {what}, found `{}`",
+                    t.map_or("", |t| t.text)
+                ),
+            )),
+            None => Err(self.error(
+                None,
+                format!("expected a number for {what}, found the end of the file"),
+            )),
         }
     }
 
@@ -108,19 +131,32 @@ impl<'a> Parser<'a> {
         let t = self.bump();
         match t.map(|t| t.text.parse::<usize>()) {
             Some(Ok(v)) => Ok((v, t.expect("present"))),
-            _ => Err(self.error(t, format!("expected a non-negative whole number for {what}, found {}", describe(t)))),
+            _ => Err(self.error(
+                t,
+                format!(
+                    "expected a non-negative whole number for {what}, found {}",
+                    describe(t)
+                ),
+            )),
         }
     }
 
     fn vec3(&mut self, what: &str) -> Result<Vec3, SceneError> {
-        Ok(Vec3::new(self.number(what)?, self.number(what)?, self.number(what)?))
+        Ok(Vec3::new(
+            self.number(what)?,
+            self.number(what)?,
+            self.number(what)?,
+        ))
     }
 
     fn color(&mut self, what: &str) -> Result<Rgb, SceneError> {
         let at = self.peek();
         let c = self.vec3(what)?;
         if c.min_element() < 0.0 {
-            return Err(self.error(at, format!("{what} must be non-negative, got {:?}", c.to_array())));
+            return Err(self.error(
+                at,
+                format!("{what} must be non-negative, got {:?}", c.to_array()),
+            ));
         }
         Ok(c)
     }
@@ -129,7 +165,13 @@ impl<'a> Parser<'a> {
     fn bracketed(&mut self, what: &str) -> Result<Vec3, SceneError> {
         let first = self.peek();
         let Some(start) = first.filter(|t| t.text.starts_with('<')) else {
-            return Err(self.error(first, format!("expected `< x, y, z >` for {what}, found {}", describe(first))));
+            return Err(self.error(
+                first,
+                format!(
+                    "expected `< x, y, z >` for {what}, found {}",
+                    describe(first)
+                ),
+            ));
         };
         let mut end = None;
         while let Some(t) = self.bump() {
@@ -143,16 +185,26 @@ impl<'a> Parser<'a> {
         };
         let inner = &self.source.text[start.offset + 1..end - 1];
         let parts: Vec<&str> = inner.split(',').map(str::trim).collect();
-        let values: Vec<Option<f32>> = parts.iter().map(|p| p.parse::<f32>().ok().filter(|v| v.is_finite())).collect();
+        let values: Vec<Option<f32>> = parts
+            .iter()
+            .map(|p| p.parse::<f32>().ok().filter(|v| v.is_finite()))
+            .collect();
         match values.as_slice() {
             [Some(x), Some(y), Some(z)] => Ok(Vec3::new(*x, *y, *z)),
-            _ => Err(self.source.error_at(start.offset, format!("expected three finite numbers `< x, y, z >` for {what}, found `<{inner}>`"))),
+            _ => Err(self.source.error_at(
+                start.offset,
+                format!(
+                    "expected three finite numbers `< x, y, z >` for {what}, found `<{inner}>`"
+                ),
+            )),
         }
     }
 }
 
 fn describe(t: Option<Token>) -> String {
-    t.map_or("the end of the file".to_string(), |t| format!("`{}`", t.text))
+    t.map_or("the end of the file".to_string(), |t| {
+        format!("`{}`", t.text)
+    })
 }
 
 struct Face {
@@ -179,16 +231,26 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
     while let Some(tok) = p.bump() {
         let in_block = open_block;
         open_block = false;
-        let block_field = matches!(tok.text, "diffuse" | "texture_file" | "reflective" | "roughness" | "emitted" | "alpha")
-            || (tok.text == "c" && in_block);
+        let block_field = matches!(
+            tok.text,
+            "diffuse" | "texture_file" | "reflective" | "roughness" | "emitted" | "alpha"
+        ) || (tok.text == "c" && in_block);
         if block_field {
             let Some(m) = materials.last_mut().filter(|_| in_block) else {
-                return Err(p.error(Some(tok), format!("`{}` must follow a `material` line (it is a material field)", tok.text)));
+                return Err(p.error(
+                    Some(tok),
+                    format!(
+                        "`{}` must follow a `material` line (it is a material field)",
+                        tok.text
+                    ),
+                ));
             };
             match tok.text {
                 "diffuse" => m.diffuse = p.color("`diffuse`")?,
                 "texture_file" => {
-                    p.bump().ok_or_else(|| p.error(None, "expected a file name after `texture_file`"))?;
+                    p.bump().ok_or_else(|| {
+                        p.error(None, "expected a file name after `texture_file`")
+                    })?;
                     m.diffuse = Rgb::splat(0.5);
                     m.textured = true;
                 }
@@ -206,7 +268,9 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                     let at = p.peek();
                     let a = p.number("`alpha`")?;
                     if !(0.0..=1.0).contains(&a) {
-                        return Err(p.error(at, format!("`alpha` must be an opacity in [0, 1], got {a}")));
+                        return Err(
+                            p.error(at, format!("`alpha` must be an opacity in [0, 1], got {a}"))
+                        );
                     }
                     materials.last_mut().expect("open block").alpha = a;
                 }
@@ -220,7 +284,10 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
         }
         match tok.text {
             "material" => {
-                materials.push(LegacyMaterial { alpha: 1.0, ..Default::default() });
+                materials.push(LegacyMaterial {
+                    alpha: 1.0,
+                    ..Default::default()
+                });
                 open_block = true;
             }
             "v" => vertices.push(p.vec3("a vertex `v x y z`")?),
@@ -238,7 +305,12 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
             "c" => statement_cutoff = Some(cutoff(&mut p)?),
             "f" => {
                 let token = p.next - 1;
-                let material = active.ok_or_else(|| p.error(Some(tok), "a face needs an active material: use `m i` first"))?;
+                let material = active.ok_or_else(|| {
+                    p.error(
+                        Some(tok),
+                        "a face needs an active material: use `m i` first",
+                    )
+                })?;
                 let mut v = [0usize; 4];
                 for slot in &mut v {
                     let (i, t) = p.index("a vertex number of `f`")?;
@@ -247,25 +319,51 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                     }
                     *slot = i - 1;
                 }
-                faces.push(Face { vertices: v, material, cutoff_deg: statement_cutoff, token });
+                faces.push(Face {
+                    vertices: v,
+                    material,
+                    cutoff_deg: statement_cutoff,
+                    token,
+                });
             }
             "s" => {
-                let material = active.ok_or_else(|| p.error(Some(tok), "a sphere needs an active material: use `m i` first"))?;
+                let material = active.ok_or_else(|| {
+                    p.error(
+                        Some(tok),
+                        "a sphere needs an active material: use `m i` first",
+                    )
+                })?;
                 let center = p.vec3("the sphere centre")?;
                 let at = p.peek();
                 let radius = p.number("the sphere radius")?;
                 if radius <= 0.0 {
-                    return Err(p.error(at, format!("sphere radius must be positive, got {radius}")));
+                    return Err(
+                        p.error(at, format!("sphere radius must be positive, got {radius}"))
+                    );
                 }
                 spheres.push((Sphere { center, radius }, material, tok.offset));
             }
-            "r" => return Err(p.error(Some(tok), "cylinder rings (`r`) are not supported: model the ring as a mesh")),
+            "r" => {
+                return Err(p.error(
+                    Some(tok),
+                    "cylinder rings (`r`) are not supported: model the ring as a mesh",
+                ));
+            }
             "background_color" => {
                 let c = p.color("`background_color`")?;
-                background = Rgb::new(srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z));
+                background = Rgb::new(
+                    srgb_to_linear(c.x),
+                    srgb_to_linear(c.y),
+                    srgb_to_linear(c.z),
+                );
             }
             "PerspectiveCamera" => camera = Some(perspective_camera(&mut p, tok)?),
-            "OrthographicCamera" => return Err(p.error(Some(tok), "`OrthographicCamera` is not supported: use a `PerspectiveCamera`")),
+            "OrthographicCamera" => {
+                return Err(p.error(
+                    Some(tok),
+                    "`OrthographicCamera` is not supported: use a `PerspectiveCamera`",
+                ));
+            }
             other => {
                 return Err(p.error(Some(tok), format!(
                     "unknown token `{other}`: expected a statement (v, vt, f, s, m, c, material, background_color, PerspectiveCamera)"
@@ -286,16 +384,29 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
         .iter()
         .map(|m| {
             builder.add_material(if m.emitted.max_element() > 0.0 {
-                Material::Emissive { radiance: m.emitted, two_sided: !one_sided }
+                Material::Emissive {
+                    radiance: m.emitted,
+                    two_sided: !one_sided,
+                }
             } else if m.alpha < 1.0 {
-                Material::Glass(Glass { color: m.diffuse.min(Rgb::ONE), alpha: m.alpha })
+                Material::Glass(Glass {
+                    color: m.diffuse.min(Rgb::ONE),
+                    alpha: m.alpha,
+                })
             } else {
-                Material::Opaque(Surface { diffuse: m.diffuse, specular: m.reflective, roughness: m.roughness })
+                Material::Opaque(Surface {
+                    diffuse: m.diffuse,
+                    specular: m.reflective,
+                    roughness: m.roughness,
+                })
             })
         })
         .collect();
     if materials.iter().any(|m| m.textured) {
-        warnings.push(format!("{}: texture files are not supported; textured materials are drawn mid-grey", source.path.display()));
+        warnings.push(format!(
+            "{}: texture files are not supported; textured materials are drawn mid-grey",
+            source.path.display()
+        ));
     }
     for face in &faces {
         let m = &materials[face.material];
@@ -313,7 +424,11 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                     profile: SpotProfile::Linear,
                     intensity: m.emitted * quad.area(),
                 })),
-                None => builder.add_light(Light::Quad(crate::lights::QuadLight { quad, radiance: m.emitted, two_sided: !one_sided })),
+                None => builder.add_light(Light::Quad(crate::lights::QuadLight {
+                    quad,
+                    radiance: m.emitted,
+                    two_sided: !one_sided,
+                })),
             }
             continue;
         }
@@ -321,10 +436,17 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
             Ok(q) => builder.add_shape(Shape::Quad(q), ids[face.material]),
             Err(_) => {
                 // A planar or non-planar general quad: two triangles.
-                let make = if one_sided { Triangle::new_one_sided } else { Triangle::new };
+                let make = if one_sided {
+                    Triangle::new_one_sided
+                } else {
+                    Triangle::new
+                };
                 let tris = [make(c[0], c[1], c[2]), make(c[0], c[2], c[3])];
                 if tris.iter().all(Option::is_none) {
-                    return Err(source.error_at(at, "the face has no area (its vertices are collinear or repeated)"));
+                    return Err(source.error_at(
+                        at,
+                        "the face has no area (its vertices are collinear or repeated)",
+                    ));
                 }
                 for t in tris.into_iter().flatten() {
                     builder.add_shape(Shape::Triangle(t), ids[face.material]);
@@ -334,14 +456,20 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
     }
     for (sphere, material, _) in &spheres {
         if materials[*material].emitted.max_element() > 0.0 {
-            warnings.push(format!("{}: emissive spheres glow but do not light the scene", source.path.display()));
+            warnings.push(format!(
+                "{}: emissive spheres glow but do not light the scene",
+                source.path.display()
+            ));
         }
         builder.add_shape(Shape::Sphere(*sphere), ids[*material]);
     }
     super::check_lighting(&builder, &mut warnings);
     Ok(SceneDescription {
         scene: builder.build(),
-        settings: RenderSettings { integrator: crate::IntegratorKind::March, ..RenderSettings::default() },
+        settings: RenderSettings {
+            integrator: crate::IntegratorKind::March,
+            ..RenderSettings::default()
+        },
         output: None,
         warnings,
     })
@@ -351,7 +479,10 @@ fn cutoff(p: &mut Parser) -> Result<f32, SceneError> {
     let at = p.peek();
     let c = p.number("the spotlight cutoff `c`")?;
     if !(c > 0.0 && c <= 90.0) {
-        return Err(p.error(at, format!("spotlight cutoff `c` must be an angle in (0, 90] degrees, got {c}")));
+        return Err(p.error(
+            at,
+            format!("spotlight cutoff `c` must be an angle in (0, 90] degrees, got {c}"),
+        ));
     }
     Ok(c)
 }
@@ -359,7 +490,13 @@ fn cutoff(p: &mut Parser) -> Result<f32, SceneError> {
 fn perspective_camera(p: &mut Parser, tok: Token) -> Result<CameraSpec, SceneError> {
     let open = p.bump();
     if open.map(|t| t.text) != Some("{") {
-        return Err(p.error(open, format!("expected `{{` after `PerspectiveCamera`, found {}", describe(open))));
+        return Err(p.error(
+            open,
+            format!(
+                "expected `{{` after `PerspectiveCamera`, found {}",
+                describe(open)
+            ),
+        ));
     }
     let (mut position, mut look_at, mut up, mut angle) = (None, None, None, None);
     loop {
@@ -373,7 +510,10 @@ fn perspective_camera(p: &mut Parser, tok: Token) -> Result<CameraSpec, SceneErr
                 let at = p.peek();
                 let a = p.number("`angle`")?;
                 if !(a > 0.0 && a < 180.0) {
-                    return Err(p.error(at, format!("camera `angle` must be in (0, 180) degrees, got {a}")));
+                    return Err(p.error(
+                        at,
+                        format!("camera `angle` must be in (0, 180) degrees, got {a}"),
+                    ));
                 }
                 angle = Some(a);
             }
@@ -399,10 +539,10 @@ fn perspective_camera(p: &mut Parser, tok: Token) -> Result<CameraSpec, SceneErr
 /// LEGACY-OBJ.md: without a camera, look at the centre of the scene's
 /// bounds from 4 × its largest dimension along +z, 20° field of view.
 fn default_camera(vertices: &[Vec3], spheres: &[(Sphere, usize, usize)]) -> CameraSpec {
-    let bounds = vertices
+    let bounds = vertices.iter().fold(Bounds::EMPTY, |b, v| b.include(*v));
+    let bounds = spheres
         .iter()
-        .fold(Bounds::EMPTY, |b, v| b.include(*v));
-    let bounds = spheres.iter().fold(bounds, |b, (s, _, _)| b.union(s.bounds()));
+        .fold(bounds, |b, (s, _, _)| b.union(s.bounds()));
     let (center, size) = if bounds.is_empty() {
         (Vec3::ZERO, 1.0)
     } else {

@@ -52,12 +52,21 @@ pub fn load_obj_mesh(path: &Path, transform: &MeshTransform) -> Result<MeshTrian
             mesh.positions
                 .get(3 * i..3 * i + 3)
                 .map(|p| m.transform_point3(Vec3::new(p[0], p[1], p[2])))
-                .ok_or_else(|| format!("mesh file `{}`: face refers to missing vertex {}", path.display(), i + 1))
+                .ok_or_else(|| {
+                    format!(
+                        "mesh file `{}`: face refers to missing vertex {}",
+                        path.display(),
+                        i + 1
+                    )
+                })
         };
         for face in mesh.indices.chunks_exact(3) {
             let (a, b, c) = (vertex(face[0])?, vertex(face[1])?, vertex(face[2])?);
             if !(a.is_finite() && b.is_finite() && c.is_finite()) {
-                return Err(format!("mesh file `{}`: vertex coordinates must be finite", path.display()));
+                return Err(format!(
+                    "mesh file `{}`: vertex coordinates must be finite",
+                    path.display()
+                ));
             }
             match Triangle::new(a, b, c) {
                 Some(t) => triangles.push(t),

@@ -54,12 +54,14 @@ impl Scene {
     /// Bounds of the geometry and every light position, the region where
     /// anything can happen.
     pub fn bounds(&self) -> Bounds {
-        self.lights.iter().fold(self.geometry.bounds(), |b, l| match l {
-            Light::Point(p) => b.include(p.position),
-            Light::Spot(s) => b.include(s.position),
-            Light::Quad(q) => b.union(q.quad.bounds()),
-            Light::Directional(_) => b,
-        })
+        self.lights
+            .iter()
+            .fold(self.geometry.bounds(), |b, l| match l {
+                Light::Point(p) => b.include(p.position),
+                Light::Spot(s) => b.include(s.position),
+                Light::Quad(q) => b.union(q.quad.bounds()),
+                Light::Directional(_) => b,
+            })
     }
 }
 
@@ -157,10 +159,16 @@ impl SceneBuilder {
 /// up vector not parallel to the view direction.
 pub(crate) fn check_camera(spec: &CameraSpec) -> Result<(), String> {
     let forward = spec.look_at - spec.position;
-    if !(forward.length_squared() > 0.0) {
+    let has_direction = forward.length_squared() > 0.0; // false for NaN too
+    if !has_direction {
         return Err("the camera's look-at point must differ from its position".into());
     }
-    if !(forward.normalize().cross(spec.up.normalize()).length_squared() > 1e-10) {
+    let up_across_view = forward
+        .normalize()
+        .cross(spec.up.normalize())
+        .length_squared()
+        > 1e-10;
+    if !up_across_view {
         return Err("the camera's up vector must not be parallel to its view direction".into());
     }
     Ok(())
@@ -171,7 +179,10 @@ const PARALLELOGRAM_TOLERANCE: f32 = 1e-4;
 
 /// A quad from four corners listed around a parallelogram.
 pub(crate) fn parallelogram(c: [glam::Vec3; 4], one_sided: bool) -> Result<Quad, String> {
-    let scale = c.iter().map(|p| p.abs().max_element()).fold(1.0f32, f32::max);
+    let scale = c
+        .iter()
+        .map(|p| p.abs().max_element())
+        .fold(1.0f32, f32::max);
     let expected = c[1] + c[3] - c[0];
     if (expected - c[2]).length() > PARALLELOGRAM_TOLERANCE * scale {
         return Err(format!(
@@ -207,7 +218,11 @@ impl SceneDescription {
     /// Applies command-line fog settings (the paper's `--density` and
     /// `--albedo`): they change the scene's fog, or add fog filling all
     /// space (albedo 1 unless given) if it has none.
-    pub fn override_fog(&mut self, density: Option<f32>, albedo: Option<f32>) -> Result<(), String> {
+    pub fn override_fog(
+        &mut self,
+        density: Option<f32>,
+        albedo: Option<f32>,
+    ) -> Result<(), String> {
         if let Some(d) = density
             && !(d >= 0.0 && d.is_finite())
         {
@@ -236,7 +251,9 @@ impl SceneDescription {
                 });
             }
             (None, None) if albedo.is_some() => {
-                return Err("--albedo needs fog: this scene has none, so give --density too".into());
+                return Err(
+                    "--albedo needs fog: this scene has none, so give --density too".into(),
+                );
             }
             (None, None) => {}
         }

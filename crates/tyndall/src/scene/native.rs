@@ -65,6 +65,7 @@ struct RenderDesc {
     seed: Option<u64>,
     integrator: Option<String>,
     step: Option<f32>,
+    volume_samples: Option<u32>,
     max_bounces: Option<u32>,
     exposure: Option<f32>,
     output: Option<String>,
@@ -264,9 +265,15 @@ fn variant_error(section: &str, kind: &str, body: &str) -> Option<toml::de::Erro
 /// a tagged table, the offending key (see [`variant_error`]).
 fn locate_parse_error(source: &SourceText, offset: usize, message: &str) -> SceneError {
     let text = &source.text;
-    let line_start = text[..offset.min(text.len())].rfind('\n').map_or(0, |i| i + 1);
+    let line_start = text[..offset.min(text.len())]
+        .rfind('\n')
+        .map_or(0, |i| i + 1);
     let header = text[line_start..].lines().next().unwrap_or("").trim();
-    let section = header.trim_matches(['[', ']']).split('.').next().unwrap_or("");
+    let section = header
+        .trim_matches(['[', ']'])
+        .split('.')
+        .next()
+        .unwrap_or("");
     if header.starts_with('[') && matches!(section, "materials" | "shapes" | "lights") {
         let body = source.table_body(line_start);
         let mut blanked = text[body.clone()].to_string();
@@ -282,7 +289,8 @@ fn locate_parse_error(source: &SourceText, offset: usize, message: &str) -> Scen
             if let Some(e) = variant_error(section, &kind, &blanked)
                 && let Some(span) = e.span()
             {
-                return source.error_at(body.start + span.start, e.message().trim_end().to_string());
+                return source
+                    .error_at(body.start + span.start, e.message().trim_end().to_string());
             }
         } else if message.contains("missing field `type`") || message.contains("unknown variant") {
             return source.error_at_key(body, "type", message.to_string());
@@ -312,7 +320,10 @@ impl<'de> Deserialize<'de> for ColorValue {
             fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<ColorValue, E> {
                 Ok(ColorValue([v as f32; 3]))
             }
-            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<ColorValue, A::Error> {
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<ColorValue, A::Error> {
                 let mut c = [0.0f32; 3];
                 for (i, slot) in c.iter_mut().enumerate() {
                     *slot = seq
@@ -363,7 +374,11 @@ impl Loader<'_> {
         if v.iter().all(|x| x.is_finite()) {
             Ok(Vec3::from_array(v))
         } else {
-            Err(self.err(span, key, format!("`{key}` must be finite numbers, got {v:?}")))
+            Err(self.err(
+                span,
+                key,
+                format!("`{key}` must be finite numbers, got {v:?}"),
+            ))
         }
     }
 
@@ -376,7 +391,14 @@ impl Loader<'_> {
         }
     }
 
-    fn number(&self, span: &Range<usize>, key: &str, v: f32, range: (f32, f32), what: &str) -> Result<f32, SceneError> {
+    fn number(
+        &self,
+        span: &Range<usize>,
+        key: &str,
+        v: f32,
+        range: (f32, f32),
+        what: &str,
+    ) -> Result<f32, SceneError> {
         if v.is_finite() && v >= range.0 && v <= range.1 {
             Ok(v)
         } else {
@@ -385,13 +407,29 @@ impl Loader<'_> {
     }
 
     /// A non-negative finite colour, optionally at most 1 per channel.
-    fn color(&self, span: &Range<usize>, key: &str, c: ColorValue, at_most_one: bool) -> Result<Rgb, SceneError> {
-        let ok = c.0.iter().all(|x| x.is_finite() && *x >= 0.0 && (!at_most_one || *x <= 1.0));
+    fn color(
+        &self,
+        span: &Range<usize>,
+        key: &str,
+        c: ColorValue,
+        at_most_one: bool,
+    ) -> Result<Rgb, SceneError> {
+        let ok =
+            c.0.iter()
+                .all(|x| x.is_finite() && *x >= 0.0 && (!at_most_one || *x <= 1.0));
         if ok {
             Ok(Rgb::from_array(c.0))
         } else {
-            let what = if at_most_one { "between 0 and 1" } else { "non-negative and finite" };
-            Err(self.err(span, key, format!("`{key}` must be {what} in every channel, got {:?}", c.0)))
+            let what = if at_most_one {
+                "between 0 and 1"
+            } else {
+                "non-negative and finite"
+            };
+            Err(self.err(
+                span,
+                key,
+                format!("`{key}` must be {what} in every channel, got {:?}", c.0),
+            ))
         }
     }
 
@@ -428,7 +466,13 @@ impl Loader<'_> {
         let position = self.vec3(&span, "position", c.position)?;
         let look_at = self.vec3(&span, "look_at", c.look_at)?;
         let up = self.direction(&span, "up", c.up)?;
-        let fov = self.number(&span, "fov_y_deg", c.fov_y_deg, (1e-3, 179.0), "an angle in (0°, 179°]")?;
+        let fov = self.number(
+            &span,
+            "fov_y_deg",
+            c.fov_y_deg,
+            (1e-3, 179.0),
+            "an angle in (0°, 179°]",
+        )?;
         let spec = CameraSpec {
             position,
             look_at,
@@ -458,7 +502,14 @@ impl Loader<'_> {
         }
         for (key, v) in [("width", s.width), ("height", s.height)] {
             if !(1..=crate::render::MAX_IMAGE_SIDE).contains(&v) {
-                return Err(self.err(&span, key, format!("`{key}` must be between 1 and {} pixels, got {v}", crate::render::MAX_IMAGE_SIDE)));
+                return Err(self.err(
+                    &span,
+                    key,
+                    format!(
+                        "`{key}` must be between 1 and {} pixels, got {v}",
+                        crate::render::MAX_IMAGE_SIDE
+                    ),
+                ));
             }
         }
         if let Some(spp) = r.spp {
@@ -472,24 +523,54 @@ impl Loader<'_> {
         }
         if let Some(name) = &r.integrator {
             s.integrator = IntegratorKind::from_name(name).ok_or_else(|| {
-                self.err(&span, "integrator", format!("unknown integrator `{name}`: expected `march` or `single`"))
+                self.err(
+                    &span,
+                    "integrator",
+                    format!("unknown integrator `{name}`: expected `march` or `single`"),
+                )
             })?;
         }
         if let Some(step) = r.step {
-            s.step = self.number(&span, "step", step, (f32::MIN_POSITIVE, f32::MAX), "a positive length")?;
+            s.step = self.number(
+                &span,
+                "step",
+                step,
+                (f32::MIN_POSITIVE, f32::MAX),
+                "a positive length",
+            )?;
+        }
+        if let Some(n) = r.volume_samples {
+            if !(1..=1024).contains(&n) {
+                return Err(self.err(
+                    &span,
+                    "volume_samples",
+                    format!("`volume_samples` must be between 1 and 1024, got {n}"),
+                ));
+            }
+            s.volume_samples = n;
         }
         if let Some(b) = r.max_bounces {
             s.max_bounces = b;
         }
         if let Some(e) = r.exposure {
-            s.exposure = self.number(&span, "exposure", e, (-64.0, 64.0), "a number of stops in [−64, 64]")?;
+            s.exposure = self.number(
+                &span,
+                "exposure",
+                e,
+                (-64.0, 64.0),
+                "a number of stops in [−64, 64]",
+            )?;
         }
         if let Some(m) = &r.glass_model {
             builder.glass.model = match m.as_str() {
                 "filter" => GlassModel::Filter,
                 "blend" => GlassModel::Blend,
                 other => {
-                    return Err(self.err(&span, "glass_model", format!("unknown glass model `{other}`: expected `filter` or `blend`")));
+                    return Err(self.err(
+                        &span,
+                        "glass_model",
+                        format!("unknown glass model `{other}`: expected `filter` or `blend`"),
+                    ));
                 }
             };
         }
@@ -514,7 +595,13 @@ impl Loader<'_> {
     fn fog(&mut self, desc: &Spanned<FogDesc>) -> Result<Fog, SceneError> {
         let span = desc.span();
         let f = desc.get_ref();
-        let sigma_t = self.number(&span, "sigma_t", f.sigma_t, (0.0, f32::MAX), "a non-negative density")?;
+        let sigma_t = self.number(
+            &span,
+            "sigma_t",
+            f.sigma_t,
+            (0.0, f32::MAX),
+            "a non-negative density",
+        )?;
         let albedo = self.color(&span, "albedo", f.albedo, false)?;
         let g = self.number(&span, "g", f.g, (-0.999, 0.999), "in (−1, 1)")?;
         let bounds = match &f.bounds {
@@ -529,21 +616,31 @@ impl Loader<'_> {
         })
     }
 
-    fn bounds(&self, span: &Range<usize>, key: &str, min: V3, max: V3) -> Result<Bounds, SceneError> {
+    fn bounds(
+        &self,
+        span: &Range<usize>,
+        key: &str,
+        min: V3,
+        max: V3,
+    ) -> Result<Bounds, SceneError> {
         let (lo, hi) = (self.vec3(span, key, min)?, self.vec3(span, key, max)?);
         if lo.cmplt(hi).all() {
             Ok(Bounds { min: lo, max: hi })
         } else {
-            Err(self.err(span, key, format!("box `min` {min:?} must be below `max` {max:?} on every axis")))
+            Err(self.err(
+                span,
+                key,
+                format!("box `min` {min:?} must be below `max` {max:?} on every axis"),
+            ))
         }
     }
 
     fn material(&self, desc: &Spanned<MaterialDesc>) -> Result<Material, SceneError> {
         let span = desc.span();
         Ok(match *desc.get_ref() {
-            MaterialDesc::Diffuse(DiffuseDesc { reflectance }) => {
-                Material::Opaque(Surface::diffuse(self.color(&span, "reflectance", reflectance, true)?))
-            }
+            MaterialDesc::Diffuse(DiffuseDesc { reflectance }) => Material::Opaque(
+                Surface::diffuse(self.color(&span, "reflectance", reflectance, true)?),
+            ),
             MaterialDesc::Mirror(MirrorDesc { reflectance }) => Material::Opaque(Surface {
                 diffuse: Rgb::ZERO,
                 specular: self.color(&span, "reflectance", reflectance, true)?,
@@ -561,7 +658,10 @@ impl Loader<'_> {
                 specular: self.color(&span, "reflectance", reflectance, true)?,
                 roughness: self.number(&span, "roughness", roughness, (0.0, 1.0), "in [0, 1]")?,
             }),
-            MaterialDesc::Emissive(EmissiveDesc { radiance, two_sided }) => Material::Emissive {
+            MaterialDesc::Emissive(EmissiveDesc {
+                radiance,
+                two_sided,
+            }) => Material::Emissive {
                 radiance: self.color(&span, "radiance", radiance, false)?,
                 two_sided,
             },
@@ -572,14 +672,35 @@ impl Loader<'_> {
         })
     }
 
-    fn material_id(&self, span: &Range<usize>, name: &str, ids: &BTreeMap<&str, MaterialId>) -> Result<MaterialId, SceneError> {
+    fn material_id(
+        &self,
+        span: &Range<usize>,
+        name: &str,
+        ids: &BTreeMap<&str, MaterialId>,
+    ) -> Result<MaterialId, SceneError> {
         ids.get(name).copied().ok_or_else(|| {
             let known: Vec<&str> = ids.keys().copied().collect();
-            self.err(span, "material", format!("unknown material `{name}`; defined materials: {}", if known.is_empty() { "none".into() } else { known.join(", ") }))
+            self.err(
+                span,
+                "material",
+                format!(
+                    "unknown material `{name}`; defined materials: {}",
+                    if known.is_empty() {
+                        "none".into()
+                    } else {
+                        known.join(", ")
+                    }
+                ),
+            )
         })
     }
 
-    fn quad(&self, span: &Range<usize>, corners: &[V3; 4], one_sided: bool) -> Result<Quad, SceneError> {
+    fn quad(
+        &self,
+        span: &Range<usize>,
+        corners: &[V3; 4],
+        one_sided: bool,
+    ) -> Result<Quad, SceneError> {
         let mut c = [Vec3::ZERO; 4];
         for (slot, v) in c.iter_mut().zip(corners) {
             *slot = self.vec3(span, "corners", *v)?;
@@ -587,18 +708,37 @@ impl Loader<'_> {
         super::parallelogram(c, one_sided).map_err(|m| self.err(span, "corners", m))
     }
 
-    fn shape(&mut self, desc: &Spanned<ShapeDesc>, ids: &BTreeMap<&str, MaterialId>, builder: &mut SceneBuilder) -> Result<(), SceneError> {
+    fn shape(
+        &mut self,
+        desc: &Spanned<ShapeDesc>,
+        ids: &BTreeMap<&str, MaterialId>,
+        builder: &mut SceneBuilder,
+    ) -> Result<(), SceneError> {
         let span = desc.span();
         match desc.get_ref() {
-            ShapeDesc::Sphere(SphereDesc { center, radius, material }) => {
+            ShapeDesc::Sphere(SphereDesc {
+                center,
+                radius,
+                material,
+            }) => {
                 let m = self.material_id(&span, material, ids)?;
                 let sphere = Sphere {
                     center: self.vec3(&span, "center", *center)?,
-                    radius: self.number(&span, "radius", *radius, (f32::MIN_POSITIVE, f32::MAX), "a positive length")?,
+                    radius: self.number(
+                        &span,
+                        "radius",
+                        *radius,
+                        (f32::MIN_POSITIVE, f32::MAX),
+                        "a positive length",
+                    )?,
                 };
                 builder.add_shape(Shape::Sphere(sphere), m);
             }
-            ShapeDesc::Quad(QuadDesc { corners, material, one_sided }) => {
+            ShapeDesc::Quad(QuadDesc {
+                corners,
+                material,
+                one_sided,
+            }) => {
                 let m = self.material_id(&span, material, ids)?;
                 let q = self.quad(&span, corners, *one_sided)?;
                 builder.add_shape(Shape::Quad(q), m);
@@ -610,7 +750,13 @@ impl Loader<'_> {
                     builder.add_shape(Shape::Quad(face), m);
                 }
             }
-            ShapeDesc::Mesh(MeshDesc { file, material, translate, scale, rotate_deg }) => {
+            ShapeDesc::Mesh(MeshDesc {
+                file,
+                material,
+                translate,
+                scale,
+                rotate_deg,
+            }) => {
                 let m = self.material_id(&span, material, ids)?;
                 let transform = MeshTransform {
                     translate: self.vec3(&span, "translate", translate.unwrap_or([0.0; 3]))?,
@@ -618,7 +764,11 @@ impl Loader<'_> {
                         Some(s) => {
                             let v = self.vec3(&span, "scale", s.0)?;
                             if v.cmpeq(Vec3::ZERO).any() {
-                                return Err(self.err(&span, "scale", "`scale` must be non-zero on every axis"));
+                                return Err(self.err(
+                                    &span,
+                                    "scale",
+                                    "`scale` must be non-zero on every axis",
+                                ));
                             }
                             v
                         }
@@ -627,9 +777,14 @@ impl Loader<'_> {
                     rotate_deg: self.vec3(&span, "rotate_deg", rotate_deg.unwrap_or([0.0; 3]))?,
                 };
                 let path = self.relative(file);
-                let triangles = load_obj_mesh(&path, &transform).map_err(|m| self.err(&span, "file", m))?;
+                let triangles =
+                    load_obj_mesh(&path, &transform).map_err(|m| self.err(&span, "file", m))?;
                 if triangles.skipped_degenerate > 0 {
-                    self.warnings.push(format!("{}: skipped {} degenerate triangles", path.display(), triangles.skipped_degenerate));
+                    self.warnings.push(format!(
+                        "{}: skipped {} degenerate triangles",
+                        path.display(),
+                        triangles.skipped_degenerate
+                    ));
                 }
                 for t in triangles.triangles {
                     builder.add_shape(Shape::Triangle(t), m);
@@ -639,34 +794,71 @@ impl Loader<'_> {
         Ok(())
     }
 
-    fn light(&self, desc: &Spanned<LightDesc>, builder: &mut SceneBuilder) -> Result<(), SceneError> {
+    fn light(
+        &self,
+        desc: &Spanned<LightDesc>,
+        builder: &mut SceneBuilder,
+    ) -> Result<(), SceneError> {
         let span = desc.span();
         match desc.get_ref() {
-            LightDesc::Point(PointDesc { position, intensity, power }) => {
-                let intensity = match (intensity, power) {
-                    (Some(i), None) => self.color(&span, "intensity", *i, false)?,
-                    (None, Some(p)) => self.color(&span, "power", *p, false)? / (4.0 * PI),
-                    _ => return Err(self.err(&span, "position", "a point light needs exactly one of `intensity` (W/sr) or `power` (W)")),
-                };
+            LightDesc::Point(PointDesc {
+                position,
+                intensity,
+                power,
+            }) => {
+                let intensity =
+                    match (intensity, power) {
+                        (Some(i), None) => self.color(&span, "intensity", *i, false)?,
+                        (None, Some(p)) => self.color(&span, "power", *p, false)? / (4.0 * PI),
+                        _ => return Err(self.err(
+                            &span,
+                            "position",
+                            "a point light needs exactly one of `intensity` (W/sr) or `power` (W)",
+                        )),
+                    };
                 builder.add_light(Light::Point(PointLight {
                     position: self.vec3(&span, "position", *position)?,
                     intensity,
                 }));
             }
-            LightDesc::Spot(SpotDesc { position, direction, look_at, cutoff_deg, profile, inner_deg, intensity }) => {
+            LightDesc::Spot(SpotDesc {
+                position,
+                direction,
+                look_at,
+                cutoff_deg,
+                profile,
+                inner_deg,
+                intensity,
+            }) => {
                 let position = self.vec3(&span, "position", *position)?;
                 let direction = match (direction, look_at) {
                     (Some(d), None) => self.direction(&span, "direction", *d)?,
                     (None, Some(t)) => {
                         let t = self.vec3(&span, "look_at", *t)?;
                         if t == position {
-                            return Err(self.err(&span, "look_at", "`look_at` must differ from `position`"));
+                            return Err(self.err(
+                                &span,
+                                "look_at",
+                                "`look_at` must differ from `position`",
+                            ));
                         }
                         (t - position).normalize()
                     }
-                    _ => return Err(self.err(&span, "position", "a spot light needs exactly one of `direction` or `look_at`")),
+                    _ => {
+                        return Err(self.err(
+                            &span,
+                            "position",
+                            "a spot light needs exactly one of `direction` or `look_at`",
+                        ));
+                    }
                 };
-                let cutoff = self.number(&span, "cutoff_deg", *cutoff_deg, (f32::MIN_POSITIVE, 90.0), "a half-angle in (0°, 90°]")?;
+                let cutoff = self.number(
+                    &span,
+                    "cutoff_deg",
+                    *cutoff_deg,
+                    (f32::MIN_POSITIVE, 90.0),
+                    "a half-angle in (0°, 90°]",
+                )?;
                 let cos_cutoff = cutoff.to_radians().cos();
                 let profile = match (profile.as_deref().unwrap_or("linear"), inner_deg) {
                     ("linear", None) => SpotProfile::Linear,
@@ -690,13 +882,20 @@ impl Loader<'_> {
                     intensity: self.color(&span, "intensity", *intensity, false)?,
                 }));
             }
-            LightDesc::Directional(DirectionalDesc { direction, irradiance }) => {
+            LightDesc::Directional(DirectionalDesc {
+                direction,
+                irradiance,
+            }) => {
                 builder.add_light(Light::Directional(DirectionalLight {
                     direction: self.direction(&span, "direction", *direction)?,
                     irradiance: self.color(&span, "irradiance", *irradiance, false)?,
                 }));
             }
-            LightDesc::Quad(QuadLightDesc { corners, radiance, two_sided }) => {
+            LightDesc::Quad(QuadLightDesc {
+                corners,
+                radiance,
+                two_sided,
+            }) => {
                 let quad = self.quad(&span, corners, false)?;
                 let radiance = self.color(&span, "radiance", *radiance, false)?;
                 builder.add_quad_light(quad, radiance, *two_sided);

@@ -85,9 +85,15 @@ impl SourceText {
     /// An error at the key `key` in the table whose header starts the byte
     /// range `table` (a table's span covers its header), or at the header
     /// if the key is not written there.
-    pub fn error_at_key(&self, table: Range<usize>, key: &str, message: impl Into<String>) -> SceneError {
+    pub fn error_at_key(
+        &self,
+        table: Range<usize>,
+        key: &str,
+        message: impl Into<String>,
+    ) -> SceneError {
         let body = self.table_body(table.start);
-        let offset = find_key(&self.text[body.clone()], key).map_or(table.start, |i| body.start + i);
+        let offset =
+            find_key(&self.text[body.clone()], key).map_or(table.start, |i| body.start + i);
         self.error_at(offset, message)
     }
 
@@ -95,7 +101,9 @@ impl SourceText {
     /// starts with `[`) or the end of the text.
     pub fn table_body(&self, start: usize) -> Range<usize> {
         let start = start.min(self.text.len());
-        let after_header = self.text[start..].find('\n').map_or(self.text.len(), |i| start + i + 1);
+        let after_header = self.text[start..]
+            .find('\n')
+            .map_or(self.text.len(), |i| start + i + 1);
         let end = self.text[after_header..]
             .match_indices('\n')
             .map(|(i, _)| after_header + i + 1)

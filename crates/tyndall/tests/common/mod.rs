@@ -23,17 +23,39 @@ pub fn repo() -> std::path::PathBuf {
 pub fn render(desc: &SceneDescription, f: impl FnOnce(&mut RenderSettings)) -> Image {
     let mut settings = desc.settings;
     f(&mut settings);
-    tyndall::render(&desc.scene, &settings, &|_| {}).expect("render").image
+    tyndall::render(&desc.scene, &settings, &|_| {})
+        .expect("render")
+        .image
 }
 
 /// Mean and standard error of the mean of `n` one-sample estimates of the
 /// radiance along one fixed ray.
-pub fn estimate_ray(desc: &SceneDescription, kind: IntegratorKind, step: f32, ray: Ray, n: u32) -> (Rgb, Rgb) {
-    let settings = RenderSettings {
-        integrator: kind,
-        step,
-        ..desc.settings
-    };
+pub fn estimate_ray(
+    desc: &SceneDescription,
+    kind: IntegratorKind,
+    step: f32,
+    ray: Ray,
+    n: u32,
+) -> (Rgb, Rgb) {
+    estimate_ray_with(
+        desc,
+        RenderSettings {
+            integrator: kind,
+            step,
+            ..desc.settings
+        },
+        ray,
+        n,
+    )
+}
+
+/// [`estimate_ray`] with explicit settings.
+pub fn estimate_ray_with(
+    desc: &SceneDescription,
+    settings: RenderSettings,
+    ray: Ray,
+    n: u32,
+) -> (Rgb, Rgb) {
     let integrator = Integrator::new(&settings);
     let mut counts = RayCounts::default();
     let (mut sum, mut sum2) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
@@ -41,12 +63,15 @@ pub fn estimate_ray(desc: &SceneDescription, kind: IntegratorKind, step: f32, ra
         let mut sampler = PixelSampler::new(17, 0, i);
         // Keep the first two dimensions for the pixel, as a render does.
         let _: Vec2 = sampler.next_2d();
-        let l = integrator.radiance(&desc.scene, ray, &mut sampler, &mut counts).as_dvec3();
+        let l = integrator
+            .radiance(&desc.scene, ray, &mut sampler, &mut counts)
+            .as_dvec3();
         sum += l;
         sum2 += l * l;
     }
     let mean = sum / n as f64;
-    let var = (sum2 / n as f64 - mean * mean).max(glam::DVec3::ZERO) * (n as f64 / (n as f64 - 1.0));
+    let var =
+        (sum2 / n as f64 - mean * mean).max(glam::DVec3::ZERO) * (n as f64 / (n as f64 - 1.0));
     (mean.as_vec3(), (var / n as f64).map(f64::sqrt).as_vec3())
 }
 
