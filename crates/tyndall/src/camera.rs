@@ -71,10 +71,6 @@ impl Camera {
             - self.up * (ndc.y * self.half_extent.y);
         Ray::new(self.position, dir)
     }
-
-    pub fn position(&self) -> Vec3 {
-        self.position
-    }
 }
 
 #[cfg(test)]

@@ -32,12 +32,6 @@ pub fn linear_to_srgb(v: f32) -> f32 {
     }
 }
 
-/// `true` when every channel is finite.
-#[inline]
-pub fn is_finite(c: Rgb) -> bool {
-    c.is_finite()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -7,8 +7,9 @@
 use crate::ray::Ray;
 use glam::Vec3;
 
-/// Smallest ray parameter accepted as a hit, relative to nothing: origins
-/// are already offset off surfaces (see [`crate::ray::offset_origin`]).
+/// Smallest ray parameter accepted as a hit. Zero: secondary rays start
+/// from origins already moved off their surface
+/// ([`crate::ray::offset_origin`]).
 pub const T_MIN: f32 = 0.0;
 
 /// An axis-aligned bounding box.

@@ -34,11 +34,6 @@ impl RayCounts {
     pub fn total(&self) -> u64 {
         self.camera + self.shadow
     }
-
-    pub fn add(&mut self, other: RayCounts) {
-        self.camera += other.camera;
-        self.shadow += other.shadow;
-    }
 }
 
 /// Most glass crossings a blend-model shadow ray orders on the stack;

@@ -220,7 +220,7 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
     let mut vertices: Vec<Vec3> = Vec::new();
     let mut materials: Vec<LegacyMaterial> = Vec::new();
     let mut faces: Vec<Face> = Vec::new();
-    let mut spheres: Vec<(Sphere, usize, usize)> = Vec::new();
+    let mut spheres: Vec<(Sphere, usize)> = Vec::new();
     let mut active: Option<usize> = None;
     let mut open_block = false;
     let mut statement_cutoff: Option<f32> = None;
@@ -341,7 +341,7 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                         p.error(at, format!("sphere radius must be positive, got {radius}"))
                     );
                 }
-                spheres.push((Sphere { center, radius }, material, tok.offset));
+                spheres.push((Sphere { center, radius }, material));
             }
             "r" => {
                 return Err(p.error(
@@ -454,7 +454,7 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
             }
         }
     }
-    for (sphere, material, _) in &spheres {
+    for (sphere, material) in &spheres {
         if materials[*material].emitted.max_element() > 0.0 {
             warnings.push(format!(
                 "{}: emissive spheres glow but do not light the scene",
@@ -538,11 +538,11 @@ fn perspective_camera(p: &mut Parser, tok: Token) -> Result<CameraSpec, SceneErr
 
 /// LEGACY-OBJ.md: without a camera, look at the centre of the scene's
 /// bounds from 4 × its largest dimension along +z, 20° field of view.
-fn default_camera(vertices: &[Vec3], spheres: &[(Sphere, usize, usize)]) -> CameraSpec {
+fn default_camera(vertices: &[Vec3], spheres: &[(Sphere, usize)]) -> CameraSpec {
     let bounds = vertices.iter().fold(Bounds::EMPTY, |b, v| b.include(*v));
     let bounds = spheres
         .iter()
-        .fold(bounds, |b, (s, _, _)| b.union(s.bounds()));
+        .fold(bounds, |b, (s, _)| b.union(s.bounds()));
     let (center, size) = if bounds.is_empty() {
         (Vec3::ZERO, 1.0)
     } else {

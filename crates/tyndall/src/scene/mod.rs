@@ -20,7 +20,7 @@ use crate::lights::{Light, QuadLight};
 use crate::materials::{Material, MaterialId};
 use crate::media::Fog;
 use crate::render::RenderSettings;
-use crate::shapes::{Bounds, Quad, Shape};
+use crate::shapes::{Quad, Shape};
 use crate::visibility::Visibility;
 use std::path::PathBuf;
 
@@ -51,18 +51,6 @@ impl Scene {
         &self.materials[self.geometry.primitive(primitive).material as usize]
     }
 
-    /// Bounds of the geometry and every light position, the region where
-    /// anything can happen.
-    pub fn bounds(&self) -> Bounds {
-        self.lights
-            .iter()
-            .fold(self.geometry.bounds(), |b, l| match l {
-                Light::Point(p) => b.include(p.position),
-                Light::Spot(s) => b.include(s.position),
-                Light::Quad(q) => b.union(q.quad.bounds()),
-                Light::Directional(_) => b,
-            })
-    }
 }
 
 /// A loaded scene with its render settings and the warnings the loader
@@ -106,10 +94,6 @@ impl SceneBuilder {
         (self.materials.len() - 1) as MaterialId
     }
 
-    pub fn material(&self, id: MaterialId) -> &Material {
-        &self.materials[id as usize]
-    }
-
     pub fn add_shape(&mut self, shape: Shape, material: MaterialId) {
         self.primitives.push(Primitive { shape, material });
     }
@@ -131,10 +115,6 @@ impl SceneBuilder {
             radiance,
             two_sided,
         }));
-    }
-
-    pub fn primitives(&self) -> &[Primitive] {
-        &self.primitives
     }
 
     pub fn lights(&self) -> &[Light] {
