@@ -540,9 +540,7 @@ fn perspective_camera(p: &mut Parser, tok: Token) -> Result<CameraSpec, SceneErr
 /// bounds from 4 × its largest dimension along +z, 20° field of view.
 fn default_camera(vertices: &[Vec3], spheres: &[(Sphere, usize)]) -> CameraSpec {
     let bounds = vertices.iter().fold(Bounds::EMPTY, |b, v| b.include(*v));
-    let bounds = spheres
-        .iter()
-        .fold(bounds, |b, (s, _)| b.union(s.bounds()));
+    let bounds = spheres.iter().fold(bounds, |b, (s, _)| b.union(s.bounds()));
     let (center, size) = if bounds.is_empty() {
         (Vec3::ZERO, 1.0)
     } else {

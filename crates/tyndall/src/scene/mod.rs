@@ -50,7 +50,6 @@ impl Scene {
     pub fn material(&self, primitive: u32) -> &Material {
         &self.materials[self.geometry.primitive(primitive).material as usize]
     }
-
 }
 
 /// A loaded scene with its render settings and the warnings the loader
