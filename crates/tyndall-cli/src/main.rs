@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use tyndall::scene::legacy::LegacyOptions;
 use tyndall::scene::{SceneDescription, demo, legacy, native};
+use tyndall::visibility::{DEFAULT_MAP_RESOLUTION, VisibilityMode};
 use tyndall::{IntegratorKind, RenderStats};
 
 #[derive(Parser)]
@@ -85,6 +86,18 @@ pub struct Overrides {
     /// (`single` only; default 8).
     #[arg(long)]
     pub volume_samples: Option<u32>,
+    /// Visibility towards lights: `rays` (exact shadow rays through the BVH) or
+    /// `maps` (per-light shadow and coloured transmittance maps rendered once;
+    /// a lookup per march step instead of a ray; area lights keep rays).
+    #[arg(long, value_parser = ["rays", "maps"])]
+    pub visibility: Option<String>,
+    /// Shadow-map resolution, texels per side of each map face (default 512).
+    #[arg(long)]
+    pub shadow_map_resolution: Option<u32>,
+    /// Interleaved sampling for `march`: pixels of an N×N tile start their
+    /// march at different offsets (Keller & Heidrich 2001); 1 is off.
+    #[arg(long)]
+    pub interleave: Option<u32>,
     /// Fog extinction σt per scene unit (the paper's air density τ). Adds fog
     /// filling all space if the scene has none, as the paper's legacy scenes need.
     #[arg(long, allow_negative_numbers = true)]
@@ -131,6 +144,21 @@ impl Overrides {
         if let Some(v) = self.volume_samples {
             s.volume_samples = v;
         }
+        if let Some(v) = self.interleave {
+            s.interleave = v;
+        }
+        let resolution = match (self.shadow_map_resolution, s.visibility) {
+            (Some(r), _) => r,
+            (None, VisibilityMode::Maps { resolution }) => resolution,
+            (None, VisibilityMode::ShadowRays) => DEFAULT_MAP_RESOLUTION,
+        };
+        s.visibility = match (self.visibility.as_deref(), s.visibility) {
+            (Some("rays"), _) => VisibilityMode::ShadowRays,
+            (Some(_), _) | (None, VisibilityMode::Maps { .. }) => {
+                VisibilityMode::Maps { resolution }
+            }
+            (None, VisibilityMode::ShadowRays) => VisibilityMode::ShadowRays,
+        };
         if let Some(v) = self.threads {
             s.threads = Some(v);
         }
@@ -219,12 +247,13 @@ fn progress_bar(rows: u64, quiet: bool) -> ProgressBar {
 fn report(settings: &tyndall::RenderSettings, stats: &RenderStats, output: &Path) {
     let secs = stats.elapsed.as_secs_f64();
     eprintln!(
-        "wrote {} ({}×{}, {} spp, {}) in {:.2} s: {:.2} M samples, {:.2} M rays ({:.2} M camera, {:.2} M shadow), {:.2} M rays/s",
+        "wrote {} ({}×{}, {} spp, {}, visibility {}) in {:.2} s: {:.2} M samples, {:.2} M rays ({:.2} M camera, {:.2} M shadow), {:.2} M rays/s",
         output.display(),
         settings.width,
         settings.height,
         settings.spp,
         settings.integrator.name(),
+        settings.visibility.name(),
         secs,
         stats.samples as f64 * 1e-6,
         stats.rays.total() as f64 * 1e-6,
@@ -232,6 +261,13 @@ fn report(settings: &tyndall::RenderSettings, stats: &RenderStats, output: &Path
         stats.rays.shadow as f64 * 1e-6,
         stats.rays_per_second() * 1e-6,
     );
+    if let VisibilityMode::Maps { resolution } = settings.visibility {
+        eprintln!(
+            "shadow maps: {resolution}² texels per face, built in {:.2} s; {:.2} M lookups",
+            stats.maps.as_secs_f64(),
+            stats.rays.map_lookups as f64 * 1e-6
+        );
+    }
     if stats.invalid_samples > 0 {
         eprintln!(
             "warning: {} samples were NaN or infinite and were dropped",

@@ -100,6 +100,35 @@ fn renders_legacy_scene_with_fog_from_flags() {
 }
 
 #[test]
+fn renders_with_shadow_maps_and_interleaving() {
+    let out = temp("maps.png");
+    let o = tyndall(&[
+        "render",
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "48",
+        "--height",
+        "27",
+        "--spp",
+        "1",
+        "--integrator",
+        "march",
+        "--step",
+        "0.3",
+        "--visibility",
+        "maps",
+        "--shadow-map-resolution",
+        "64",
+        "--interleave",
+        "2",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("shadow maps: 64²"), "{}", stderr(&o));
+    assert!(out.exists());
+}
+
+#[test]
 fn bad_inputs_fail_without_writing_an_image() {
     let bad_scene = temp("bad.toml");
     let good =

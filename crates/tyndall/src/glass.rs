@@ -48,11 +48,17 @@ impl GlassModel {
     /// The tint of light that crosses `panes`, listed in the order the
     /// light meets them (from the light towards the lit point).
     pub fn tint<'a>(self, panes: impl IntoIterator<Item = &'a Glass>) -> Rgb {
+        panes
+            .into_iter()
+            .fold(Rgb::ONE, |t, g| self.tint_after(t, g))
+    }
+
+    /// The tint of light of tint `before` after it crosses `pane`.
+    #[inline]
+    pub fn tint_after(self, before: Rgb, pane: &Glass) -> Rgb {
         match self {
-            GlassModel::Filter => panes
-                .into_iter()
-                .fold(Rgb::ONE, |t, g| t * g.filter_transmittance()),
-            GlassModel::Blend => panes.into_iter().fold(Rgb::ONE, |b, g| g.blend(b)),
+            GlassModel::Filter => before * pane.filter_transmittance(),
+            GlassModel::Blend => pane.blend(before),
         }
     }
 }

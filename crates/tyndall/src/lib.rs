@@ -29,6 +29,7 @@ pub mod render;
 pub mod sampler;
 pub mod sampling;
 pub mod scene;
+pub mod shadow_maps;
 pub mod shapes;
 pub mod visibility;
 

@@ -7,10 +7,10 @@
 use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::film::Image;
-use crate::integrators::{Integrator, IntegratorKind};
+use crate::integrators::{Integrator, IntegratorKind, PixelPosition};
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
-use crate::visibility::RayCounts;
+use crate::visibility::{RayCounts, Visibility, VisibilityMode};
 use glam::{DVec3, Vec2};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -38,6 +38,11 @@ pub struct RenderSettings {
     /// Equiangular samples per light per camera ray for
     /// [`IntegratorKind::Single`] (stratified along the ray).
     pub volume_samples: u32,
+    /// Side of the interleaved-sampling tile for [`IntegratorKind::March`]
+    /// (1: off).
+    pub interleave: u32,
+    /// Shadow rays or shadow maps.
+    pub visibility: VisibilityMode,
     /// Most reflections followed from a camera ray (glass crossings do not
     /// count).
     pub max_bounces: u32,
@@ -56,6 +61,8 @@ impl Default for RenderSettings {
             integrator: IntegratorKind::Single,
             step: 0.1,
             volume_samples: DEFAULT_VOLUME_SAMPLES,
+            interleave: 1,
+            visibility: VisibilityMode::ShadowRays,
             max_bounces: 4,
             exposure: 0.0,
         }
@@ -73,6 +80,10 @@ pub enum RenderError {
     NoSamples,
     #[error("volume samples per light must be between 1 and 1024, got {0}")]
     VolumeSamples(u32),
+    #[error("the interleaving tile must be between 1 and 16 pixels wide, got {0}")]
+    Interleave(u32),
+    #[error("shadow-map resolution must be between 16 and 16384 texels, got {0}")]
+    MapResolution(u32),
     #[error("march step must be a positive finite length, got {0}")]
     Step(f32),
     #[error("exposure must be finite, got {0}")]
@@ -102,6 +113,14 @@ impl RenderSettings {
         }
         if !(1..=1024).contains(&self.volume_samples) {
             return Err(RenderError::VolumeSamples(self.volume_samples));
+        }
+        if !(1..=16).contains(&self.interleave) {
+            return Err(RenderError::Interleave(self.interleave));
+        }
+        if let VisibilityMode::Maps { resolution } = self.visibility
+            && !(16..=16384).contains(&resolution)
+        {
+            return Err(RenderError::MapResolution(resolution));
         }
         if !(self.step > 0.0 && self.step.is_finite()) {
             return Err(RenderError::Step(self.step));
@@ -147,7 +166,10 @@ impl RenderSettings {
 /// What a render did, for the end-of-run report.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RenderStats {
+    /// Wall time of the whole render, shadow maps included.
     pub elapsed: Duration,
+    /// Wall time spent rendering shadow maps (zero with shadow rays).
+    pub maps: Duration,
     pub samples: u64,
     pub rays: RayCounts,
     /// Samples whose radiance was NaN or infinite and were dropped (a bug
@@ -186,13 +208,19 @@ pub fn render(
             .map_err(|e| RenderError::ThreadPool(e.to_string()))?
     };
     let start = Instant::now();
+    let visibility = pool.install(|| Visibility::new(scene, settings.visibility));
+    let maps = start.elapsed();
     let camera = Camera::new(&scene.camera, settings.width, settings.height);
-    let integrator = Integrator::new(settings);
+    let integrator = Integrator::new(settings, &visibility);
     let width = settings.width as usize;
     let mut pixels = vec![Rgb::ZERO; width * settings.height as usize];
     let rows_done = AtomicU64::new(0);
-    let (camera_rays, shadow_rays, invalid) =
-        (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
+    let (camera_rays, shadow_rays, lookups, invalid) = (
+        AtomicU64::new(0),
+        AtomicU64::new(0),
+        AtomicU64::new(0),
+        AtomicU64::new(0),
+    );
     pool.install(|| {
         pixels
             .par_chunks_mut(width)
@@ -207,7 +235,11 @@ pub fn render(
                         let mut sampler = PixelSampler::new(settings.seed, index, s);
                         let film = Vec2::new(x as f32, y as f32) + sampler.next_2d();
                         let ray = camera.ray(film);
-                        let l = integrator.radiance(scene, ray, &mut sampler, &mut counts);
+                        let pixel = PixelPosition {
+                            x: x as u32,
+                            y: y as u32,
+                        };
+                        let l = integrator.radiance(scene, ray, pixel, &mut sampler, &mut counts);
                         if l.is_finite() {
                             sum += l.as_dvec3();
                         } else {
@@ -218,6 +250,7 @@ pub fn render(
                 }
                 camera_rays.fetch_add(counts.camera, Ordering::Relaxed);
                 shadow_rays.fetch_add(counts.shadow, Ordering::Relaxed);
+                lookups.fetch_add(counts.map_lookups, Ordering::Relaxed);
                 invalid.fetch_add(bad, Ordering::Relaxed);
                 let done = rows_done.fetch_add(1, Ordering::Relaxed) + 1;
                 progress(done as u32);
@@ -225,10 +258,12 @@ pub fn render(
     });
     let stats = RenderStats {
         elapsed: start.elapsed(),
+        maps,
         samples: width as u64 * settings.height as u64 * settings.spp as u64,
         rays: RayCounts {
             camera: camera_rays.into_inner(),
             shadow: shadow_rays.into_inner(),
+            map_lookups: lookups.into_inner(),
         },
         invalid_samples: invalid.into_inner(),
     };

@@ -2,9 +2,9 @@
 //! of the glass crossed on the way (the paper's §4.5).
 //!
 //! [`Visibility`] is the one place the integrators ask "how much of this
-//! light's radiance gets here past the geometry". Today it casts a shadow
-//! ray through the BVH; a shadow-map backend can answer the same question
-//! per light from a depth and a transmittance map.
+//! light's radiance gets here past the geometry": exactly, by a shadow ray
+//! through the BVH, or fast, from per-light shadow and transmittance maps
+//! ([`crate::shadow_maps`]) rendered once per frame.
 
 use crate::accel::Geometry;
 use crate::color::Rgb;
@@ -12,25 +12,50 @@ use crate::glass::{Glass, GlassModel};
 use crate::lights::Incident;
 use crate::materials::Material;
 use crate::ray::{Ray, shadow_ray_end};
+use crate::scene::Scene;
+use crate::shadow_maps::{MapScene, ShadowMaps};
 use glam::Vec3;
 use std::ops::ControlFlow;
 
-/// How visibility towards lights is computed.
+/// Default shadow-map resolution (texels per side of each face).
+pub const DEFAULT_MAP_RESOLUTION: u32 = 512;
+
+/// How visibility towards lights is computed, as chosen by settings.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Visibility {
+pub enum VisibilityMode {
     /// Exact: a shadow ray through the BVH per query.
     #[default]
     ShadowRays,
+    /// Shadow and transmittance maps of `resolution`² texels per face.
+    Maps { resolution: u32 },
 }
 
-/// Counts of rays traced, for the end-of-render statistics.
+impl VisibilityMode {
+    pub fn name(&self) -> &'static str {
+        match self {
+            VisibilityMode::ShadowRays => "rays",
+            VisibilityMode::Maps { .. } => "maps",
+        }
+    }
+}
+
+/// Visibility ready for a render.
+pub enum Visibility {
+    ShadowRays,
+    /// Per-light maps; area lights, which have none, use shadow rays.
+    Maps(ShadowMaps),
+}
+
+/// Counts of rays traced and map lookups, for the end-of-render statistics.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct RayCounts {
     pub camera: u64,
     pub shadow: u64,
+    pub map_lookups: u64,
 }
 
 impl RayCounts {
+    /// Rays traced (camera and shadow; map lookups are not rays).
     pub fn total(&self) -> u64 {
         self.camera + self.shadow
     }
@@ -41,25 +66,49 @@ impl RayCounts {
 const INLINE_PANES: usize = 16;
 
 impl Visibility {
-    /// The fraction of light reaching `origin` along `incident` past
-    /// geometry: 0 if an opaque surface is in the way, otherwise the glass
-    /// tint of the panes crossed under `model`. `origin` must already be
-    /// offset off any surface it lies on. Fog is not included.
+    /// Prepares visibility for `scene`: renders the maps if asked for.
+    pub fn new(scene: &Scene, mode: VisibilityMode) -> Self {
+        match mode {
+            VisibilityMode::ShadowRays => Visibility::ShadowRays,
+            VisibilityMode::Maps { resolution } => {
+                let map_scene = MapScene {
+                    geometry: &scene.geometry,
+                    materials: &scene.materials,
+                    model: scene.glass.model,
+                };
+                Visibility::Maps(ShadowMaps::build(&map_scene, &scene.lights, resolution))
+            }
+        }
+    }
+
+    /// The fraction of light `light` reaching `origin` along `incident`
+    /// past geometry: 0 if an opaque surface is in the way, otherwise the
+    /// glass tint of the panes crossed under the scene's glass model.
+    /// `origin` must already be offset off any surface it lies on, whose
+    /// normal is `normal` (`None` in fog). Fog is not included.
     pub fn transmittance(
         &self,
-        geometry: &Geometry,
-        materials: &[Material],
-        model: GlassModel,
+        scene: &Scene,
+        light: usize,
         origin: Vec3,
+        normal: Option<Vec3>,
         incident: &Incident,
         counts: &mut RayCounts,
     ) -> Rgb {
-        match self {
-            Visibility::ShadowRays => {
-                counts.shadow += 1;
-                shadow_ray(geometry, materials, model, origin, incident)
-            }
+        if let Visibility::Maps(maps) = self
+            && let Some(t) = maps.transmittance(light, origin, normal, incident.direction)
+        {
+            counts.map_lookups += 1;
+            return t;
         }
+        counts.shadow += 1;
+        shadow_ray(
+            &scene.geometry,
+            &scene.materials,
+            scene.glass.model,
+            origin,
+            incident,
+        )
     }
 }
 

@@ -6,13 +6,17 @@
 //! one lattice point for each ξ, so the estimate is unbiased for any step
 //! (DESIGN §1); a smaller step lowers the variance. Steps outside every
 //! light's reach (a spotlight's cone) are skipped without a shadow ray.
+//!
+//! Interleaved sampling (Keller & Heidrich 2001), optional: the pixels of
+//! an `n × n` tile take the `n²` strata of [0, 1) for their jitter, so
+//! neighbouring pixels march from different offsets and a few steps give
+//! fine-grained noise instead of banding. Each pixel alone is then
+//! unbiased only up to its stratum; a tile's average is unbiased.
 
-use super::{light_point, scattered_radiance};
+use super::{MediumQuery, PixelPosition, light_point, scattered_radiance};
 use crate::color::Rgb;
-use crate::media::{Fog, transmittance};
-use crate::ray::Ray;
+use crate::media::transmittance;
 use crate::sampler::PixelSampler;
-use crate::scene::Scene;
 use crate::visibility::RayCounts;
 
 /// Optical depth `σt·ℓ` after which a march stops: the camera-side
@@ -22,19 +26,40 @@ use crate::visibility::RayCounts;
 /// leave the scene in unbounded fog.
 pub const MAX_OPTICAL_DEPTH: f32 = 9.21;
 
-/// In-scattered radiance along `ray` over `(0, t_hit)`, relative to the
-/// radiance at the ray origin (one sample).
-pub fn in_scattered(
-    scene: &Scene,
-    fog: &Fog,
-    ray: &Ray,
-    t_hit: f32,
+/// The jitter stratum `(k, n²)` of `pixel` in an `n × n` interleaving
+/// tile (`n = 1`: no interleaving). For `n` a power of two the strata
+/// follow the Bayer matrix, so neighbouring pixels get distant offsets;
+/// otherwise they are in row order.
+pub fn interleaved_stratum(pixel: PixelPosition, n: u32) -> (u32, u32) {
+    let n = n.max(1);
+    let (x, y) = (pixel.x % n, pixel.y % n);
+    let k = if n.is_power_of_two() {
+        // Bayer: M₂ = [[0, 2], [3, 1]], M₂ₙ = 4·Mₙ(low bits) + M₂(high
+        // bit); each bit pair (x_b, y_b) contributes 2·(x_b ⊕ y_b) + y_b.
+        let bits = n.trailing_zeros();
+        (0..bits).fold(0, |k, b| {
+            let (xb, yb) = ((x >> b) & 1, (y >> b) & 1);
+            k * 4 + 2 * (xb ^ yb) + yb
+        })
+    } else {
+        y * n + x
+    };
+    (k, n * n)
+}
+
+/// In-scattered radiance along the query's ray over `(0, t_hit)`,
+/// relative to the radiance at the ray origin (one sample), with the
+/// jitter drawn in stratum `k` of `count` (see [`interleaved_stratum`]).
+pub(crate) fn in_scattered(
+    medium: &MediumQuery,
     step: f32,
+    (k, count): (u32, u32),
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
 ) -> Rgb {
-    let jitter = sampler.next_1d();
-    let Some((a, b)) = fog.interval(ray, 0.0, t_hit) else {
+    let (scene, fog, ray) = (medium.scene, medium.fog, medium.ray);
+    let jitter = (k as f32 + sampler.next_1d()) / count as f32;
+    let Some((a, b)) = fog.interval(ray, 0.0, medium.t_hit) else {
         return Rgb::ZERO;
     };
     if fog.sigma_s() == Rgb::ZERO {
@@ -52,18 +77,18 @@ pub fn in_scattered(
     };
     let first = ((lo - a) / step - jitter).ceil().max(0.0);
     let mut sum = Rgb::ZERO;
-    let mut k = first;
+    let mut index = first;
     loop {
-        let t = a + (jitter + k) * step;
+        let t = a + (jitter + index) * step;
         if t >= hi {
             break;
         }
-        k += 1.0;
+        index += 1.0;
         let x = ray.at(t);
         let camera_t = transmittance(fog.sigma_t, t - a);
-        for light in &scene.lights {
+        for (light_index, light) in scene.lights.iter().enumerate() {
             let y = light_point(light, sampler);
-            sum += camera_t * scattered_radiance(scene, fog, light, y, x, ray.direction, counts);
+            sum += camera_t * scattered_radiance(medium, light_index, y, x, counts);
         }
     }
     sum * step

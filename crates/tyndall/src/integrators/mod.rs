@@ -25,7 +25,7 @@ use crate::ray::{Ray, offset_origin};
 use crate::render::RenderSettings;
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
-use crate::visibility::RayCounts;
+use crate::visibility::{RayCounts, Visibility};
 use glam::{Vec2, Vec3};
 
 /// The integrators, selectable by name.
@@ -62,30 +62,44 @@ impl IntegratorKind {
 /// against degenerate scenes of stacked coincident panes).
 const MAX_GLASS_CROSSINGS: u32 = 64;
 
-/// A configured integrator.
-#[derive(Clone, Copy, Debug)]
-pub struct Integrator {
+/// A configured integrator, borrowing the render's visibility.
+#[derive(Clone, Copy)]
+pub struct Integrator<'a> {
     kind: IntegratorKind,
     step: f32,
     volume_samples: u32,
+    interleave: u32,
     max_bounces: u32,
+    visibility: &'a Visibility,
 }
 
-impl Integrator {
-    pub fn new(settings: &RenderSettings) -> Self {
+/// The pixel a camera sample belongs to, for methods that correlate
+/// neighbouring pixels (interleaved sampling).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PixelPosition {
+    pub x: u32,
+    pub y: u32,
+}
+
+impl<'a> Integrator<'a> {
+    pub fn new(settings: &RenderSettings, visibility: &'a Visibility) -> Self {
         Self {
             kind: settings.integrator,
             step: settings.step,
             volume_samples: settings.volume_samples,
+            interleave: settings.interleave,
             max_bounces: settings.max_bounces,
+            visibility,
         }
     }
 
-    /// Radiance arriving at the camera along `ray` (one sample).
+    /// Radiance arriving at the camera along `ray` (one sample) through
+    /// pixel `pixel`.
     pub fn radiance(
         &self,
         scene: &Scene,
         mut ray: Ray,
+        pixel: PixelPosition,
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
     ) -> Rgb {
@@ -97,8 +111,14 @@ impl Integrator {
             let hit = scene.geometry.intersect(&ray, f32::INFINITY);
             let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
             if let Some(fog) = &scene.fog {
-                radiance +=
-                    throughput * self.in_scattered(scene, fog, &ray, t_hit, sampler, counts);
+                let medium = MediumQuery {
+                    scene,
+                    visibility: self.visibility,
+                    fog,
+                    ray: &ray,
+                    t_hit,
+                };
+                radiance += throughput * self.in_scattered(&medium, pixel, sampler, counts);
                 throughput *= fog.transmittance(&ray, 0.0, t_hit);
             }
             let Some(hit) = hit else {
@@ -139,13 +159,13 @@ impl Integrator {
                 }
                 Material::Glass(glass) => {
                     let surface = Surface::diffuse(glass.color);
-                    radiance +=
-                        throughput * direct_lighting(scene, &surface, p, normal, sampler, counts);
+                    radiance += throughput
+                        * self.direct_lighting(scene, &surface, p, normal, sampler, counts);
                     return radiance;
                 }
                 Material::Opaque(surface) => {
-                    radiance +=
-                        throughput * direct_lighting(scene, &surface, p, normal, sampler, counts);
+                    radiance += throughput
+                        * self.direct_lighting(scene, &surface, p, normal, sampler, counts);
                     if !surface.has_specular() || bounces >= self.max_bounces {
                         return radiance;
                     }
@@ -164,26 +184,85 @@ impl Integrator {
         }
     }
 
-    /// Fog radiance scattered towards the camera along `ray` over
-    /// `(0, t_hit)`, with transmittance measured from the ray origin.
+    /// Fog radiance scattered towards the camera along the query's segment,
+    /// with transmittance measured from the ray origin.
     fn in_scattered(
         &self,
-        scene: &Scene,
-        fog: &Fog,
-        ray: &Ray,
-        t_hit: f32,
+        medium: &MediumQuery,
+        pixel: PixelPosition,
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
     ) -> Rgb {
         match self.kind {
             IntegratorKind::March => {
-                march::in_scattered(scene, fog, ray, t_hit, self.step, sampler, counts)
+                let stratum = march::interleaved_stratum(pixel, self.interleave);
+                march::in_scattered(medium, self.step, stratum, sampler, counts)
             }
             IntegratorKind::Single => {
-                single::in_scattered(scene, fog, ray, t_hit, self.volume_samples, sampler, counts)
+                single::in_scattered(medium, self.volume_samples, sampler, counts)
             }
         }
     }
+
+    /// Reflected radiance from direct lighting at surface point `p` with
+    /// unit normal `normal` facing the viewer: `Σ ρ/π · E · cos θ · V ·
+    /// Tr_glass · T_fog`, one sample per light.
+    fn direct_lighting(
+        &self,
+        scene: &Scene,
+        surface: &Surface,
+        p: Vec3,
+        normal: Vec3,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+    ) -> Rgb {
+        if surface.diffuse == Rgb::ZERO {
+            return Rgb::ZERO;
+        }
+        let mut sum = Rgb::ZERO;
+        for (index, light) in scene.lights.iter().enumerate() {
+            let y = light_point(light, sampler);
+            let Some(incident) = light.incident(p, y) else {
+                continue;
+            };
+            let cos = normal.dot(incident.direction);
+            if cos <= 0.0 {
+                continue;
+            }
+            let origin = offset_origin(p, normal, incident.direction);
+            let glass = self.visibility.transmittance(
+                scene,
+                index,
+                origin,
+                Some(normal),
+                &incident,
+                counts,
+            );
+            if glass == Rgb::ZERO {
+                continue;
+            }
+            let fog_t = scene.fog.as_ref().map_or(1.0, |fog| {
+                let to_light = Ray {
+                    origin: p,
+                    direction: incident.direction,
+                };
+                fog.transmittance(&to_light, 0.0, incident.distance)
+            });
+            sum += incident.irradiance * glass * (cos * fog_t);
+        }
+        sum * surface.diffuse_brdf()
+    }
+}
+
+/// A camera-ray segment in fog and what estimating its in-scattering
+/// needs: the scene, the render's visibility, the fog, and the segment
+/// `(0, t_hit)` of `ray`.
+pub(crate) struct MediumQuery<'a> {
+    pub scene: &'a Scene,
+    pub visibility: &'a Visibility,
+    pub fog: &'a Fog,
+    pub ray: &'a Ray,
+    pub t_hit: f32,
 }
 
 /// The point on `light` a receiver connects to: area lights need two
@@ -197,32 +276,26 @@ fn light_point(light: &Light, sampler: &mut PixelSampler) -> Option<Vec3> {
     light.sample_point(u)
 }
 
-/// Radiance scattered at fog point `x` towards the camera (against the
-/// camera ray's direction `view`) from light `light` via its emitting point
-/// `y`, per unit length: the paper's eq. 1,
+/// Radiance scattered at fog point `x` of the query's ray towards the
+/// camera from light number `index` via its emitting point `y`, per unit
+/// length: the paper's eq. 1,
 /// `σs · p(θ) · I(dir)/d² · V · Tr_glass · exp(−σt·d)`.
-/// Zero without a shadow ray outside a spotlight's cone.
+/// Zero without a visibility query outside a spotlight's cone.
 #[inline]
 pub(crate) fn scattered_radiance(
-    scene: &Scene,
-    fog: &Fog,
-    light: &Light,
+    medium: &MediumQuery,
+    index: usize,
     y: Option<Vec3>,
     x: Vec3,
-    view: Vec3,
     counts: &mut RayCounts,
 ) -> Rgb {
-    let Some(incident) = light.incident(x, y) else {
+    let (fog, view) = (medium.fog, medium.ray.direction);
+    let Some(incident) = medium.scene.lights[index].incident(x, y) else {
         return Rgb::ZERO;
     };
-    let glass = scene.visibility.transmittance(
-        &scene.geometry,
-        &scene.materials,
-        scene.glass.model,
-        x,
-        &incident,
-        counts,
-    );
+    let glass = medium
+        .visibility
+        .transmittance(medium.scene, index, x, None, &incident, counts);
     if glass == Rgb::ZERO {
         return Rgb::ZERO;
     }
@@ -235,52 +308,4 @@ pub(crate) fn scattered_radiance(
     // after: cos θ = (−direction)·(−view).
     let phase = fog.phase.eval(incident.direction.dot(view));
     fog.sigma_s() * incident.irradiance * glass * (phase * fog_t)
-}
-
-/// Reflected radiance from direct lighting at surface point `p` with unit
-/// normal `normal` facing the viewer: `Σ ρ/π · E · cos θ · V · Tr_glass ·
-/// T_fog`, one sample per light.
-fn direct_lighting(
-    scene: &Scene,
-    surface: &Surface,
-    p: Vec3,
-    normal: Vec3,
-    sampler: &mut PixelSampler,
-    counts: &mut RayCounts,
-) -> Rgb {
-    if surface.diffuse == Rgb::ZERO {
-        return Rgb::ZERO;
-    }
-    let mut sum = Rgb::ZERO;
-    for light in &scene.lights {
-        let y = light_point(light, sampler);
-        let Some(incident) = light.incident(p, y) else {
-            continue;
-        };
-        let cos = normal.dot(incident.direction);
-        if cos <= 0.0 {
-            continue;
-        }
-        let origin = offset_origin(p, normal, incident.direction);
-        let glass = scene.visibility.transmittance(
-            &scene.geometry,
-            &scene.materials,
-            scene.glass.model,
-            origin,
-            &incident,
-            counts,
-        );
-        if glass == Rgb::ZERO {
-            continue;
-        }
-        let fog_t = scene.fog.as_ref().map_or(1.0, |fog| {
-            let to_light = Ray {
-                origin: p,
-                direction: incident.direction,
-            };
-            fog.transmittance(&to_light, 0.0, incident.distance)
-        });
-        sum += incident.irradiance * glass * (cos * fog_t);
-    }
-    sum * surface.diffuse_brdf()
 }

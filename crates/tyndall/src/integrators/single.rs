@@ -19,28 +19,24 @@
 //! window frames) is what makes one sample per ray noisy; several cost a
 //! shadow ray each but no new camera ray.
 
-use super::{light_point, scattered_radiance};
+use super::{MediumQuery, light_point, scattered_radiance};
 use crate::color::Rgb;
-use crate::media::{Fog, transmittance};
-use crate::ray::Ray;
+use crate::media::transmittance;
 use crate::sampler::PixelSampler;
 use crate::sampling::{EquiangularSampler, ExponentialSampler};
-use crate::scene::Scene;
 use crate::visibility::RayCounts;
 
-/// In-scattered radiance along `ray` over `(0, t_hit)`, relative to the
-/// radiance at the ray origin (one sample).
-pub fn in_scattered(
-    scene: &Scene,
-    fog: &Fog,
-    ray: &Ray,
-    t_hit: f32,
+/// In-scattered radiance along the query's ray over `(0, t_hit)`,
+/// relative to the radiance at the ray origin (one sample).
+pub(crate) fn in_scattered(
+    medium: &MediumQuery,
     samples_per_light: u32,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
 ) -> Rgb {
+    let (scene, fog, ray) = (medium.scene, medium.fog, medium.ray);
     let u_distance = sampler.next_1d();
-    let Some((a, b)) = fog.interval(ray, 0.0, t_hit) else {
+    let Some((a, b)) = fog.interval(ray, 0.0, medium.t_hit) else {
         return Rgb::ZERO;
     };
     if fog.sigma_s() == Rgb::ZERO {
@@ -53,7 +49,7 @@ pub fn in_scattered(
     let x_d = ray.at(t_d);
     let camera_t = |t: f32| transmittance(fog.sigma_t, t - a);
     let mut sum = Rgb::ZERO;
-    for light in &scene.lights {
+    for (index, light) in scene.lights.iter().enumerate() {
         let y = light_point(light, sampler);
         let u_equiangular = sampler.next_1d();
         let equiangular = y.and_then(|y| {
@@ -64,14 +60,14 @@ pub fn in_scattered(
         if let Some(eq) = &equiangular {
             for k in 0..samples_per_light {
                 let (t, pdf_e) = eq.sample((k as f32 + u_equiangular) / n);
-                let f = scattered_radiance(scene, fog, light, y, ray.at(t), ray.direction, counts);
+                let f = scattered_radiance(medium, index, y, ray.at(t), counts);
                 if f != Rgb::ZERO {
                     sum += f * (camera_t(t) / (n * pdf_e + distance.pdf(t)));
                 }
             }
         }
         let pdf_e = equiangular.map_or(0.0, |eq| eq.pdf(t_d));
-        let f = scattered_radiance(scene, fog, light, y, x_d, ray.direction, counts);
+        let f = scattered_radiance(medium, index, y, x_d, counts);
         if f != Rgb::ZERO {
             sum += f * (camera_t(t_d) / (pdf_d + n * pdf_e));
         }

@@ -21,7 +21,6 @@ use crate::materials::{Material, MaterialId};
 use crate::media::Fog;
 use crate::render::RenderSettings;
 use crate::shapes::{Quad, Shape};
-use crate::visibility::Visibility;
 use std::path::PathBuf;
 
 /// How glass appears to camera rays and combines along shadow rays.
@@ -43,7 +42,6 @@ pub struct Scene {
     /// Radiance of rays that leave the scene (linear RGB).
     pub background: Rgb,
     pub glass: GlassSettings,
-    pub visibility: Visibility,
 }
 
 impl Scene {
@@ -68,7 +66,6 @@ pub struct SceneBuilder {
     pub fog: Option<Fog>,
     pub background: Rgb,
     pub glass: GlassSettings,
-    pub visibility: Visibility,
     materials: Vec<Material>,
     primitives: Vec<Primitive>,
     lights: Vec<Light>,
@@ -81,7 +78,6 @@ impl SceneBuilder {
             fog: None,
             background: Rgb::ZERO,
             glass: GlassSettings::default(),
-            visibility: Visibility::default(),
             materials: Vec::new(),
             primitives: Vec::new(),
             lights: Vec::new(),
@@ -129,7 +125,6 @@ impl SceneBuilder {
             fog: self.fog,
             background: self.background,
             glass: self.glass,
-            visibility: self.visibility,
         }
     }
 }

@@ -16,6 +16,7 @@ use crate::media::Fog;
 use crate::phase::PhaseFunction;
 use crate::render::RenderSettings;
 use crate::shapes::{Bounds, Quad, Shape, Sphere, box_faces};
+use crate::visibility::{DEFAULT_MAP_RESOLUTION, VisibilityMode};
 use glam::Vec3;
 use serde::Deserialize;
 use serde_spanned::Spanned;
@@ -66,6 +67,9 @@ struct RenderDesc {
     integrator: Option<String>,
     step: Option<f32>,
     volume_samples: Option<u32>,
+    interleave: Option<u32>,
+    visibility: Option<String>,
+    shadow_map_resolution: Option<u32>,
     max_bounces: Option<u32>,
     exposure: Option<f32>,
     output: Option<String>,
@@ -549,6 +553,38 @@ impl Loader<'_> {
             }
             s.volume_samples = n;
         }
+        if let Some(n) = r.interleave {
+            if !(1..=16).contains(&n) {
+                return Err(self.err(
+                    &span,
+                    "interleave",
+                    format!("`interleave` must be a tile side between 1 and 16 pixels, got {n}"),
+                ));
+            }
+            s.interleave = n;
+        }
+        let resolution = match r.shadow_map_resolution {
+            Some(n) if !(16..=16384).contains(&n) => {
+                return Err(self.err(
+                    &span,
+                    "shadow_map_resolution",
+                    format!("`shadow_map_resolution` must be between 16 and 16384 texels, got {n}"),
+                ));
+            }
+            Some(n) => n,
+            None => DEFAULT_MAP_RESOLUTION,
+        };
+        s.visibility = match r.visibility.as_deref() {
+            None | Some("rays") => VisibilityMode::ShadowRays,
+            Some("maps") => VisibilityMode::Maps { resolution },
+            Some(other) => {
+                return Err(self.err(
+                    &span,
+                    "visibility",
+                    format!("unknown visibility `{other}`: expected `rays` or `maps`"),
+                ));
+            }
+        };
         if let Some(b) = r.max_bounces {
             s.max_bounces = b;
         }

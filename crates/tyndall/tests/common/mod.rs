@@ -2,11 +2,11 @@
 #![allow(dead_code)]
 
 use glam::{Vec2, Vec3};
-use tyndall::integrators::Integrator;
+use tyndall::integrators::{Integrator, PixelPosition};
 use tyndall::ray::Ray;
 use tyndall::sampler::PixelSampler;
 use tyndall::scene::{SceneDescription, SourceText, native};
-use tyndall::visibility::RayCounts;
+use tyndall::visibility::{RayCounts, Visibility};
 use tyndall::{Image, IntegratorKind, RenderSettings, Rgb};
 
 /// Parses a native scene from text.
@@ -56,7 +56,8 @@ pub fn estimate_ray_with(
     ray: Ray,
     n: u32,
 ) -> (Rgb, Rgb) {
-    let integrator = Integrator::new(&settings);
+    let visibility = Visibility::new(&desc.scene, settings.visibility);
+    let integrator = Integrator::new(&settings, &visibility);
     let mut counts = RayCounts::default();
     let (mut sum, mut sum2) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
     for i in 0..n {
@@ -64,7 +65,13 @@ pub fn estimate_ray_with(
         // Keep the first two dimensions for the pixel, as a render does.
         let _: Vec2 = sampler.next_2d();
         let l = integrator
-            .radiance(&desc.scene, ray, &mut sampler, &mut counts)
+            .radiance(
+                &desc.scene,
+                ray,
+                PixelPosition::default(),
+                &mut sampler,
+                &mut counts,
+            )
             .as_dvec3();
         sum += l;
         sum2 += l * l;

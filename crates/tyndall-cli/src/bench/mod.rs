@@ -8,6 +8,8 @@
 //! is interpolated log-log between the two ladder points around it
 //! (Monte Carlo error falls like 1/spp, time grows like spp).
 
+mod maps;
+
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use std::path::PathBuf;
@@ -21,19 +23,23 @@ use tyndall::{Image, IntegratorKind, RenderSettings};
 pub struct BenchArgs {
     /// Directory holding the repository's scenes (for the reference and fig. 7 cases).
     #[arg(long, default_value = "scenes")]
-    scenes: PathBuf,
+    pub(crate) scenes: PathBuf,
     /// Where long reference renders are cached.
     #[arg(long, default_value = "target/tyndall-bench")]
     cache: PathBuf,
     /// Timed runs per point (the median is reported).
     #[arg(long, default_value_t = 3)]
-    runs: usize,
+    pub(crate) runs: usize,
     /// Worker threads (default: all cores).
     #[arg(long)]
-    threads: Option<usize>,
+    pub(crate) threads: Option<usize>,
     /// A small, fast version of every case (to check the benchmark runs).
     #[arg(long)]
-    quick: bool,
+    pub(crate) quick: bool,
+    /// Which part to run: `equal-error` (time to equal error per integrator),
+    /// `maps` (shadow maps against shadow rays) or `all`.
+    #[arg(long, default_value = "all", value_parser = ["all", "equal-error", "maps"])]
+    only: String,
     /// Stop a curve after a point whose render takes longer than this (seconds).
     #[arg(long, default_value_t = 20.0)]
     max_seconds: f64,
@@ -49,7 +55,7 @@ struct Point {
 
 /// A configuration that is benchmarked: an integrator and, for `march`, a step.
 #[derive(Clone, Copy, Debug)]
-struct Method {
+pub(crate) struct Method {
     kind: IntegratorKind,
     step: f32,
     /// Equiangular samples per light per ray (`single`).
@@ -57,7 +63,7 @@ struct Method {
 }
 
 impl Method {
-    fn single(volume_samples: u32) -> Self {
+    pub(crate) fn single(volume_samples: u32) -> Self {
         Self {
             kind: IntegratorKind::Single,
             step: 0.1,
@@ -65,7 +71,7 @@ impl Method {
         }
     }
 
-    fn march(step: f32) -> Self {
+    pub(crate) fn march(step: f32) -> Self {
         Self {
             kind: IntegratorKind::March,
             step,
@@ -97,6 +103,18 @@ pub fn run(args: BenchArgs) -> Result<()> {
         args.threads.map_or("all".into(), |t| t.to_string())
     );
 
+    if args.only != "maps" {
+        equal_error(&args)?;
+    }
+    if args.only != "equal-error" {
+        maps::run(&args)?;
+    }
+    Ok(())
+}
+
+/// Time to equal error of `single` and `march` on three scenes.
+fn equal_error(args: &BenchArgs) -> Result<()> {
+    let quick = args.quick;
     // 1. Against an independent renderer.
     let dir = args.scenes.join("reference");
     let desc = native::load(&dir.join("fog-spot-sphere.toml"))?;
@@ -126,7 +144,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         Method::single(1),
         Method::march(0.1),
     ] {
-        let curve = measure(&desc, &args, width, height, method, ladder, &reference)?;
+        let curve = measure(&desc, args, width, height, method, ladder, &reference)?;
         print_curve(&method, &curve);
         curves.push((method, curve));
     }
@@ -143,7 +161,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         "fig. 7 (scenes/fig07-spot-sphere.toml)",
         "fig07",
         &desc,
-        &args,
+        args,
         w,
         h,
         ref_spp,
@@ -166,7 +184,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         "the demo (built in, scenes/stained-glass.toml)",
         "demo",
         &desc,
-        &args,
+        args,
         w,
         h,
         ref_spp,
@@ -211,7 +229,7 @@ fn equal_error_case(
     Ok(())
 }
 
-fn settings(
+pub(crate) fn settings(
     desc: &SceneDescription,
     args: &BenchArgs,
     width: u32,
@@ -269,7 +287,7 @@ fn measure(
     Ok(curve)
 }
 
-fn median(times: &mut [Duration]) -> Duration {
+pub(crate) fn median(times: &mut [Duration]) -> Duration {
     times.sort();
     times[times.len() / 2]
 }
