@@ -63,28 +63,26 @@ struct Layer {
     tint: Rgb,
 }
 
-/// How world points map to a face's texels.
+/// How world points map to a face's texels: a frame at the light and a
+/// perspective or parallel projection along its `forward` axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Projection {
-    /// From `origin`, looking along `forward`, a square of half-extent
-    /// `tan_half` at distance 1. Depth is the distance from `origin`.
-    Perspective {
-        origin: Vec3,
-        right: Vec3,
-        up: Vec3,
-        forward: Vec3,
-        tan_half: f32,
-    },
-    /// Parallel rays along `forward` from the plane through `origin`,
-    /// covering `±half_extent` along `right` and `up`. Depth is the
-    /// distance from that plane.
-    Orthographic {
-        origin: Vec3,
-        right: Vec3,
-        up: Vec3,
-        forward: Vec3,
-        half_extent: f32,
-    },
+struct Projection {
+    origin: Vec3,
+    right: Vec3,
+    up: Vec3,
+    forward: Vec3,
+    kind: ProjectionKind,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum ProjectionKind {
+    /// Rays from `origin` through a square of half-extent `tan_half` at
+    /// distance 1. Depth is the distance from `origin`.
+    Perspective { tan_half: f32 },
+    /// Parallel rays from the plane through `origin`, covering
+    /// `±half_extent` along `right` and `up`. Depth is the distance from
+    /// that plane.
+    Orthographic { half_extent: f32 },
 }
 
 impl Projection {
@@ -92,58 +90,27 @@ impl Projection {
     /// of `x`; `None` behind a perspective face.
     #[inline]
     fn project(&self, x: Vec3) -> Option<(Vec2, f32)> {
-        match *self {
-            Projection::Perspective {
-                origin,
-                right,
-                up,
-                forward,
-                tan_half,
-            } => {
-                let d = x - origin;
-                let z = d.dot(forward);
-                (z > 0.0).then(|| {
-                    (
-                        Vec2::new(d.dot(right), d.dot(up)) / (z * tan_half),
-                        d.length(),
-                    )
-                })
+        let d = x - self.origin;
+        let lateral = Vec2::new(d.dot(self.right), d.dot(self.up));
+        let z = d.dot(self.forward);
+        match self.kind {
+            ProjectionKind::Perspective { tan_half } => {
+                (z > 0.0).then(|| (lateral / (z * tan_half), d.length()))
             }
-            Projection::Orthographic {
-                origin,
-                right,
-                up,
-                forward,
-                half_extent,
-            } => {
-                let d = x - origin;
-                Some((
-                    Vec2::new(d.dot(right), d.dot(up)) / half_extent,
-                    d.dot(forward),
-                ))
-            }
+            ProjectionKind::Orthographic { half_extent } => Some((lateral / half_extent, z)),
         }
     }
 
     /// The ray through face coordinates `s ∈ [−1, 1]²`.
     fn ray(&self, s: Vec2) -> Ray {
-        match *self {
-            Projection::Perspective {
-                origin,
-                right,
-                up,
-                forward,
-                tan_half,
-            } => Ray::new(origin, forward + (right * s.x + up * s.y) * tan_half),
-            Projection::Orthographic {
-                origin,
-                right,
-                up,
-                forward,
-                half_extent,
-            } => Ray {
-                origin: origin + (right * s.x + up * s.y) * half_extent,
-                direction: forward,
+        let lateral = self.right * s.x + self.up * s.y;
+        match self.kind {
+            ProjectionKind::Perspective { tan_half } => {
+                Ray::new(self.origin, self.forward + lateral * tan_half)
+            }
+            ProjectionKind::Orthographic { half_extent } => Ray {
+                origin: self.origin + lateral * half_extent,
+                direction: self.forward,
             },
         }
     }
@@ -151,9 +118,9 @@ impl Projection {
     /// World size of one texel at depth `depth` for a face of `resolution`.
     #[inline]
     fn footprint(&self, depth: f32, resolution: u32) -> f32 {
-        match *self {
-            Projection::Perspective { tan_half, .. } => depth * 2.0 * tan_half / resolution as f32,
-            Projection::Orthographic { half_extent, .. } => 2.0 * half_extent / resolution as f32,
+        match self.kind {
+            ProjectionKind::Perspective { tan_half } => depth * 2.0 * tan_half / resolution as f32,
+            ProjectionKind::Orthographic { half_extent } => 2.0 * half_extent / resolution as f32,
         }
     }
 }
@@ -206,12 +173,12 @@ impl ShadowMaps {
                 Light::Spot(s) if s.cos_cutoff >= MAX_PERSPECTIVE_CUTOFF_DEG.to_radians().cos() => {
                     let (right, up) = s.direction.any_orthonormal_pair();
                     let tan_half = s.cos_cutoff.acos().tan();
-                    let projection = Projection::Perspective {
+                    let projection = Projection {
                         origin: s.position,
                         right,
                         up,
                         forward: s.direction,
-                        tan_half,
+                        kind: ProjectionKind::Perspective { tan_half },
                     };
                     LightMap::Single(render_face(scene, projection, resolution))
                 }
@@ -223,12 +190,14 @@ impl ShadowMaps {
                     let (right, up) = d.direction.any_orthonormal_pair();
                     // Start a little outside the sphere so nothing is clipped.
                     let origin = center - d.direction * (radius * 1.01 + 1e-3);
-                    let projection = Projection::Orthographic {
+                    let projection = Projection {
                         origin,
                         right,
                         up,
                         forward: d.direction,
-                        half_extent: radius * 1.01 + 1e-3,
+                        kind: ProjectionKind::Orthographic {
+                            half_extent: radius * 1.01 + 1e-3,
+                        },
                     };
                     LightMap::Single(render_face(scene, projection, resolution))
                 }
@@ -240,11 +209,6 @@ impl ShadowMaps {
 
     pub fn resolution(&self) -> u32 {
         self.resolution
-    }
-
-    /// Whether light `index` has a map (area lights do not).
-    pub fn has_map(&self, index: usize) -> bool {
-        !matches!(self.maps[index], LightMap::None)
     }
 
     /// Light from light `index` reaching `x` past geometry: 0 behind an
@@ -379,12 +343,12 @@ fn cube(scene: &MapScene, origin: Vec3, resolution: u32) -> LightMap {
     let faces = axes.map(|(forward, right, up)| {
         render_face(
             scene,
-            Projection::Perspective {
+            Projection {
                 origin,
                 right,
                 up,
                 forward,
-                tan_half: 1.0,
+                kind: ProjectionKind::Perspective { tan_half: 1.0 },
             },
             resolution,
         )
