@@ -75,13 +75,18 @@ pub struct Overrides {
     /// Samples per pixel (stratified over the pixel and every sampled dimension).
     #[arg(long)]
     pub spp: Option<u32>,
-    /// Integrator: `march` (the paper's fixed-step ray march; accepts albedo > 1)
-    /// or `single` (unbiased single scattering, equiangular + distance sampling with MIS).
+    /// Integrator: `march` (the paper's fixed-step ray march; accepts albedo > 1),
+    /// `single` (unbiased single scattering, equiangular + distance sampling with MIS)
+    /// or `volpath` (volumetric path tracing with multiple scattering).
     #[arg(long, value_parser = parse_integrator)]
     pub integrator: Option<IntegratorKind>,
     /// March step length in scene units (the paper used 0.1); `march` only.
     #[arg(long, allow_negative_numbers = true)]
     pub step: Option<f32>,
+    /// Most scattering events per path for `volpath` (1 = single scattering;
+    /// default unlimited, Russian roulette ends paths).
+    #[arg(long)]
+    pub max_depth: Option<u32>,
     /// Equiangular samples per light per camera ray, stratified along the ray
     /// (`single` only; default 8).
     #[arg(long)]
@@ -119,7 +124,7 @@ pub struct Overrides {
 
 fn parse_integrator(s: &str) -> Result<IntegratorKind, String> {
     IntegratorKind::from_name(s)
-        .ok_or_else(|| format!("unknown integrator `{s}`: expected `march` or `single`"))
+        .ok_or_else(|| format!("unknown integrator `{s}`: expected `march`, `single` or `volpath`"))
 }
 
 impl Overrides {
@@ -140,6 +145,9 @@ impl Overrides {
         }
         if let Some(v) = self.step {
             s.step = v;
+        }
+        if let Some(v) = self.max_depth {
+            s.max_depth = v;
         }
         if let Some(v) = self.volume_samples {
             s.volume_samples = v;

@@ -100,6 +100,34 @@ fn renders_legacy_scene_with_fog_from_flags() {
 }
 
 #[test]
+fn volpath_renders_legacy_scene_with_fog_from_flags() {
+    let out = temp("volpath.png");
+    let scene = repo().join("scenes/legacy/cornell_box.obj");
+    let o = tyndall(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "24",
+        "--height",
+        "24",
+        "--spp",
+        "2",
+        "--integrator",
+        "volpath",
+        "--max-depth",
+        "4",
+        "--density",
+        "0.3",
+        "--albedo",
+        "0.9",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out.exists());
+}
+
+#[test]
 fn renders_with_shadow_maps_and_interleaving() {
     let out = temp("maps.png");
     let o = tyndall(&[

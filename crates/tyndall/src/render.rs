@@ -16,6 +16,9 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
+/// `max_depth` meaning "no limit".
+pub const UNLIMITED_DEPTH: u32 = u32::MAX;
+
 /// Default equiangular samples per light per camera ray (`single`).
 pub const DEFAULT_VOLUME_SAMPLES: u32 = 8;
 
@@ -43,9 +46,12 @@ pub struct RenderSettings {
     pub interleave: u32,
     /// Shadow rays or shadow maps.
     pub visibility: VisibilityMode,
-    /// Most reflections followed from a camera ray (glass crossings do not
-    /// count).
+    /// Most reflections followed from a camera ray by `march` and `single`
+    /// (glass crossings do not count).
     pub max_bounces: u32,
+    /// Most scattering events of a `volpath` path ([`UNLIMITED_DEPTH`]:
+    /// no limit, Russian roulette ends paths).
+    pub max_depth: u32,
     /// Exposure in stops applied when writing display images (PNG).
     pub exposure: f32,
 }
@@ -64,6 +70,7 @@ impl Default for RenderSettings {
             interleave: 1,
             visibility: VisibilityMode::ShadowRays,
             max_bounces: 4,
+            max_depth: UNLIMITED_DEPTH,
             exposure: 0.0,
         }
     }
@@ -78,6 +85,8 @@ pub enum RenderError {
     ImageSize { width: u32, height: u32 },
     #[error("samples per pixel must be at least 1")]
     NoSamples,
+    #[error("max depth must be at least 1 (1 = single scattering)")]
+    MaxDepth,
     #[error("volume samples per light must be between 1 and 1024, got {0}")]
     VolumeSamples(u32),
     #[error("the interleaving tile must be between 1 and 16 pixels wide, got {0}")]
@@ -110,6 +119,9 @@ impl RenderSettings {
         }
         if self.spp == 0 {
             return Err(RenderError::NoSamples);
+        }
+        if self.max_depth == 0 {
+            return Err(RenderError::MaxDepth);
         }
         if !(1..=1024).contains(&self.volume_samples) {
             return Err(RenderError::VolumeSamples(self.volume_samples));

@@ -110,6 +110,16 @@ impl ExponentialSampler {
     }
 }
 
+/// A cosine-distributed direction about the unit `normal` (density
+/// `cos θ/π` per steradian) from `u ∈ [0, 1)²` (Malley's method).
+pub fn cosine_hemisphere(normal: Vec3, u: glam::Vec2) -> Vec3 {
+    let r = u.x.sqrt();
+    let phi = std::f32::consts::TAU * u.y;
+    let (t, b) = normal.any_orthonormal_pair();
+    let z = (1.0 - u.x).max(0.0).sqrt();
+    (t * (r * phi.cos()) + b * (r * phi.sin()) + normal * z).normalize()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -83,6 +83,7 @@ impl Method {
         match self.kind {
             IntegratorKind::March => format!("march (step {})", self.step),
             IntegratorKind::Single => format!("single ({} samples per ray)", self.volume_samples),
+            IntegratorKind::Volpath => "volpath".to_string(),
         }
     }
 }
@@ -409,7 +410,7 @@ fn report_time_to_error(curves: &[(Method, Vec<Point>)], targets: &[f64]) {
                 IntegratorKind::Single if method.volume_samples == DEFAULT_VOLUME_SAMPLES => {
                     single = Some(t)
                 }
-                IntegratorKind::Single => {}
+                IntegratorKind::Single | IntegratorKind::Volpath => {}
                 IntegratorKind::March => {
                     if best_march.as_ref().is_none_or(|(b, _)| t < *b) {
                         best_march = Some((t, method.label()));

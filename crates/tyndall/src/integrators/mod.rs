@@ -16,6 +16,7 @@
 
 pub mod march;
 pub mod single;
+pub mod volpath;
 
 use crate::color::Rgb;
 use crate::lights::Light;
@@ -35,15 +36,22 @@ pub enum IntegratorKind {
     March,
     /// Unbiased single scattering: equiangular + distance sampling, MIS.
     Single,
+    /// Volumetric path tracing: multiple scattering, NEE with MIS.
+    Volpath,
 }
 
 impl IntegratorKind {
-    pub const ALL: [IntegratorKind; 2] = [IntegratorKind::March, IntegratorKind::Single];
+    pub const ALL: [IntegratorKind; 3] = [
+        IntegratorKind::March,
+        IntegratorKind::Single,
+        IntegratorKind::Volpath,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
             IntegratorKind::March => "march",
             IntegratorKind::Single => "single",
+            IntegratorKind::Volpath => "volpath",
         }
     }
 
@@ -70,6 +78,7 @@ pub struct Integrator<'a> {
     volume_samples: u32,
     interleave: u32,
     max_bounces: u32,
+    max_depth: u32,
     visibility: &'a Visibility,
 }
 
@@ -89,6 +98,7 @@ impl<'a> Integrator<'a> {
             volume_samples: settings.volume_samples,
             interleave: settings.interleave,
             max_bounces: settings.max_bounces,
+            max_depth: settings.max_depth,
             visibility,
         }
     }
@@ -103,6 +113,9 @@ impl<'a> Integrator<'a> {
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
     ) -> Rgb {
+        if self.kind == IntegratorKind::Volpath {
+            return volpath::radiance(self, scene, ray, sampler, counts);
+        }
         let mut radiance = Rgb::ZERO;
         let mut throughput = Rgb::ONE;
         let (mut bounces, mut crossings) = (0u32, 0u32);
@@ -193,14 +206,12 @@ impl<'a> Integrator<'a> {
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
     ) -> Rgb {
-        match self.kind {
-            IntegratorKind::March => {
-                let stratum = march::interleaved_stratum(pixel, self.interleave);
-                march::in_scattered(medium, self.step, stratum, sampler, counts)
-            }
-            IntegratorKind::Single => {
-                single::in_scattered(medium, self.volume_samples, sampler, counts)
-            }
+        // `volpath` samples its own free flights and never gets here.
+        if self.kind == IntegratorKind::March {
+            let stratum = march::interleaved_stratum(pixel, self.interleave);
+            march::in_scattered(medium, self.step, stratum, sampler, counts)
+        } else {
+            single::in_scattered(medium, self.volume_samples, sampler, counts)
         }
     }
 

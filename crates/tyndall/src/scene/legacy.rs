@@ -415,20 +415,18 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
         let quad = super::parallelogram(c, one_sided);
         if m.emitted.max_element() > 0.0 {
             let quad = quad.map_err(|e| source.error_at(at, format!("emissive face: {e}")))?;
-            builder.add_shape(Shape::Quad(quad), ids[face.material]);
             match m.cutoff_deg.or(face.cutoff_deg) {
-                Some(cutoff) => builder.add_light(Light::Spot(SpotLight {
-                    position: quad.centroid(),
-                    direction: quad.normal,
-                    cos_cutoff: cutoff.to_radians().cos(),
-                    profile: SpotProfile::Linear,
-                    intensity: m.emitted * quad.area(),
-                })),
-                None => builder.add_light(Light::Quad(crate::lights::QuadLight {
-                    quad,
-                    radiance: m.emitted,
-                    two_sided: !one_sided,
-                })),
+                Some(cutoff) => {
+                    builder.add_shape(Shape::Quad(quad), ids[face.material]);
+                    builder.add_light(Light::Spot(SpotLight {
+                        position: quad.centroid(),
+                        direction: quad.normal,
+                        cos_cutoff: cutoff.to_radians().cos(),
+                        profile: SpotProfile::Linear,
+                        intensity: m.emitted * quad.area(),
+                    }));
+                }
+                None => builder.add_quad_light(quad, m.emitted, !one_sided),
             }
             continue;
         }

@@ -42,9 +42,20 @@ pub struct Scene {
     /// Radiance of rays that leave the scene (linear RGB).
     pub background: Rgb,
     pub glass: GlassSettings,
+    /// (primitive, light) pairs of quad area lights, by primitive: the
+    /// emissive quad a path may hit and the light that samples it.
+    area_lights: Vec<(u32, u32)>,
 }
 
 impl Scene {
+    /// The index of the quad area light whose geometry is `primitive`.
+    pub fn area_light_at(&self, primitive: u32) -> Option<usize> {
+        self.area_lights
+            .binary_search_by_key(&primitive, |&(p, _)| p)
+            .ok()
+            .map(|i| self.area_lights[i].1 as usize)
+    }
+
     pub fn material(&self, primitive: u32) -> &Material {
         &self.materials[self.geometry.primitive(primitive).material as usize]
     }
@@ -67,6 +78,7 @@ pub struct SceneBuilder {
     pub background: Rgb,
     pub glass: GlassSettings,
     materials: Vec<Material>,
+    area_lights: Vec<(u32, u32)>,
     primitives: Vec<Primitive>,
     lights: Vec<Light>,
 }
@@ -78,6 +90,7 @@ impl SceneBuilder {
             fog: None,
             background: Rgb::ZERO,
             glass: GlassSettings::default(),
+            area_lights: Vec::new(),
             materials: Vec::new(),
             primitives: Vec::new(),
             lights: Vec::new(),
@@ -105,6 +118,8 @@ impl SceneBuilder {
             two_sided,
         });
         self.add_shape(Shape::Quad(quad), material);
+        self.area_lights
+            .push(((self.primitives.len() - 1) as u32, self.lights.len() as u32));
         self.add_light(Light::Quad(QuadLight {
             quad,
             radiance,
@@ -125,6 +140,8 @@ impl SceneBuilder {
             fog: self.fog,
             background: self.background,
             glass: self.glass,
+            // Pushed in primitive order, so already sorted.
+            area_lights: self.area_lights,
         }
     }
 }

@@ -68,6 +68,7 @@ struct RenderDesc {
     step: Option<f32>,
     volume_samples: Option<u32>,
     interleave: Option<u32>,
+    max_depth: Option<u32>,
     visibility: Option<String>,
     shadow_map_resolution: Option<u32>,
     max_bounces: Option<u32>,
@@ -530,7 +531,7 @@ impl Loader<'_> {
                 self.err(
                     &span,
                     "integrator",
-                    format!("unknown integrator `{name}`: expected `march` or `single`"),
+                    format!("unknown integrator `{name}`: expected `march`, `single` or `volpath`"),
                 )
             })?;
         }
@@ -552,6 +553,16 @@ impl Loader<'_> {
                 ));
             }
             s.volume_samples = n;
+        }
+        if let Some(n) = r.max_depth {
+            if n == 0 {
+                return Err(self.err(
+                    &span,
+                    "max_depth",
+                    "`max_depth` must be at least 1 (1 = single scattering)",
+                ));
+            }
+            s.max_depth = n;
         }
         if let Some(n) = r.interleave {
             if !(1..=16).contains(&n) {

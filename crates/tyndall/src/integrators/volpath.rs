@@ -1,0 +1,339 @@
+//! `volpath`: a volumetric path tracer with multiple scattering — the
+//! reference the fast single-scattering methods are judged against.
+//!
+//! From the camera, free-flight distances are sampled in the fog
+//! proportionally to its transmittance (σt is grey, so one exponential
+//! serves all channels and a real scattering event weighs the path by the
+//! albedo σs/σt). At every scattering event in fog or on a surface, next
+//! event estimation (NEE) connects to every light; the path then continues
+//! by phase-function or BSDF sampling. Quad area lights are reachable both
+//! ways, so the two estimates are combined by multiple importance sampling
+//! with the balance heuristic (Veach 1997); point, spot and directional
+//! lights only by NEE. Thin glass tints and passes the path; it is not a
+//! scattering event. After three events Russian roulette ends paths with
+//! probability 1 − max(throughput), unbiasedly.
+//!
+//! Depth counts scattering events, as in pbrt-v4: with `max_depth = 1` the
+//! path stops at its second event, so it holds exactly light scattered once
+//! (by fog or a surface) on its way to the camera — what `single` computes.
+//!
+//! Surfaces: the Lambertian lobe is sampled by cosine and also reached by
+//! NEE (with MIS); the reflective layer is sampled only, its light found
+//! when its reflected ray hits an emitter. The lobe is chosen with
+//! probability proportional to its reflectance's luminance.
+
+use super::{Integrator, light_point};
+use crate::color::{Rgb, luminance};
+use crate::lights::Light;
+use crate::materials::{Material, Surface};
+use crate::media::Fog;
+use crate::ray::{Ray, offset_origin};
+use crate::sampler::PixelSampler;
+use crate::sampling::cosine_hemisphere;
+use crate::scene::Scene;
+use crate::visibility::RayCounts;
+use glam::Vec3;
+use std::f32::consts::FRAC_1_PI;
+
+/// Scattering events before Russian roulette may end a path.
+const ROULETTE_DEPTH: u32 = 3;
+
+/// Hard limit on scattering events when `max_depth` is unlimited. Russian
+/// roulette never ends a path whose throughput stays 1 (albedo-1 fog with
+/// nothing to absorb it, e.g. unbounded white fog), so without a limit such
+/// a path would never end. Paths this long carry nothing measurable in any
+/// scene that absorbs at all; in one that absorbs nothing the cut is a bias
+/// and the only one in `volpath`.
+const MAX_PATH_EVENTS: u32 = 65_536;
+
+/// How the current path segment was sampled, for the MIS weight of the
+/// emitter it may hit.
+#[derive(Clone, Copy, Debug)]
+enum Arrival {
+    /// From the camera or a specular/glossy reflection: NEE cannot produce
+    /// this direction, so emission counts in full.
+    Unweighted,
+    /// Sampled at `from` with solid-angle density `pdf`.
+    Sampled { from: Vec3, pdf: f32 },
+}
+
+/// Radiance along a camera ray: one path sample.
+pub(crate) fn radiance(
+    integrator: &Integrator,
+    scene: &Scene,
+    mut ray: Ray,
+    sampler: &mut PixelSampler,
+    counts: &mut RayCounts,
+) -> Rgb {
+    let mut radiance = Rgb::ZERO;
+    let mut throughput = Rgb::ONE;
+    let mut depth = 0u32;
+    let mut crossings = 0u32;
+    let mut arrival = Arrival::Unweighted;
+    loop {
+        counts.camera += 1;
+        let hit = scene.geometry.intersect(&ray, f32::INFINITY);
+        let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
+        if let Some(fog) = &scene.fog
+            && let Some(t) = free_flight(fog, &ray, t_hit, sampler.next_1d())
+        {
+            // A real scattering event in the fog.
+            if depth >= integrator.max_depth.min(MAX_PATH_EVENTS) {
+                return radiance;
+            }
+            depth += 1;
+            throughput *= fog.albedo;
+            let x = ray.at(t);
+            radiance +=
+                throughput * medium_nee(integrator, scene, fog, x, ray.direction, sampler, counts);
+            let (direction, pdf) = fog.phase.sample(ray.direction, sampler.next_2d());
+            // Phase sampling is exact: the weight p/pdf is 1.
+            arrival = Arrival::Sampled { from: x, pdf };
+            ray = Ray {
+                origin: x,
+                direction,
+            };
+            if !survives_roulette(&mut throughput, depth, sampler) {
+                return radiance;
+            }
+            continue;
+        }
+        // No event before the surface: transmittance over its probability is 1.
+        let Some(hit) = hit else {
+            return radiance + throughput * scene.background;
+        };
+        let p = ray.at(hit.t);
+        let geometric_normal = scene.geometry.normal(hit.primitive, p);
+        let front = geometric_normal.dot(ray.direction) < 0.0;
+        let normal = if front {
+            geometric_normal
+        } else {
+            -geometric_normal
+        };
+        let surface = match *scene.material(hit.primitive) {
+            Material::Emissive {
+                radiance: le,
+                two_sided,
+            } => {
+                if front || two_sided {
+                    let weight = emission_weight(scene, arrival, hit.primitive, p, ray.direction);
+                    radiance += throughput * le * weight;
+                }
+                return radiance;
+            }
+            Material::Glass(glass) if !scene.glass.opaque_to_camera => {
+                crossings += 1;
+                if crossings > super::MAX_GLASS_CROSSINGS {
+                    return radiance;
+                }
+                throughput *= glass.filter_transmittance();
+                ray.origin = offset_origin(p, geometric_normal, ray.direction);
+                continue;
+            }
+            Material::Glass(glass) => Surface::diffuse(glass.color),
+            Material::Opaque(surface) => surface,
+        };
+        if depth >= integrator.max_depth.min(MAX_PATH_EVENTS) {
+            return radiance;
+        }
+        depth += 1;
+        let (diffuse_weight, specular_weight) =
+            (luminance(surface.diffuse), luminance(surface.specular));
+        if diffuse_weight + specular_weight <= 0.0 {
+            return radiance;
+        }
+        let p_diffuse = diffuse_weight / (diffuse_weight + specular_weight);
+        radiance += throughput
+            * surface_nee(
+                integrator, scene, &surface, p_diffuse, p, normal, sampler, counts,
+            );
+        let choice = sampler.next_1d();
+        let u = sampler.next_2d();
+        let direction = if choice < p_diffuse {
+            let direction = cosine_hemisphere(normal, u);
+            // f·cos/pdf = (ρ/π)·cos / (P_d·cos/π) = ρ/P_d.
+            throughput *= surface.diffuse / p_diffuse;
+            arrival = Arrival::Sampled {
+                from: p,
+                pdf: p_diffuse * normal.dot(direction).max(0.0) * FRAC_1_PI,
+            };
+            direction
+        } else {
+            let Some(direction) = surface.reflect(ray.direction, normal, u) else {
+                return radiance;
+            };
+            throughput *= surface.specular / (1.0 - p_diffuse);
+            arrival = Arrival::Unweighted;
+            direction
+        };
+        ray = Ray {
+            origin: offset_origin(p, geometric_normal, direction),
+            direction,
+        };
+        if !survives_roulette(&mut throughput, depth, sampler) {
+            return radiance;
+        }
+    }
+}
+
+/// Distance to a real scattering event along `ray` before `t_hit`, sampled
+/// with density σt·e^{−σt·ℓ} over the length ℓ of fog crossed; `None` if
+/// the flight reaches `t_hit` (probability e^{−σt·ℓ_total}).
+fn free_flight(fog: &Fog, ray: &Ray, t_hit: f32, u: f32) -> Option<f32> {
+    let (a, b) = fog.interval(ray, 0.0, t_hit)?;
+    if fog.sigma_t <= 0.0 {
+        return None;
+    }
+    let t = a - (1.0 - u).ln() / fog.sigma_t;
+    (t < b).then_some(t)
+}
+
+/// Russian roulette after [`ROULETTE_DEPTH`] events: continue with
+/// probability `q = min(1, max(throughput))`, dividing by `q`.
+fn survives_roulette(throughput: &mut Rgb, depth: u32, sampler: &mut PixelSampler) -> bool {
+    if depth < ROULETTE_DEPTH {
+        return true;
+    }
+    let q = throughput.max_element().min(1.0);
+    if q <= 0.0 || sampler.next_1d() >= q {
+        return false;
+    }
+    *throughput /= q;
+    true
+}
+
+/// Solid-angle density with which NEE picks the point `p` of the area
+/// light `light` from a point `from` (uniform area sampling).
+fn light_pdf(light: &Light, from: Vec3, p: Vec3, direction: Vec3) -> f32 {
+    match light {
+        Light::Quad(q) => {
+            let cos = q.quad.normal.dot(direction).abs();
+            let d2 = (p - from).length_squared();
+            if cos > 0.0 {
+                d2 / (q.quad.area() * cos)
+            } else {
+                0.0
+            }
+        }
+        _ => 0.0,
+    }
+}
+
+/// MIS weight of emission found by a sampled direction: the balance
+/// heuristic against NEE's density for the same point, if the emitter is
+/// a sampled area light.
+fn emission_weight(
+    scene: &Scene,
+    arrival: Arrival,
+    primitive: u32,
+    p: Vec3,
+    direction: Vec3,
+) -> f32 {
+    match (arrival, scene.area_light_at(primitive)) {
+        (Arrival::Sampled { from, pdf }, Some(index)) => {
+            let p_light = light_pdf(&scene.lights[index], from, p, direction);
+            pdf / (pdf + p_light)
+        }
+        _ => 1.0,
+    }
+}
+
+/// NEE at fog point `x` for a path arriving along `direction`: the
+/// in-scattered radiance `Σ p(θ)·E·V·Tr_glass·T_fog`, MIS-weighted for
+/// area lights. The path's throughput already holds the albedo.
+fn medium_nee(
+    integrator: &Integrator,
+    scene: &Scene,
+    fog: &Fog,
+    x: Vec3,
+    direction: Vec3,
+    sampler: &mut PixelSampler,
+    counts: &mut RayCounts,
+) -> Rgb {
+    let mut sum = Rgb::ZERO;
+    for (index, light) in scene.lights.iter().enumerate() {
+        let y = light_point(light, sampler);
+        let Some(incident) = light.incident(x, y) else {
+            continue;
+        };
+        let phase = fog.phase.eval(incident.direction.dot(direction));
+        let weight = match y {
+            Some(y) if matches!(light, Light::Quad(_)) => {
+                let p_light = light_pdf(light, x, y, incident.direction);
+                p_light / (p_light + phase)
+            }
+            _ => 1.0,
+        };
+        let glass = integrator
+            .visibility
+            .transmittance(scene, index, x, None, &incident, counts);
+        if glass == Rgb::ZERO {
+            continue;
+        }
+        let to_light = Ray {
+            origin: x,
+            direction: incident.direction,
+        };
+        let fog_t = fog.transmittance(&to_light, 0.0, incident.distance);
+        sum += incident.irradiance * glass * (phase * fog_t * weight);
+    }
+    sum
+}
+
+/// NEE at surface point `p` (unit `normal` facing the path) for the
+/// Lambertian lobe, chosen with probability `p_diffuse` when sampling.
+#[allow(clippy::too_many_arguments)]
+fn surface_nee(
+    integrator: &Integrator,
+    scene: &Scene,
+    surface: &Surface,
+    p_diffuse: f32,
+    p: Vec3,
+    normal: Vec3,
+    sampler: &mut PixelSampler,
+    counts: &mut RayCounts,
+) -> Rgb {
+    let mut sum = Rgb::ZERO;
+    for (index, light) in scene.lights.iter().enumerate() {
+        let y = light_point(light, sampler);
+        if surface.diffuse == Rgb::ZERO {
+            continue;
+        }
+        let Some(incident) = light.incident(p, y) else {
+            continue;
+        };
+        let cos = normal.dot(incident.direction);
+        if cos <= 0.0 {
+            continue;
+        }
+        let weight = match y {
+            Some(y) if matches!(light, Light::Quad(_)) => {
+                let p_light = light_pdf(light, p, y, incident.direction);
+                let p_bsdf = p_diffuse * cos * FRAC_1_PI;
+                p_light / (p_light + p_bsdf)
+            }
+            _ => 1.0,
+        };
+        let origin = offset_origin(p, normal, incident.direction);
+        let glass = integrator.visibility.transmittance(
+            scene,
+            index,
+            origin,
+            Some(normal),
+            &incident,
+            counts,
+        );
+        if glass == Rgb::ZERO {
+            continue;
+        }
+        let fog_t = scene.fog.as_ref().map_or(1.0, |fog| {
+            let to_light = Ray {
+                origin: p,
+                direction: incident.direction,
+            };
+            fog.transmittance(&to_light, 0.0, incident.distance)
+        });
+        sum += incident.irradiance * glass * (cos * fog_t * weight);
+    }
+    sum * surface.diffuse_brdf()
+}

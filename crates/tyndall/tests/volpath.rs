@@ -1,0 +1,182 @@
+//! The volumetric path tracer: furnace tests, energy, and convergence.
+mod common;
+
+use common::{
+    estimate_ray, estimate_ray_with, mean_and_stderr, pixel_distances, render, repo, scene,
+};
+use glam::Vec3;
+use tyndall::ray::Ray;
+use tyndall::scene::native;
+use tyndall::{IntegratorKind, RenderSettings, Rgb, SceneDescription};
+
+/// A closed box of emitters of radiance 2 around fog of the given albedo,
+/// the walls either plain emissive shapes or sampled quad lights facing in.
+fn furnace(albedo: f32, walls_are_lights: bool) -> SceneDescription {
+    let (lo, hi) = (-2.0f32, 2.0f32);
+    // Corners listed so that (c1 − c0) × (c3 − c0) points into the box.
+    let faces = [
+        [[lo, lo, lo], [lo, hi, lo], [lo, hi, hi], [lo, lo, hi]], // x = lo, normal +x
+        [[hi, lo, lo], [hi, lo, hi], [hi, hi, hi], [hi, hi, lo]], // x = hi, normal −x
+        [[lo, lo, lo], [lo, lo, hi], [hi, lo, hi], [hi, lo, lo]], // y = lo, normal +y
+        [[lo, hi, lo], [hi, hi, lo], [hi, hi, hi], [lo, hi, hi]], // y = hi, normal −y
+        [[lo, lo, lo], [hi, lo, lo], [hi, hi, lo], [lo, hi, lo]], // z = lo, normal +z
+        [[lo, lo, hi], [lo, hi, hi], [hi, hi, hi], [hi, lo, hi]], // z = hi, normal −z
+    ];
+    let mut text = format!(
+        "[camera]\nposition = [0, 0, 1]\nlook_at = [0, 0, 0]\nfov_y_deg = 60\n\
+         [render]\nintegrator = \"volpath\"\n\
+         [fog]\nsigma_t = 0.8\nalbedo = {albedo}\ng = 0.5\nbox = {{ min = [-2, -2, -2], max = [2, 2, 2] }}\n\
+         [materials.wall]\ntype = \"emissive\"\nradiance = 2.0\n"
+    );
+    for f in faces {
+        let corners = format!("{:?}", f.map(|c| c.map(|v| v as f64)));
+        if walls_are_lights {
+            text += &format!("[[lights]]\ntype = \"quad\"\ncorners = {corners}\nradiance = 2.0\n");
+        } else {
+            text +=
+                &format!("[[shapes]]\ntype = \"quad\"\ncorners = {corners}\nmaterial = \"wall\"\n");
+        }
+    }
+    scene(&text)
+}
+
+/// Albedo-1 fog inside a uniform emitter: every path keeps throughput 1
+/// (free-flight sampling weighs an event by the albedo) and ends on a
+/// wall of radiance 2, so every pixel is exactly 2.
+#[test]
+fn furnace_with_emissive_walls_is_exact() {
+    let desc = furnace(1.0, false);
+    let image = render(&desc, |s| {
+        s.width = 16;
+        s.height = 16;
+        s.spp = 8;
+    });
+    for p in image.pixels() {
+        assert!((*p - Rgb::splat(2.0)).abs().max_element() < 1e-5, "{p}");
+    }
+}
+
+/// The same box with its walls as sampled quad lights: NEE and phase
+/// sampling share the light by MIS, so single samples vary, but the mean
+/// is 2 within 5 standard errors along several rays.
+#[test]
+fn furnace_with_light_walls_has_mean_of_emitter() {
+    let desc = furnace(1.0, true);
+    for dir in [
+        Vec3::new(0.0, 0.0, -1.0),
+        Vec3::new(0.3, 0.5, -0.2),
+        Vec3::new(-0.7, 0.1, 0.4),
+    ] {
+        let ray = Ray::new(Vec3::new(0.0, 0.0, 1.0), dir);
+        let (mean, stderr) = estimate_ray(&desc, IntegratorKind::Volpath, 0.1, ray, 4096);
+        for c in 0..3 {
+            assert!(
+                (mean[c] - 2.0).abs() <= 5.0 * stderr[c] + 1e-4,
+                "{dir}: {mean} ± {stderr}"
+            );
+        }
+        assert!(
+            stderr.x > 0.0 && stderr.x < 0.05,
+            "MIS keeps the variance moderate: {stderr}"
+        );
+    }
+}
+
+/// Energy never grows with albedo < 1: every pixel of the furnace is
+/// below the emitter's radiance, and less albedo gives less light.
+#[test]
+fn energy_does_not_grow_with_albedo_below_one() {
+    let mean_of = |albedo: f32| {
+        let image = render(&furnace(albedo, false), |s| {
+            s.width = 8;
+            s.height = 8;
+            s.spp = 32;
+        });
+        for p in image.pixels() {
+            assert!(p.max_element() <= 2.0 + 1e-5, "albedo {albedo}: {p}");
+        }
+        image.pixels().iter().map(|p| p.x as f64).sum::<f64>() / image.pixels().len() as f64
+    };
+    let (low, mid, high) = (mean_of(0.3), mean_of(0.7), mean_of(0.95));
+    assert!(low < mid && mid < high && high < 2.0, "{low} {mid} {high}");
+}
+
+/// The Monte Carlo error falls like 1/√spp: the relative MSE between two
+/// independent renders (twice the variance of one) drops about 4× for 4×
+/// the samples. Per-pixel terms give the standard error of each mean; the
+/// ratio must be 4 within the error propagated from both (and at least
+/// 2, which no 1/√spp estimator misses by chance at these sizes).
+#[test]
+fn error_falls_like_inverse_sqrt_spp() {
+    let desc = native::load(&repo().join("scenes/reference/fog-spot-sphere.toml")).expect("scene");
+    let pair = |spp: u32| {
+        let shot = |seed: u64| {
+            render(&desc, |s| {
+                s.width = 80;
+                s.height = 60;
+                s.spp = spp;
+                s.integrator = IntegratorKind::Volpath;
+                s.seed = seed;
+            })
+        };
+        let (a, b) = (shot(1), shot(2));
+        mean_and_stderr(&pixel_distances(&a, &b, &b))
+    };
+    let ((low, low_se), (high, high_se)) = (pair(8), pair(32));
+    let ratio = low / high;
+    let ratio_se = ratio * ((low_se / low).powi(2) + (high_se / high).powi(2)).sqrt();
+    assert!(
+        (ratio - 4.0).abs() <= 4.0 * ratio_se && ratio > 2.0,
+        "ratio {ratio:.2} ± {ratio_se:.2}"
+    );
+}
+
+/// Limited to one scattering event, `volpath` computes what `single`
+/// does; both converge to the references (see reference.rs). Here, along
+/// fixed rays through the beam, their means agree within 5 combined
+/// standard errors.
+#[test]
+fn depth_one_matches_single_along_rays() {
+    let desc = native::load(&repo().join("scenes/fig07-spot-sphere.toml")).expect("scene");
+    for target in [
+        Vec3::new(0.0, 0.5, 0.0),
+        Vec3::new(0.4, 2.0, 0.1),
+        Vec3::new(1.2, 0.0, 0.5),
+    ] {
+        let origin = Vec3::new(0.0, 2.2, 7.5);
+        let ray = Ray::new(origin, target - origin);
+        let settings = RenderSettings {
+            max_depth: 1,
+            ..desc.settings
+        };
+        let (vp, vp_se) = estimate_ray_with(
+            &desc,
+            RenderSettings {
+                integrator: IntegratorKind::Volpath,
+                ..settings
+            },
+            ray,
+            16384,
+        );
+        let (single, single_se) = estimate_ray_with(
+            &desc,
+            RenderSettings {
+                integrator: IntegratorKind::Single,
+                ..settings
+            },
+            ray,
+            4096,
+        );
+        for c in 0..3 {
+            let tol = 5.0 * (vp_se[c].powi(2) + single_se[c].powi(2)).sqrt() + 1e-5;
+            assert!(
+                (vp[c] - single[c]).abs() <= tol,
+                "{target}: volpath {vp} vs single {single} (tolerance {tol})"
+            );
+        }
+        assert!(
+            single.x > 0.01,
+            "{target}: the ray must see light, got {single}"
+        );
+    }
+}
