@@ -220,6 +220,11 @@ fn help_explains_every_flag() {
         "--seed",
         "--exposure",
         "--output",
+        "--max-depth",
+        "--volume-samples",
+        "--visibility",
+        "--shadow-map-resolution",
+        "--interleave",
     ] {
         assert!(help.contains(flag), "{flag} missing from --help");
     }
