@@ -19,7 +19,7 @@ pub mod single;
 pub mod volpath;
 
 use crate::color::Rgb;
-use crate::lights::Light;
+use crate::lights::{Incident, Light};
 use crate::materials::{Material, Surface};
 use crate::media::Fog;
 use crate::ray::{Ray, offset_origin};
@@ -232,8 +232,7 @@ impl<'a> Integrator<'a> {
         }
         let mut sum = Rgb::ZERO;
         for (index, light) in scene.lights.iter().enumerate() {
-            let y = light_point(light, sampler);
-            let Some(incident) = light.incident(p, y) else {
+            let Some((incident, _)) = sample_light(light, p, sampler) else {
                 continue;
             };
             let cos = normal.dot(incident.direction);
@@ -285,6 +284,27 @@ fn light_point(light: &Light, sampler: &mut PixelSampler) -> Option<Vec3> {
         _ => Vec2::ZERO,
     };
     light.sample_point(u)
+}
+
+/// Light reaching receiver `x` from `light` for next event estimation: a
+/// quad light's point is chosen for this receiver (uniform in solid angle
+/// for a rectangle), other lights use their fixed point. Also returns the
+/// solid-angle density of the choice for MIS (`None` for delta lights,
+/// which no sampled direction can hit).
+#[inline]
+pub(crate) fn sample_light(
+    light: &Light,
+    x: Vec3,
+    sampler: &mut PixelSampler,
+) -> Option<(Incident, Option<f32>)> {
+    match light {
+        Light::Quad(q) => q
+            .sample_incident(x, sampler.next_2d())
+            .map(|(incident, pdf)| (incident, Some(pdf))),
+        _ => light
+            .incident(x, light.sample_point(Vec2::ZERO))
+            .map(|i| (i, None)),
+    }
 }
 
 /// Radiance scattered at fog point `x` of the query's ray towards the

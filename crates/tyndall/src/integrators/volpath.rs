@@ -22,7 +22,7 @@
 //! when its reflected ray hits an emitter. The lobe is chosen with
 //! probability proportional to its reflectance's luminance.
 
-use super::{Integrator, light_point};
+use super::{Integrator, sample_light};
 use crate::color::{Rgb, luminance};
 use crate::lights::Light;
 use crate::materials::{Material, Surface};
@@ -203,18 +203,10 @@ fn survives_roulette(throughput: &mut Rgb, depth: u32, sampler: &mut PixelSample
 }
 
 /// Solid-angle density with which NEE picks the point `p` of the area
-/// light `light` from a point `from` (uniform area sampling).
+/// light `light` from a point `from` (see [`sample_light`]).
 fn light_pdf(light: &Light, from: Vec3, p: Vec3, direction: Vec3) -> f32 {
     match light {
-        Light::Quad(q) => {
-            let cos = q.quad.normal.dot(direction).abs();
-            let d2 = (p - from).length_squared();
-            if cos > 0.0 {
-                d2 / (q.quad.area() * cos)
-            } else {
-                0.0
-            }
-        }
+        Light::Quad(q) => q.pdf(from, p, direction),
         _ => 0.0,
     }
 }
@@ -252,18 +244,11 @@ fn medium_nee(
 ) -> Rgb {
     let mut sum = Rgb::ZERO;
     for (index, light) in scene.lights.iter().enumerate() {
-        let y = light_point(light, sampler);
-        let Some(incident) = light.incident(x, y) else {
+        let Some((incident, p_light)) = sample_light(light, x, sampler) else {
             continue;
         };
         let phase = fog.phase.eval(incident.direction.dot(direction));
-        let weight = match y {
-            Some(y) if matches!(light, Light::Quad(_)) => {
-                let p_light = light_pdf(light, x, y, incident.direction);
-                p_light / (p_light + phase)
-            }
-            _ => 1.0,
-        };
+        let weight = p_light.map_or(1.0, |p_light| p_light / (p_light + phase));
         let glass = integrator
             .visibility
             .transmittance(scene, index, x, None, &incident, counts);
@@ -293,27 +278,20 @@ fn surface_nee(
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
 ) -> Rgb {
+    if surface.diffuse == Rgb::ZERO {
+        return Rgb::ZERO;
+    }
     let mut sum = Rgb::ZERO;
     for (index, light) in scene.lights.iter().enumerate() {
-        let y = light_point(light, sampler);
-        if surface.diffuse == Rgb::ZERO {
-            continue;
-        }
-        let Some(incident) = light.incident(p, y) else {
+        let Some((incident, p_light)) = sample_light(light, p, sampler) else {
             continue;
         };
         let cos = normal.dot(incident.direction);
         if cos <= 0.0 {
             continue;
         }
-        let weight = match y {
-            Some(y) if matches!(light, Light::Quad(_)) => {
-                let p_light = light_pdf(light, p, y, incident.direction);
-                let p_bsdf = p_diffuse * cos * FRAC_1_PI;
-                p_light / (p_light + p_bsdf)
-            }
-            _ => 1.0,
-        };
+        let p_bsdf = p_diffuse * cos * FRAC_1_PI;
+        let weight = p_light.map_or(1.0, |p_light| p_light / (p_light + p_bsdf));
         let origin = offset_origin(p, normal, incident.direction);
         let glass = integrator.visibility.transmittance(
             scene,
