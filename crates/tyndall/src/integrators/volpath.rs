@@ -13,6 +13,13 @@
 //! scattering event. After three events Russian roulette ends paths with
 //! probability 1 − max(throughput), unbiasedly.
 //!
+//! Point and spot lights are also estimated along every fog segment by
+//! equiangular sampling (Kulla & Fajardo 2012), combined by the balance
+//! heuristic with NEE at the free-flight event (whose density is
+//! σt·e^{−σt(t−a)}): free flights alone put few events near a point light,
+//! whose 1/d² makes the rare ones fireflies. The camera segment takes
+//! `volume_samples` stratified samples per light, later segments one.
+//!
 //! Depth counts scattering events, as in pbrt-v4: with `max_depth = 1` the
 //! path stops at its second event, so it holds exactly light scattered once
 //! (by fog or a surface) on its way to the camera — what `single` computes.
@@ -26,10 +33,10 @@ use super::{Integrator, sample_light};
 use crate::color::{Rgb, luminance};
 use crate::lights::Light;
 use crate::materials::{Material, Surface};
-use crate::media::Fog;
+use crate::media::{Fog, transmittance};
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
-use crate::sampling::cosine_hemisphere;
+use crate::sampling::{EquiangularSampler, cosine_hemisphere};
 use crate::scene::Scene;
 use crate::visibility::RayCounts;
 use glam::Vec3;
@@ -75,28 +82,53 @@ pub(crate) fn radiance(
         let hit = scene.geometry.intersect(&ray, f32::INFINITY);
         let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
         if let Some(fog) = &scene.fog
-            && let Some(t) = free_flight(fog, &ray, t_hit, sampler.next_1d())
+            && let Some(segment) = FogSegment::new(fog, &ray, t_hit)
         {
-            // A real scattering event in the fog.
-            if depth >= integrator.max_depth.min(MAX_PATH_EVENTS) {
-                return radiance;
-            }
-            depth += 1;
-            throughput *= fog.albedo;
-            let x = ray.at(t);
-            radiance +=
-                throughput * medium_nee(integrator, scene, fog, x, ray.direction, sampler, counts);
-            let (direction, pdf) = fog.phase.sample(ray.direction, sampler.next_2d());
-            // Phase sampling is exact: the weight p/pdf is 1.
-            arrival = Arrival::Sampled { from: x, pdf };
-            ray = Ray {
-                origin: x,
-                direction,
+            let u_flight = sampler.next_1d();
+            let max_events = integrator.max_depth.min(MAX_PATH_EVENTS);
+            // Point and spot lights: equiangular samples along the whole
+            // segment, for light whose last scattering is on it.
+            let samples = if depth == 0 {
+                integrator.volume_samples
+            } else {
+                1
             };
-            if !survives_roulette(&mut throughput, depth, sampler) {
-                return radiance;
+            let equiangular = EquiangularNee::new(scene, &segment, samples, sampler);
+            if depth < max_events {
+                radiance += throughput * equiangular.estimate(integrator, scene, &segment, counts);
             }
-            continue;
+            if let Some(t) = segment.free_flight(u_flight) {
+                // A real scattering event in the fog.
+                if depth >= max_events {
+                    return radiance;
+                }
+                depth += 1;
+                throughput *= fog.albedo;
+                let x = ray.at(t);
+                let nee = medium_nee(
+                    integrator,
+                    scene,
+                    fog,
+                    x,
+                    ray.direction,
+                    &segment,
+                    &equiangular,
+                    sampler,
+                    counts,
+                );
+                radiance += throughput * nee;
+                let (direction, pdf) = fog.phase.sample(ray.direction, sampler.next_2d());
+                // Phase sampling is exact: the weight p/pdf is 1.
+                arrival = Arrival::Sampled { from: x, pdf };
+                ray = Ray {
+                    origin: x,
+                    direction,
+                };
+                if !survives_roulette(&mut throughput, depth, sampler) {
+                    return radiance;
+                }
+                continue;
+            }
         }
         // No event before the surface: transmittance over its probability is 1.
         let Some(hit) = hit else {
@@ -176,16 +208,117 @@ pub(crate) fn radiance(
     }
 }
 
-/// Distance to a real scattering event along `ray` before `t_hit`, sampled
-/// with density σt·e^{−σt·ℓ} over the length ℓ of fog crossed; `None` if
-/// the flight reaches `t_hit` (probability e^{−σt·ℓ_total}).
-fn free_flight(fog: &Fog, ray: &Ray, t_hit: f32, u: f32) -> Option<f32> {
-    let (a, b) = fog.interval(ray, 0.0, t_hit)?;
-    if fog.sigma_t <= 0.0 {
-        return None;
+/// The part `[a, b]` of a path segment inside the fog.
+struct FogSegment<'a> {
+    fog: &'a Fog,
+    ray: &'a Ray,
+    a: f32,
+    b: f32,
+}
+
+impl<'a> FogSegment<'a> {
+    fn new(fog: &'a Fog, ray: &'a Ray, t_hit: f32) -> Option<Self> {
+        let (a, b) = fog.interval(ray, 0.0, t_hit)?;
+        (fog.sigma_t > 0.0).then_some(Self { fog, ray, a, b })
     }
-    let t = a - (1.0 - u).ln() / fog.sigma_t;
-    (t < b).then_some(t)
+
+    /// Distance to a real scattering event, sampled with density
+    /// [`FogSegment::flight_pdf`]; `None` if the flight leaves the segment
+    /// (probability e^{−σt(b−a)}).
+    fn free_flight(&self, u: f32) -> Option<f32> {
+        let t = self.a - (1.0 - u).ln() / self.fog.sigma_t;
+        (t < self.b).then_some(t)
+    }
+
+    /// Density σt·e^{−σt(t−a)} of a free-flight event at `t`.
+    fn flight_pdf(&self, t: f32) -> f32 {
+        self.fog.sigma_t * transmittance(self.fog.sigma_t, t - self.a)
+    }
+}
+
+/// Equiangular NEE for the point and spot lights along one fog segment
+/// (Kulla & Fajardo 2012): `n` stratified samples per light, combined by
+/// the balance heuristic with NEE at the free-flight event.
+struct EquiangularNee {
+    /// Per light: the sampler over its reach on the segment (point and
+    /// spot lights only) and the stratified sample offset.
+    lights: Vec<Option<(EquiangularSampler, f32)>>,
+    samples: u32,
+}
+
+impl EquiangularNee {
+    fn new(scene: &Scene, segment: &FogSegment, samples: u32, sampler: &mut PixelSampler) -> Self {
+        let lights = scene
+            .lights
+            .iter()
+            .map(|light| {
+                let u = sampler.next_1d();
+                let position = match light {
+                    Light::Point(p) => p.position,
+                    Light::Spot(s) => s.position,
+                    _ => return None,
+                };
+                let (ea, eb) = light.reach(segment.ray, segment.a, segment.b)?;
+                EquiangularSampler::new(segment.ray, position, ea, eb).map(|eq| (eq, u))
+            })
+            .collect();
+        Self { lights, samples }
+    }
+
+    /// Density with which light `index`'s samples land at `t`, all `n`
+    /// counted (0 for lights sampled otherwise).
+    fn pdf(&self, index: usize, t: f32) -> f32 {
+        self.lights[index].map_or(0.0, |(eq, _)| self.samples as f32 * eq.pdf(t))
+    }
+
+    /// Whether light `index` is estimated here (and must be MIS-weighted
+    /// at the free-flight event).
+    fn covers(&self, index: usize) -> bool {
+        self.lights[index].is_some()
+    }
+
+    /// In-scattered radiance from point and spot lights whose last
+    /// scattering lies on the segment, relative to the segment's start.
+    fn estimate(
+        &self,
+        integrator: &Integrator,
+        scene: &Scene,
+        segment: &FogSegment,
+        counts: &mut RayCounts,
+    ) -> Rgb {
+        let fog = segment.fog;
+        let mut sum = Rgb::ZERO;
+        for (index, entry) in self.lights.iter().enumerate() {
+            let Some((eq, u)) = entry else { continue };
+            let light = &scene.lights[index];
+            for k in 0..self.samples {
+                let (t, _) = eq.sample((k as f32 + u) / self.samples as f32);
+                let x = segment.ray.at(t);
+                let Some(incident) = light.incident(x, light.sample_point(glam::Vec2::ZERO)) else {
+                    continue;
+                };
+                let glass = integrator
+                    .visibility
+                    .transmittance(scene, index, x, None, &incident, counts);
+                if glass == Rgb::ZERO {
+                    continue;
+                }
+                let to_light = Ray {
+                    origin: x,
+                    direction: incident.direction,
+                };
+                let phase = fog
+                    .phase
+                    .eval(incident.direction.dot(segment.ray.direction));
+                let fog_t = fog.transmittance(&to_light, 0.0, incident.distance);
+                // f = T(a, t)·σs·p·E·V·T_light over n·p_e + p_flight.
+                let camera_t = transmittance(fog.sigma_t, t - segment.a);
+                let weight = camera_t / (self.pdf(index, t) + segment.flight_pdf(t));
+                sum += fog.sigma_s() * incident.irradiance * glass * (phase * fog_t * weight);
+            }
+        }
+        sum
+    }
 }
 
 /// Russian roulette after [`ROULETTE_DEPTH`] events: continue with
@@ -233,22 +366,35 @@ fn emission_weight(
 /// NEE at fog point `x` for a path arriving along `direction`: the
 /// in-scattered radiance `Σ p(θ)·E·V·Tr_glass·T_fog`, MIS-weighted for
 /// area lights. The path's throughput already holds the albedo.
+#[allow(clippy::too_many_arguments)]
 fn medium_nee(
     integrator: &Integrator,
     scene: &Scene,
     fog: &Fog,
     x: Vec3,
     direction: Vec3,
+    segment: &FogSegment,
+    equiangular: &EquiangularNee,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
 ) -> Rgb {
+    let t = (x - segment.ray.origin).dot(segment.ray.direction);
     let mut sum = Rgb::ZERO;
     for (index, light) in scene.lights.iter().enumerate() {
         let Some((incident, p_light)) = sample_light(light, x, sampler) else {
             continue;
         };
         let phase = fog.phase.eval(incident.direction.dot(direction));
-        let weight = p_light.map_or(1.0, |p_light| p_light / (p_light + phase));
+        let weight = match p_light {
+            // Area lights: against phase sampling.
+            Some(p_light) => p_light / (p_light + phase),
+            // Point and spot lights: against the segment's equiangular samples.
+            None if equiangular.covers(index) => {
+                let p_flight = segment.flight_pdf(t);
+                p_flight / (p_flight + equiangular.pdf(index, t))
+            }
+            None => 1.0,
+        };
         let glass = integrator
             .visibility
             .transmittance(scene, index, x, None, &incident, counts);
