@@ -146,7 +146,7 @@ fn shadow_ray(
                     count += 1;
                 }
             },
-            Material::Opaque(_) | Material::Emissive { .. } => {
+            Material::Opaque(_) | Material::Emissive { .. } | Material::Dielectric { .. } => {
                 blocked = true;
                 return ControlFlow::Break(());
             }

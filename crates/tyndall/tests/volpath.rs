@@ -12,6 +12,11 @@ use tyndall::{IntegratorKind, RenderSettings, Rgb, SceneDescription};
 /// A closed box of emitters of radiance 2 around fog of the given albedo,
 /// the walls either plain emissive shapes or sampled quad lights facing in.
 fn furnace(albedo: f32, walls_are_lights: bool) -> SceneDescription {
+    furnace_with(albedo, walls_are_lights, "")
+}
+
+/// [`furnace`] with more scene text (shapes inside the box).
+fn furnace_with(albedo: f32, walls_are_lights: bool, extra: &str) -> SceneDescription {
     let (lo, hi) = (-2.0f32, 2.0f32);
     // Corners listed so that (c1 − c0) × (c3 − c0) points into the box.
     let faces = [
@@ -37,7 +42,7 @@ fn furnace(albedo: f32, walls_are_lights: bool) -> SceneDescription {
                 &format!("[[shapes]]\ntype = \"quad\"\ncorners = {corners}\nmaterial = \"wall\"\n");
         }
     }
-    scene(&text)
+    scene(&(text + extra))
 }
 
 /// Albedo-1 fog inside a uniform emitter: every path keeps throughput 1
@@ -53,6 +58,34 @@ fn furnace_with_emissive_walls_is_exact() {
     });
     for p in image.pixels() {
         assert!((*p - Rgb::splat(2.0)).abs().max_element() < 1e-5, "{p}");
+    }
+}
+
+/// A refractive glass sphere inside the albedo-1 furnace: a dielectric
+/// interface only redirects light (reflection or refraction, chosen with
+/// the Fresnel probabilities), so every pixel is still exactly 2 — the
+/// sphere is invisible, whatever its index.
+#[test]
+fn furnace_with_dielectric_sphere_is_exact() {
+    for ior in [1.33, 1.5, 2.4] {
+        let desc = furnace_with(
+            1.0,
+            false,
+            &format!(
+                "[materials.glass]\ntype = \"dielectric\"\nior = {ior}\n[[shapes]]\ntype = \"sphere\"\ncenter = [0, 0, -0.6]\nradius = 0.8\nmaterial = \"glass\"\n"
+            ),
+        );
+        let image = render(&desc, |s| {
+            s.width = 12;
+            s.height = 12;
+            s.spp = 8;
+        });
+        for p in image.pixels() {
+            assert!(
+                (*p - Rgb::splat(2.0)).abs().max_element() < 1e-5,
+                "ior {ior}: {p}"
+            );
+        }
     }
 }
 

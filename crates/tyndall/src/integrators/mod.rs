@@ -20,7 +20,7 @@ pub mod volpath;
 
 use crate::color::Rgb;
 use crate::lights::{Incident, Light};
-use crate::materials::{Material, Surface};
+use crate::materials::{Material, Surface, dielectric_scatter};
 use crate::media::Fog;
 use crate::ray::{Ray, offset_origin};
 use crate::render::RenderSettings;
@@ -169,6 +169,18 @@ impl<'a> Integrator<'a> {
                     // the same value.
                     throughput *= glass.filter_transmittance();
                     ray.origin = offset_origin(p, geometric_normal, ray.direction);
+                }
+                Material::Dielectric { ior } => {
+                    if bounces >= self.max_bounces {
+                        return radiance;
+                    }
+                    bounces += 1;
+                    let direction =
+                        dielectric_scatter(ray.direction, geometric_normal, ior, sampler.next_1d());
+                    ray = Ray {
+                        origin: offset_origin(p, geometric_normal, direction),
+                        direction,
+                    };
                 }
                 Material::Glass(glass) => {
                     let surface = Surface::diffuse(glass.color);

@@ -32,7 +32,7 @@
 use super::{Integrator, sample_light};
 use crate::color::{Rgb, luminance};
 use crate::lights::Light;
-use crate::materials::{Material, Surface};
+use crate::materials::{Material, Surface, dielectric_scatter};
 use crate::media::{Fog, transmittance};
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
@@ -160,6 +160,24 @@ pub(crate) fn radiance(
                 }
                 throughput *= glass.filter_transmittance();
                 ray.origin = offset_origin(p, geometric_normal, ray.direction);
+                continue;
+            }
+            Material::Dielectric { ior } => {
+                // A specular event: NEE cannot reach through it.
+                if depth >= integrator.max_depth.min(MAX_PATH_EVENTS) {
+                    return radiance;
+                }
+                depth += 1;
+                let direction =
+                    dielectric_scatter(ray.direction, geometric_normal, ior, sampler.next_1d());
+                arrival = Arrival::Unweighted;
+                ray = Ray {
+                    origin: offset_origin(p, geometric_normal, direction),
+                    direction,
+                };
+                if !survives_roulette(&mut throughput, depth, sampler) {
+                    return radiance;
+                }
                 continue;
             }
             Material::Glass(glass) => Surface::diffuse(glass.color),

@@ -105,6 +105,13 @@ enum MaterialDesc {
     Glossy(GlossyDesc),
     Emissive(EmissiveDesc),
     Glass(GlassDesc),
+    Dielectric(DielectricDesc),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DielectricDesc {
+    ior: f32,
 }
 
 #[derive(Deserialize)]
@@ -254,6 +261,7 @@ fn variant_error(section: &str, kind: &str, body: &str) -> Option<toml::de::Erro
         ("materials", "glossy") => check::<GlossyDesc>(body),
         ("materials", "emissive") => check::<EmissiveDesc>(body),
         ("materials", "glass") => check::<GlassDesc>(body),
+        ("materials", "dielectric") => check::<DielectricDesc>(body),
         ("shapes", "sphere") => check::<SphereDesc>(body),
         ("shapes", "quad") => check::<QuadDesc>(body),
         ("shapes", "box") => check::<BoxShapeDesc>(body),
@@ -716,6 +724,15 @@ impl Loader<'_> {
                 color: self.color(&span, "color", color, true)?,
                 alpha: self.number(&span, "alpha", alpha, (0.0, 1.0), "an opacity in [0, 1]")?,
             }),
+            MaterialDesc::Dielectric(DielectricDesc { ior }) => Material::Dielectric {
+                ior: self.number(
+                    &span,
+                    "ior",
+                    ior,
+                    (0.01, 10.0),
+                    "an index of refraction in [0.01, 10]",
+                )?,
+            },
         })
     }
 
