@@ -37,8 +37,9 @@ pub struct BenchArgs {
     #[arg(long)]
     pub(crate) quick: bool,
     /// Which part to run: `equal-error` (time to equal error per integrator),
-    /// `maps` (shadow maps against shadow rays) or `all`.
-    #[arg(long, default_value = "all", value_parser = ["all", "equal-error", "maps"])]
+    /// `maps` (shadow maps against shadow rays), `volpath` (the path tracer
+    /// on the Cornell fog scene) or `all`.
+    #[arg(long, default_value = "all", value_parser = ["all", "equal-error", "maps", "volpath"])]
     only: String,
     /// Stop a curve after a point whose render takes longer than this (seconds).
     #[arg(long, default_value_t = 20.0)]
@@ -68,6 +69,14 @@ impl Method {
             kind: IntegratorKind::Single,
             step: 0.1,
             volume_samples,
+        }
+    }
+
+    pub(crate) fn volpath() -> Self {
+        Self {
+            kind: IntegratorKind::Volpath,
+            step: 0.1,
+            volume_samples: DEFAULT_VOLUME_SAMPLES,
         }
     }
 
@@ -104,12 +113,42 @@ pub fn run(args: BenchArgs) -> Result<()> {
         args.threads.map_or("all".into(), |t| t.to_string())
     );
 
-    if args.only != "maps" {
+    let all = args.only == "all";
+    if all || args.only == "equal-error" {
         equal_error(&args)?;
     }
-    if args.only != "equal-error" {
+    if all || args.only == "maps" {
         maps::run(&args)?;
     }
+    if all || args.only == "volpath" {
+        volpath(&args)?;
+    }
+    Ok(())
+}
+
+/// Time to relative MSE of `volpath` on the Cornell fog scene (multiple
+/// scattering in dense fog) against a long `volpath` render.
+fn volpath(args: &BenchArgs) -> Result<()> {
+    let desc = native::load(&args.scenes.join("cornell-fog.toml"))?;
+    let (w, h, reference_spp) = if args.quick {
+        (48, 48, 64)
+    } else {
+        (256, 256, 2048)
+    };
+    let ladder: &[u32] = if args.quick {
+        &[4, 8]
+    } else {
+        &[4, 8, 16, 32, 64]
+    };
+    println!("## volpath on the Cornell fog scene (scenes/cornell-fog.toml) at {w}×{h}\n");
+    let method = Method::volpath();
+    let reference = long_render(&desc, args, "cornell-fog", w, h, reference_spp, method)?;
+    println!(
+        "Reference: `volpath`, {reference_spp} spp, seed 1000 (independent of the seeds below).\n"
+    );
+    let curve = measure(&desc, args, w, h, method, ladder, &reference)?;
+    print_curve(&method, &curve);
+    report_time_to_error(&[(method, curve)], &[1e-2, 3e-3]);
     Ok(())
 }
 
@@ -208,7 +247,15 @@ fn equal_error_case(
     ladder: &[u32],
 ) -> Result<()> {
     println!("## {title} at {width}×{height}\n");
-    let reference = long_render(desc, args, key, width, height, reference_spp)?;
+    let reference = long_render(
+        desc,
+        args,
+        key,
+        width,
+        height,
+        reference_spp,
+        Method::single(DEFAULT_VOLUME_SAMPLES),
+    )?;
     println!(
         "Reference: `single`, {reference_spp} spp, seed 1000 (independent of the seeds below).\n"
     );
@@ -301,24 +348,18 @@ fn long_render(
     width: u32,
     height: u32,
     spp: u32,
+    method: Method,
 ) -> Result<Image> {
     let path = args.cache.join(format!(
-        "{key}-{width}x{height}-{spp}spp-{:016x}.exr",
+        "{key}-{}-{width}x{height}-{spp}spp-{:016x}.exr",
+        method.kind.name(),
         scene_fingerprint(desc, width, height)
     ));
     if let Ok(image) = Image::read_exr(&path) {
         return Ok(image);
     }
     eprintln!("rendering the reference {} (once; cached)…", path.display());
-    let s = settings(
-        desc,
-        args,
-        width,
-        height,
-        Method::single(DEFAULT_VOLUME_SAMPLES),
-        spp,
-        1000,
-    );
+    let s = settings(desc, args, width, height, method, spp, 1000);
     let r = tyndall::render(&desc.scene, &s, &|_| {})?;
     std::fs::create_dir_all(&args.cache)
         .with_context(|| format!("creating {}", args.cache.display()))?;
