@@ -49,6 +49,8 @@ pub enum Visibility {
 /// Counts of rays traced and map lookups, for the end-of-render statistics.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct RayCounts {
+    /// Rays followed from the camera: camera rays and, for `volpath`, the
+    /// path segments after them.
     pub camera: u64,
     pub shadow: u64,
     pub map_lookups: u64,

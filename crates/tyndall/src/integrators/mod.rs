@@ -1,7 +1,9 @@
 //! Integrators: how the radiance along a camera ray is estimated.
 //!
-//! All integrators share the camera path ([`Integrator::radiance`]): the
-//! ray is followed through thin glass and specular reflections; on each
+//! [`volpath`] traces full paths with multiple scattering. The two
+//! single-scattering integrators share the camera path
+//! ([`Integrator::radiance`]): the ray is followed through thin glass,
+//! dielectrics and specular reflections; on each
 //! segment the in-scattered fog radiance is added (DESIGN §1),
 //!
 //! ```text

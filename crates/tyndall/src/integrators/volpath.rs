@@ -108,10 +108,8 @@ pub(crate) fn radiance(
                 let nee = medium_nee(
                     integrator,
                     scene,
-                    fog,
-                    x,
-                    ray.direction,
                     &segment,
+                    t,
                     &equiangular,
                     sampler,
                     counts,
@@ -381,22 +379,21 @@ fn emission_weight(
     }
 }
 
-/// NEE at fog point `x` for a path arriving along `direction`: the
+/// NEE at the free-flight event at `t` on `segment`: the
 /// in-scattered radiance `Σ p(θ)·E·V·Tr_glass·T_fog`, MIS-weighted for
-/// area lights. The path's throughput already holds the albedo.
-#[allow(clippy::too_many_arguments)]
+/// area lights (against phase sampling) and for point and spot lights
+/// (against the segment's equiangular samples). The path's throughput
+/// already holds the albedo.
 fn medium_nee(
     integrator: &Integrator,
     scene: &Scene,
-    fog: &Fog,
-    x: Vec3,
-    direction: Vec3,
     segment: &FogSegment,
+    t: f32,
     equiangular: &EquiangularNee,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
 ) -> Rgb {
-    let t = (x - segment.ray.origin).dot(segment.ray.direction);
+    let (fog, x, direction) = (segment.fog, segment.ray.at(t), segment.ray.direction);
     let mut sum = Rgb::ZERO;
     for (index, light) in scene.lights.iter().enumerate() {
         let Some((incident, p_light)) = sample_light(light, x, sampler) else {
