@@ -282,8 +282,8 @@ fn area_light_in_fog_depth_one_matches_single() {
             );
         }
         assert!(
-            single.x > 0.01,
-            "{target}: the ray must see light, got {single}"
+            single.x > 20.0 * single_se.x,
+            "{target}: the ray must see light, got {single} ± {single_se}"
         );
     }
 }
