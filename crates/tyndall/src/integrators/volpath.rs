@@ -60,8 +60,27 @@ enum Arrival {
     /// From the camera or a specular/glossy reflection: NEE cannot produce
     /// this direction, so emission counts in full.
     Unweighted,
-    /// Sampled at `from` with solid-angle density `pdf`.
+    /// BSDF-sampled at surface point `from` with solid-angle density `pdf`.
     Sampled { from: Vec3, pdf: f32 },
+    /// Phase-sampled (density `pdf`) at the free-flight event at `t` on a
+    /// fog segment whose equiangular estimator took `samples` per light:
+    /// three strategies can produce the light it hits.
+    Medium {
+        pdf: f32,
+        segment: SegmentCopy,
+        t: f32,
+        samples: u32,
+    },
+}
+
+/// What the MIS weight of an emitter hit needs of the fog segment the path
+/// last scattered on.
+#[derive(Clone, Copy, Debug)]
+struct SegmentCopy {
+    ray: Ray,
+    a: f32,
+    b: f32,
+    sigma_t: f32,
 }
 
 /// Radiance along a camera ray: one path sample.
@@ -117,7 +136,17 @@ pub(crate) fn radiance(
                 radiance += throughput * nee;
                 let (direction, pdf) = fog.phase.sample(ray.direction, sampler.next_2d());
                 // Phase sampling is exact: the weight p/pdf is 1.
-                arrival = Arrival::Sampled { from: x, pdf };
+                arrival = Arrival::Medium {
+                    pdf,
+                    segment: SegmentCopy {
+                        ray,
+                        a: segment.a,
+                        b: segment.b,
+                        sigma_t: fog.sigma_t,
+                    },
+                    t,
+                    samples,
+                };
                 ray = Ray {
                     origin: x,
                     direction,
@@ -252,14 +281,29 @@ impl<'a> FogSegment<'a> {
     }
 }
 
-/// Equiangular NEE for the point and spot lights along one fog segment
-/// (Kulla & Fajardo 2012): `n` stratified samples per light, combined by
-/// the balance heuristic with NEE at the free-flight event.
+/// Equiangular NEE along one fog segment (Kulla & Fajardo 2012): `n`
+/// stratified samples per light towards its position (point and spot
+/// lights) or towards a point chosen uniformly on it (quad lights),
+/// combined by the balance heuristic with NEE at the free-flight event
+/// and, for quad lights, with phase-sampled hits of the light.
+///
+/// For quad lights the strategies are compared in the measure of (t, y),
+/// the scattering distance and the light point: the segment estimator has
+/// density `n·p_e(t | y)/A`; NEE at a free-flight event `p_flight(t)·p_Ω·G`
+/// and a phase-sampled hit `p_flight(t)·p_phase·G`, with `G = cos θ_y/d²`
+/// turning solid angle into area.
 struct EquiangularNee {
-    /// Per light: the sampler over its reach on the segment (point and
-    /// spot lights only) and the stratified sample offset.
-    lights: Vec<Option<(EquiangularSampler, f32)>>,
+    lights: Vec<Option<SegmentLight>>,
     samples: u32,
+}
+
+/// One light's equiangular sampler on the segment, its stratification
+/// offset, and the point it aims at.
+#[derive(Clone, Copy)]
+struct SegmentLight {
+    sampler: EquiangularSampler,
+    u: f32,
+    point: Vec3,
 }
 
 impl EquiangularNee {
@@ -269,22 +313,27 @@ impl EquiangularNee {
             .iter()
             .map(|light| {
                 let u = sampler.next_1d();
-                let position = match light {
+                let point = match light {
                     Light::Point(p) => p.position,
                     Light::Spot(s) => s.position,
-                    _ => return None,
+                    Light::Quad(q) => {
+                        let v = sampler.next_2d();
+                        q.quad.point(v.x, v.y)
+                    }
+                    Light::Directional(_) => return None,
                 };
                 let (ea, eb) = light.reach(segment.ray, segment.a, segment.b)?;
-                EquiangularSampler::new(segment.ray, position, ea, eb).map(|eq| (eq, u))
+                let sampler = EquiangularSampler::new(segment.ray, point, ea, eb)?;
+                Some(SegmentLight { sampler, u, point })
             })
             .collect();
         Self { lights, samples }
     }
 
-    /// Density with which light `index`'s samples land at `t`, all `n`
-    /// counted (0 for lights sampled otherwise).
-    fn pdf(&self, index: usize, t: f32) -> f32 {
-        self.lights[index].map_or(0.0, |(eq, _)| self.samples as f32 * eq.pdf(t))
+    /// Density with which a point or spot light's samples land at `t`, all
+    /// `n` counted (0 if the light is not sampled here).
+    fn delta_pdf(&self, index: usize, t: f32) -> f32 {
+        self.lights[index].map_or(0.0, |l| self.samples as f32 * l.sampler.pdf(t))
     }
 
     /// Whether light `index` is estimated here (and must be MIS-weighted
@@ -293,8 +342,8 @@ impl EquiangularNee {
         self.lights[index].is_some()
     }
 
-    /// In-scattered radiance from point and spot lights whose last
-    /// scattering lies on the segment, relative to the segment's start.
+    /// In-scattered radiance from lights whose last scattering lies on the
+    /// segment, relative to the segment's start.
     fn estimate(
         &self,
         integrator: &Integrator,
@@ -305,12 +354,14 @@ impl EquiangularNee {
         let fog = segment.fog;
         let mut sum = Rgb::ZERO;
         for (index, entry) in self.lights.iter().enumerate() {
-            let Some((eq, u)) = entry else { continue };
+            let Some(entry) = entry else { continue };
             let light = &scene.lights[index];
             for k in 0..self.samples {
-                let (t, _) = eq.sample((k as f32 + u) / self.samples as f32);
+                let (t, p_e) = entry
+                    .sampler
+                    .sample((k as f32 + entry.u) / self.samples as f32);
                 let x = segment.ray.at(t);
-                let Some(incident) = light.incident(x, light.sample_point(glam::Vec2::ZERO)) else {
+                let Some(incident) = light.incident(x, Some(entry.point)) else {
                     continue;
                 };
                 let glass = integrator
@@ -327,14 +378,51 @@ impl EquiangularNee {
                     .phase
                     .eval(incident.direction.dot(segment.ray.direction));
                 let fog_t = fog.transmittance(&to_light, 0.0, incident.distance);
-                // f = T(a, t)·σs·p·E·V·T_light over n·p_e + p_flight.
                 let camera_t = transmittance(fog.sigma_t, t - segment.a);
-                let weight = camera_t / (self.pdf(index, t) + segment.flight_pdf(t));
-                sum += fog.sigma_s() * incident.irradiance * glass * (phase * fog_t * weight);
+                let p_flight = segment.flight_pdf(t);
+                let n = self.samples as f32;
+                // f = T(a, t)·σs·p·E·V·T_light over the summed densities.
+                let denominator = match light {
+                    Light::Quad(q) => {
+                        // E = L·A·G (area sampling), so the (t, y)
+                        // densities appear here multiplied by A.
+                        let g = q.quad.normal.dot(incident.direction).abs()
+                            / (incident.distance * incident.distance);
+                        let p_omega = q.pdf(x, entry.point, incident.direction);
+                        n * p_e + q.quad.area() * p_flight * g * (p_omega + phase)
+                    }
+                    _ => n * p_e + p_flight,
+                };
+                sum += fog.sigma_s()
+                    * incident.irradiance
+                    * glass
+                    * (phase * fog_t * camera_t / denominator);
             }
         }
         sum
     }
+}
+
+/// For a quad light, the segment estimator's density for (t, y) relative
+/// to the free-flight event's, in solid-angle terms:
+/// `q = (n·p_e(t | y)/A) / (p_flight(t)·G)`. Added to `p_Ω + p_phase` it
+/// completes the three-way balance heuristic at a fog event.
+fn segment_term(segment: &SegmentCopy, t: f32, samples: u32, light: &Light, y: Vec3) -> f32 {
+    let Light::Quad(q) = light else {
+        return 0.0;
+    };
+    let Some(eq) = EquiangularSampler::new(&segment.ray, y, segment.a, segment.b) else {
+        return 0.0;
+    };
+    let x = segment.ray.at(t);
+    let d = y - x;
+    let d2 = d.length_squared();
+    let g = q.quad.normal.dot(d).abs() / (d2 * d2.sqrt());
+    let p_flight = segment.sigma_t * transmittance(segment.sigma_t, t - segment.a);
+    if !(g > 0.0 && p_flight > 0.0) {
+        return 0.0;
+    }
+    samples as f32 * eq.pdf(t) / q.quad.area() / (p_flight * g)
 }
 
 /// Russian roulette after [`ROULETTE_DEPTH`] events: continue with
@@ -375,6 +463,20 @@ fn emission_weight(
             let p_light = light_pdf(&scene.lights[index], from, p, direction);
             pdf / (pdf + p_light)
         }
+        (
+            Arrival::Medium {
+                pdf,
+                segment,
+                t,
+                samples,
+            },
+            Some(index),
+        ) => {
+            let light = &scene.lights[index];
+            let p_light = light_pdf(light, segment.ray.at(t), p, direction);
+            let q = segment_term(&segment, t, samples, light, p);
+            pdf / (pdf + p_light + q)
+        }
         _ => 1.0,
     }
 }
@@ -401,12 +503,27 @@ fn medium_nee(
         };
         let phase = fog.phase.eval(incident.direction.dot(direction));
         let weight = match p_light {
-            // Area lights: against phase sampling.
-            Some(p_light) => p_light / (p_light + phase),
+            // Area lights: against phase sampling and the segment's
+            // equiangular samples.
+            Some(p_light) => {
+                let y = x + incident.direction * incident.distance;
+                let copy = SegmentCopy {
+                    ray: *segment.ray,
+                    a: segment.a,
+                    b: segment.b,
+                    sigma_t: fog.sigma_t,
+                };
+                let q = if equiangular.covers(index) {
+                    segment_term(&copy, t, equiangular.samples, light, y)
+                } else {
+                    0.0
+                };
+                p_light / (p_light + phase + q)
+            }
             // Point and spot lights: against the segment's equiangular samples.
             None if equiangular.covers(index) => {
                 let p_flight = segment.flight_pdf(t);
-                p_flight / (p_flight + equiangular.pdf(index, t))
+                p_flight / (p_flight + equiangular.delta_pdf(index, t))
             }
             None => 1.0,
         };
