@@ -294,24 +294,20 @@ impl Shape {
     }
 }
 
-/// The six outward-facing, two-sided quads of an axis-aligned box.
-pub fn box_faces(b: Bounds) -> [Quad; 6] {
+/// The six outward-facing, two-sided quads of an axis-aligned box; `None`
+/// if the box is too thin for its faces to have an area in f32.
+pub fn box_faces(b: Bounds) -> Option<[Quad; 6]> {
     let (lo, hi) = (b.min, b.max);
     let d = hi - lo;
     let (dx, dy, dz) = (Vec3::X * d.x, Vec3::Y * d.y, Vec3::Z * d.z);
-    let face = |o: Vec3, u: Vec3, v: Vec3| {
-        // Box extents are validated positive by the loaders, so faces are
-        // never degenerate.
-        Quad::new(o, u, v, false).expect("validated non-degenerate box face")
-    };
-    [
-        face(lo, dz, dy),      // −x
-        face(lo + dx, dy, dz), // +x
-        face(lo, dx, dz),      // −y
-        face(lo + dy, dz, dx), // +y
-        face(lo, dy, dx),      // −z
-        face(lo + dz, dx, dy), // +z
-    ]
+    Some([
+        Quad::new(lo, dz, dy, false)?,      // −x
+        Quad::new(lo + dx, dy, dz, false)?, // +x
+        Quad::new(lo, dx, dz, false)?,      // −y
+        Quad::new(lo + dy, dz, dx, false)?, // +y
+        Quad::new(lo, dy, dx, false)?,      // −z
+        Quad::new(lo + dz, dx, dy, false)?, // +z
+    ])
 }
 
 #[cfg(test)]
@@ -351,7 +347,7 @@ mod tests {
     #[test]
     fn box_faces_point_outward() {
         let b = Bounds::new(Vec3::ZERO, Vec3::new(1.0, 2.0, 3.0));
-        for f in box_faces(b) {
+        for f in box_faces(b).unwrap() {
             let out = f.centroid() - b.center();
             assert!(f.normal.dot(out) > 0.0, "{f:?}");
         }

@@ -13,12 +13,14 @@
 //! scattering event. After three events Russian roulette ends paths with
 //! probability 1 − max(throughput), unbiasedly.
 //!
-//! Point and spot lights are also estimated along every fog segment by
-//! equiangular sampling (Kulla & Fajardo 2012), combined by the balance
-//! heuristic with NEE at the free-flight event (whose density is
-//! σt·e^{−σt(t−a)}): free flights alone put few events near a point light,
-//! whose 1/d² makes the rare ones fireflies. The camera segment takes
-//! `volume_samples` stratified samples per light, later segments one.
+//! Every light but the sun is also estimated along every fog segment by
+//! equiangular sampling (Kulla & Fajardo 2012) towards the light's position
+//! or an area-sampled point on it, combined by the balance heuristic with
+//! NEE at the free-flight event (whose density is σt·e^{−σt(t−a)}) and,
+//! for area lights, with phase-sampled hits: free flights alone put few
+//! events near a light, whose 1/d² makes the rare ones fireflies. The
+//! camera segment takes `volume_samples` stratified samples per light,
+//! later segments one.
 //!
 //! Depth counts scattering events, as in pbrt-v4: with `max_depth = 1` the
 //! path stops at its second event, so it holds exactly light scattered once

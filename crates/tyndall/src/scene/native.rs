@@ -810,7 +810,10 @@ impl Loader<'_> {
             ShapeDesc::Box(BoxShapeDesc { min, max, material }) => {
                 let m = self.material_id(&span, material, ids)?;
                 let b = self.bounds(&span, "min", *min, *max)?;
-                for face in box_faces(b) {
+                let faces = box_faces(b).ok_or_else(|| {
+                    self.err(&span, "min", "the box is too thin: its faces have no area")
+                })?;
+                for face in faces {
                     builder.add_shape(Shape::Quad(face), m);
                 }
             }
