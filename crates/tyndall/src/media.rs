@@ -38,6 +38,18 @@ impl Fog {
         }
     }
 
+    /// Transmittance over `distance` from `origin` along the unit
+    /// `direction` (towards a light, say; ∞ for a sun).
+    #[inline]
+    pub fn transmittance_along(
+        &self,
+        origin: glam::Vec3,
+        direction: glam::Vec3,
+        distance: f32,
+    ) -> f32 {
+        self.transmittance(&Ray { origin, direction }, 0.0, distance)
+    }
+
     /// Transmittance `exp(−σt·ℓ)` where ℓ is the length of `[t0, t1]`
     /// inside the fog; 0 for an infinite length in fog.
     #[inline]

@@ -241,41 +241,58 @@ impl<'a> Integrator<'a> {
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
     ) -> Rgb {
-        if surface.diffuse == Rgb::ZERO {
-            return Rgb::ZERO;
-        }
-        let mut sum = Rgb::ZERO;
-        for (index, light) in scene.lights.iter().enumerate() {
-            let Some((incident, _)) = sample_light(light, p, sampler) else {
-                continue;
-            };
-            let cos = normal.dot(incident.direction);
-            if cos <= 0.0 {
-                continue;
-            }
-            let origin = offset_origin(p, normal, incident.direction);
-            let glass = self.visibility.transmittance(
-                scene,
-                index,
-                origin,
-                Some(normal),
-                &incident,
-                counts,
-            );
-            if glass == Rgb::ZERO {
-                continue;
-            }
-            let fog_t = scene.fog.as_ref().map_or(1.0, |fog| {
-                let to_light = Ray {
-                    origin: p,
-                    direction: incident.direction,
-                };
-                fog.transmittance(&to_light, 0.0, incident.distance)
-            });
-            sum += incident.irradiance * glass * (cos * fog_t);
-        }
-        sum * surface.diffuse_brdf()
+        lambert_direct_lighting(
+            scene,
+            self.visibility,
+            surface,
+            p,
+            normal,
+            sampler,
+            counts,
+            |_, _| 1.0,
+        )
     }
+}
+
+/// Direct lighting of the Lambertian lobe of `surface` at point `p` with
+/// unit normal `normal` facing the viewer, one sample per light:
+/// `Σ ρ/π · E · cos θ · V · Tr_glass · T_fog · w`, where
+/// `w = weight(p_light, cos θ)` is the caller's MIS weight given the
+/// light sample's solid-angle density (`None` for delta lights).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn lambert_direct_lighting(
+    scene: &Scene,
+    visibility: &Visibility,
+    surface: &Surface,
+    p: Vec3,
+    normal: Vec3,
+    sampler: &mut PixelSampler,
+    counts: &mut RayCounts,
+    weight: impl Fn(Option<f32>, f32) -> f32,
+) -> Rgb {
+    if surface.diffuse == Rgb::ZERO {
+        return Rgb::ZERO;
+    }
+    let mut sum = Rgb::ZERO;
+    for (index, light) in scene.lights.iter().enumerate() {
+        let Some((incident, p_light)) = sample_light(light, p, sampler) else {
+            continue;
+        };
+        let cos = normal.dot(incident.direction);
+        if cos <= 0.0 {
+            continue;
+        }
+        let origin = offset_origin(p, normal, incident.direction);
+        let glass = visibility.transmittance(scene, index, origin, Some(normal), &incident, counts);
+        if glass == Rgb::ZERO {
+            continue;
+        }
+        let fog_t = scene.fog.as_ref().map_or(1.0, |fog| {
+            fog.transmittance_along(p, incident.direction, incident.distance)
+        });
+        sum += incident.irradiance * glass * (cos * fog_t * weight(p_light, cos));
+    }
+    sum * surface.diffuse_brdf()
 }
 
 /// A camera-ray segment in fog and what estimating its in-scattering
@@ -344,11 +361,7 @@ pub(crate) fn scattered_radiance(
     if glass == Rgb::ZERO {
         return Rgb::ZERO;
     }
-    let to_light = Ray {
-        origin: x,
-        direction: incident.direction,
-    };
-    let fog_t = fog.transmittance(&to_light, 0.0, incident.distance);
+    let fog_t = fog.transmittance_along(x, incident.direction, incident.distance);
     // Light travels along −direction before scattering and along −view
     // after: cos θ = (−direction)·(−view).
     let phase = fog.phase.eval(incident.direction.dot(view));

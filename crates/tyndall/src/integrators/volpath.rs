@@ -31,7 +31,7 @@
 //! when its reflected ray hits an emitter. The lobe is chosen with
 //! probability proportional to its reflectance's luminance.
 
-use super::{Integrator, sample_light};
+use super::{Integrator, lambert_direct_lighting, sample_light};
 use crate::color::{Rgb, luminance};
 use crate::lights::Light;
 use crate::materials::{Material, Surface, dielectric_scatter};
@@ -222,10 +222,16 @@ pub(crate) fn radiance(
             return radiance;
         }
         let p_diffuse = diffuse_weight / (diffuse_weight + specular_weight);
+        // NEE for the Lambertian lobe, MIS against its cosine sampling
+        // (chosen with probability P_d).
+        let mis = |p_light: Option<f32>, cos: f32| {
+            p_light.map_or(1.0, |p_light| {
+                p_light / (p_light + p_diffuse * cos * FRAC_1_PI)
+            })
+        };
+        let visibility = integrator.visibility;
         radiance += throughput
-            * surface_nee(
-                integrator, scene, &surface, p_diffuse, p, normal, sampler, counts,
-            );
+            * lambert_direct_lighting(scene, visibility, &surface, p, normal, sampler, counts, mis);
         let choice = sampler.next_1d();
         let u = sampler.next_2d();
         let direction = if choice < p_diffuse {
@@ -372,14 +378,10 @@ impl EquiangularNee {
                 if glass == Rgb::ZERO {
                     continue;
                 }
-                let to_light = Ray {
-                    origin: x,
-                    direction: incident.direction,
-                };
                 let phase = fog
                     .phase
                     .eval(incident.direction.dot(segment.ray.direction));
-                let fog_t = fog.transmittance(&to_light, 0.0, incident.distance);
+                let fog_t = fog.transmittance_along(x, incident.direction, incident.distance);
                 let camera_t = transmittance(fog.sigma_t, t - segment.a);
                 let p_flight = segment.flight_pdf(t);
                 let n = self.samples as f32;
@@ -535,63 +537,8 @@ fn medium_nee(
         if glass == Rgb::ZERO {
             continue;
         }
-        let to_light = Ray {
-            origin: x,
-            direction: incident.direction,
-        };
-        let fog_t = fog.transmittance(&to_light, 0.0, incident.distance);
+        let fog_t = fog.transmittance_along(x, incident.direction, incident.distance);
         sum += incident.irradiance * glass * (phase * fog_t * weight);
     }
     sum
-}
-
-/// NEE at surface point `p` (unit `normal` facing the path) for the
-/// Lambertian lobe, chosen with probability `p_diffuse` when sampling.
-#[allow(clippy::too_many_arguments)]
-fn surface_nee(
-    integrator: &Integrator,
-    scene: &Scene,
-    surface: &Surface,
-    p_diffuse: f32,
-    p: Vec3,
-    normal: Vec3,
-    sampler: &mut PixelSampler,
-    counts: &mut RayCounts,
-) -> Rgb {
-    if surface.diffuse == Rgb::ZERO {
-        return Rgb::ZERO;
-    }
-    let mut sum = Rgb::ZERO;
-    for (index, light) in scene.lights.iter().enumerate() {
-        let Some((incident, p_light)) = sample_light(light, p, sampler) else {
-            continue;
-        };
-        let cos = normal.dot(incident.direction);
-        if cos <= 0.0 {
-            continue;
-        }
-        let p_bsdf = p_diffuse * cos * FRAC_1_PI;
-        let weight = p_light.map_or(1.0, |p_light| p_light / (p_light + p_bsdf));
-        let origin = offset_origin(p, normal, incident.direction);
-        let glass = integrator.visibility.transmittance(
-            scene,
-            index,
-            origin,
-            Some(normal),
-            &incident,
-            counts,
-        );
-        if glass == Rgb::ZERO {
-            continue;
-        }
-        let fog_t = scene.fog.as_ref().map_or(1.0, |fog| {
-            let to_light = Ray {
-                origin: p,
-                direction: incident.direction,
-            };
-            fog.transmittance(&to_light, 0.0, incident.distance)
-        });
-        sum += incident.irradiance * glass * (cos * fog_t * weight);
-    }
-    sum * surface.diffuse_brdf()
 }
