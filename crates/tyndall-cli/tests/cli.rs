@@ -15,10 +15,16 @@ fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-fn temp(name: &str) -> PathBuf {
+/// This test process's scratch directory.
+fn temp_dir() -> PathBuf {
     let dir = std::env::temp_dir().join(format!("tyndall-cli-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
-    let path = dir.join(name);
+    dir
+}
+
+/// A fresh path in the scratch directory (any old file removed).
+fn temp(name: &str) -> PathBuf {
+    let path = temp_dir().join(name);
     let _ = std::fs::remove_file(&path);
     path
 }
@@ -46,15 +52,9 @@ fn renders_demo_to_png_and_exr() {
         assert!(o.status.success(), "{}", stderr(&o));
         assert!(out.exists());
     }
-    let image = tyndall::Image::read_exr(&temp_existing("demo.exr")).expect("readable EXR");
+    let image = tyndall::Image::read_exr(&temp_dir().join("demo.exr")).expect("readable EXR");
     assert_eq!((image.width(), image.height()), (32, 18));
     assert!(image.pixels().iter().any(|p| p.max_element() > 0.0));
-}
-
-fn temp_existing(name: &str) -> PathBuf {
-    std::env::temp_dir()
-        .join(format!("tyndall-cli-test-{}", std::process::id()))
-        .join(name)
 }
 
 #[test]

@@ -20,6 +20,7 @@ pub mod march;
 pub mod single;
 pub mod volpath;
 
+use crate::accel::Hit;
 use crate::color::Rgb;
 use crate::lights::{Incident, Light};
 use crate::materials::{Material, Surface, dielectric_scatter};
@@ -130,7 +131,7 @@ impl<'a> Integrator<'a> {
                     scene,
                     visibility: self.visibility,
                     fog,
-                    ray: &ray,
+                    ray,
                     t_hit,
                 };
                 radiance += throughput * self.in_scattered(&medium, pixel, sampler, counts);
@@ -142,14 +143,12 @@ impl<'a> Integrator<'a> {
             if throughput == Rgb::ZERO {
                 return radiance;
             }
-            let p = ray.at(hit.t);
-            let geometric_normal = scene.geometry.normal(hit.primitive, p);
-            let front = geometric_normal.dot(ray.direction) < 0.0;
-            let normal = if front {
-                geometric_normal
-            } else {
-                -geometric_normal
-            };
+            let SurfaceHit {
+                p,
+                geometric_normal,
+                normal,
+                front,
+            } = SurfaceHit::new(scene, &ray, &hit);
             match *scene.material(hit.primitive) {
                 Material::Emissive {
                     radiance: le,
@@ -295,15 +294,57 @@ pub(crate) fn lambert_direct_lighting(
     sum * surface.diffuse_brdf()
 }
 
-/// A camera-ray segment in fog and what estimating its in-scattering
-/// needs: the scene, the render's visibility, the fog, and the segment
-/// `(0, t_hit)` of `ray`.
+/// Where a ray meets a surface: the point, the geometric normal, the
+/// normal turned to face the arriving ray, and whether the ray meets the
+/// front (the side the geometric normal points to).
+pub(crate) struct SurfaceHit {
+    pub p: Vec3,
+    pub geometric_normal: Vec3,
+    pub normal: Vec3,
+    pub front: bool,
+}
+
+impl SurfaceHit {
+    pub fn new(scene: &Scene, ray: &Ray, hit: &Hit) -> Self {
+        let p = ray.at(hit.t);
+        let geometric_normal = scene.geometry.normal(hit.primitive, p);
+        let front = geometric_normal.dot(ray.direction) < 0.0;
+        let normal = if front {
+            geometric_normal
+        } else {
+            -geometric_normal
+        };
+        Self {
+            p,
+            geometric_normal,
+            normal,
+            front,
+        }
+    }
+}
+
+/// A ray segment in fog and what estimating its in-scattering needs: the
+/// scene, the render's visibility, the fog, and the segment `(0, t_hit)`
+/// of `ray`.
+#[derive(Clone, Copy)]
 pub(crate) struct MediumQuery<'a> {
     pub scene: &'a Scene,
     pub visibility: &'a Visibility,
     pub fog: &'a Fog,
-    pub ray: &'a Ray,
+    pub ray: Ray,
     pub t_hit: f32,
+}
+
+impl MediumQuery<'_> {
+    /// The phase function for light arriving as `incident` and leaving
+    /// towards the ray's origin. Light travels along −direction before
+    /// scattering and along −view after: cos θ = (−direction)·(−view).
+    #[inline]
+    pub fn phase(&self, incident: &Incident) -> f32 {
+        self.fog
+            .phase
+            .eval(incident.direction.dot(self.ray.direction))
+    }
 }
 
 /// The point on `light` a receiver connects to: area lights need two
@@ -351,19 +392,32 @@ pub(crate) fn scattered_radiance(
     x: Vec3,
     counts: &mut RayCounts,
 ) -> Rgb {
-    let (fog, view) = (medium.fog, medium.ray.direction);
     let Some(incident) = medium.scene.lights[index].incident(x, y) else {
         return Rgb::ZERO;
     };
+    medium.fog.sigma_s() * scattered_light(medium, index, x, &incident, counts)
+}
+
+/// Eq. 1 without σs: light from light number `index` arriving at fog
+/// point `x` as `incident` and scattered towards the query's origin,
+/// `p(θ) · E · V · Tr_glass · exp(−σt·d)`; zero when occluded. Every
+/// integrator evaluates in-scattering through this function.
+#[inline]
+pub(crate) fn scattered_light(
+    medium: &MediumQuery,
+    index: usize,
+    x: Vec3,
+    incident: &Incident,
+    counts: &mut RayCounts,
+) -> Rgb {
     let glass = medium
         .visibility
-        .transmittance(medium.scene, index, x, None, &incident, counts);
+        .transmittance(medium.scene, index, x, None, incident, counts);
     if glass == Rgb::ZERO {
         return Rgb::ZERO;
     }
-    let fog_t = fog.transmittance_along(x, incident.direction, incident.distance);
-    // Light travels along −direction before scattering and along −view
-    // after: cos θ = (−direction)·(−view).
-    let phase = fog.phase.eval(incident.direction.dot(view));
-    fog.sigma_s() * incident.irradiance * glass * (phase * fog_t)
+    let fog_t = medium
+        .fog
+        .transmittance_along(x, incident.direction, incident.distance);
+    incident.irradiance * glass * (medium.phase(incident) * fog_t)
 }

@@ -34,7 +34,7 @@ pub(crate) fn in_scattered(
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
 ) -> Rgb {
-    let (scene, fog, ray) = (medium.scene, medium.fog, medium.ray);
+    let (scene, fog, ray) = (medium.scene, medium.fog, &medium.ray);
     let u_distance = sampler.next_1d();
     let Some((a, b)) = fog.interval(ray, 0.0, medium.t_hit) else {
         return Rgb::ZERO;

@@ -31,7 +31,9 @@
 //! when its reflected ray hits an emitter. The lobe is chosen with
 //! probability proportional to its reflectance's luminance.
 
-use super::{Integrator, lambert_direct_lighting, sample_light};
+use super::{
+    Integrator, MediumQuery, SurfaceHit, lambert_direct_lighting, sample_light, scattered_light,
+};
 use crate::color::{Rgb, luminance};
 use crate::lights::Light;
 use crate::materials::{Material, Surface, dielectric_scatter};
@@ -57,32 +59,22 @@ const MAX_PATH_EVENTS: u32 = 65_536;
 
 /// How the current path segment was sampled, for the MIS weight of the
 /// emitter it may hit.
-#[derive(Clone, Copy, Debug)]
-enum Arrival {
+#[derive(Clone, Copy)]
+enum Arrival<'a> {
     /// From the camera or a specular/glossy reflection: NEE cannot produce
     /// this direction, so emission counts in full.
     Unweighted,
     /// BSDF-sampled at surface point `from` with solid-angle density `pdf`.
     Sampled { from: Vec3, pdf: f32 },
-    /// Phase-sampled (density `pdf`) at the free-flight event at `t` on a
-    /// fog segment whose equiangular estimator took `samples` per light:
+    /// Phase-sampled (density `pdf`) at the free-flight event at `t` on
+    /// `segment`, whose equiangular estimator took `samples` per light:
     /// three strategies can produce the light it hits.
     Medium {
         pdf: f32,
-        segment: SegmentCopy,
+        segment: FogSegment<'a>,
         t: f32,
         samples: u32,
     },
-}
-
-/// What the MIS weight of an emitter hit needs of the fog segment the path
-/// last scattered on.
-#[derive(Clone, Copy, Debug)]
-struct SegmentCopy {
-    ray: Ray,
-    a: f32,
-    b: f32,
-    sigma_t: f32,
 }
 
 /// Radiance along a camera ray: one path sample.
@@ -98,12 +90,13 @@ pub(crate) fn radiance(
     let mut depth = 0u32;
     let mut crossings = 0u32;
     let mut arrival = Arrival::Unweighted;
+    let mut equiangular = EquiangularNee::with_capacity(scene.lights.len());
     loop {
         counts.camera += 1;
         let hit = scene.geometry.intersect(&ray, f32::INFINITY);
         let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
         if let Some(fog) = &scene.fog
-            && let Some(segment) = FogSegment::new(fog, &ray, t_hit)
+            && let Some(segment) = FogSegment::new(integrator, scene, fog, ray, t_hit)
         {
             let u_flight = sampler.next_1d();
             let max_events = integrator.max_depth.min(MAX_PATH_EVENTS);
@@ -114,9 +107,9 @@ pub(crate) fn radiance(
             } else {
                 1
             };
-            let equiangular = EquiangularNee::new(scene, &segment, samples, sampler);
+            equiangular.prepare(&segment, samples, sampler);
             if depth < max_events {
-                radiance += throughput * equiangular.estimate(integrator, scene, &segment, counts);
+                radiance += throughput * equiangular.estimate(&segment, counts);
             }
             if let Some(t) = segment.free_flight(u_flight) {
                 // A real scattering event in the fog.
@@ -126,26 +119,13 @@ pub(crate) fn radiance(
                 depth += 1;
                 throughput *= fog.albedo;
                 let x = ray.at(t);
-                let nee = medium_nee(
-                    integrator,
-                    scene,
-                    &segment,
-                    t,
-                    &equiangular,
-                    sampler,
-                    counts,
-                );
+                let nee = medium_nee(&segment, t, &equiangular, sampler, counts);
                 radiance += throughput * nee;
                 let (direction, pdf) = fog.phase.sample(ray.direction, sampler.next_2d());
                 // Phase sampling is exact: the weight p/pdf is 1.
                 arrival = Arrival::Medium {
                     pdf,
-                    segment: SegmentCopy {
-                        ray,
-                        a: segment.a,
-                        b: segment.b,
-                        sigma_t: fog.sigma_t,
-                    },
+                    segment,
                     t,
                     samples,
                 };
@@ -163,14 +143,12 @@ pub(crate) fn radiance(
         let Some(hit) = hit else {
             return radiance + throughput * scene.background;
         };
-        let p = ray.at(hit.t);
-        let geometric_normal = scene.geometry.normal(hit.primitive, p);
-        let front = geometric_normal.dot(ray.direction) < 0.0;
-        let normal = if front {
-            geometric_normal
-        } else {
-            -geometric_normal
-        };
+        let SurfaceHit {
+            p,
+            geometric_normal,
+            normal,
+            front,
+        } = SurfaceHit::new(scene, &ray, &hit);
         let surface = match *scene.material(hit.primitive) {
             Material::Emissive {
                 radiance: le,
@@ -262,30 +240,44 @@ pub(crate) fn radiance(
 }
 
 /// The part `[a, b]` of a path segment inside the fog.
+#[derive(Clone, Copy)]
 struct FogSegment<'a> {
-    fog: &'a Fog,
-    ray: &'a Ray,
+    medium: MediumQuery<'a>,
     a: f32,
     b: f32,
 }
 
 impl<'a> FogSegment<'a> {
-    fn new(fog: &'a Fog, ray: &'a Ray, t_hit: f32) -> Option<Self> {
-        let (a, b) = fog.interval(ray, 0.0, t_hit)?;
-        (fog.sigma_t > 0.0).then_some(Self { fog, ray, a, b })
+    fn new(
+        integrator: &Integrator<'a>,
+        scene: &'a Scene,
+        fog: &'a Fog,
+        ray: Ray,
+        t_hit: f32,
+    ) -> Option<Self> {
+        let (a, b) = fog.interval(&ray, 0.0, t_hit)?;
+        let medium = MediumQuery {
+            scene,
+            visibility: integrator.visibility,
+            fog,
+            ray,
+            t_hit,
+        };
+        (fog.sigma_t > 0.0).then_some(Self { medium, a, b })
     }
 
     /// Distance to a real scattering event, sampled with density
     /// [`FogSegment::flight_pdf`]; `None` if the flight leaves the segment
     /// (probability e^{−σt(b−a)}).
     fn free_flight(&self, u: f32) -> Option<f32> {
-        let t = self.a - (1.0 - u).ln() / self.fog.sigma_t;
+        let t = self.a - (1.0 - u).ln() / self.medium.fog.sigma_t;
         (t < self.b).then_some(t)
     }
 
     /// Density σt·e^{−σt(t−a)} of a free-flight event at `t`.
     fn flight_pdf(&self, t: f32) -> f32 {
-        self.fog.sigma_t * transmittance(self.fog.sigma_t, t - self.a)
+        let sigma_t = self.medium.fog.sigma_t;
+        sigma_t * transmittance(sigma_t, t - self.a)
     }
 }
 
@@ -300,6 +292,9 @@ impl<'a> FogSegment<'a> {
 /// density `n·p_e(t | y)/A`; NEE at a free-flight event `p_flight(t)·p_Ω·G`
 /// and a phase-sampled hit `p_flight(t)·p_phase·G`, with `G = cos θ_y/d²`
 /// turning solid angle into area.
+///
+/// One value serves a whole path: [`EquiangularNee::prepare`] refills it
+/// for each segment without allocating.
 struct EquiangularNee {
     lights: Vec<Option<SegmentLight>>,
     samples: u32,
@@ -315,11 +310,20 @@ struct SegmentLight {
 }
 
 impl EquiangularNee {
-    fn new(scene: &Scene, segment: &FogSegment, samples: u32, sampler: &mut PixelSampler) -> Self {
-        let lights = scene
-            .lights
-            .iter()
-            .map(|light| {
+    fn with_capacity(lights: usize) -> Self {
+        Self {
+            lights: Vec::with_capacity(lights),
+            samples: 0,
+        }
+    }
+
+    /// Sets up `samples` samples per light on `segment`.
+    fn prepare(&mut self, segment: &FogSegment, samples: u32, sampler: &mut PixelSampler) {
+        let ray = &segment.medium.ray;
+        self.samples = samples;
+        self.lights.clear();
+        self.lights
+            .extend(segment.medium.scene.lights.iter().map(|light| {
                 let u = sampler.next_1d();
                 let point = match light {
                     Light::Point(p) => p.position,
@@ -330,12 +334,10 @@ impl EquiangularNee {
                     }
                     Light::Directional(_) => return None,
                 };
-                let (ea, eb) = light.reach(segment.ray, segment.a, segment.b)?;
-                let sampler = EquiangularSampler::new(segment.ray, point, ea, eb)?;
+                let (ea, eb) = light.reach(ray, segment.a, segment.b)?;
+                let sampler = EquiangularSampler::new(ray, point, ea, eb)?;
                 Some(SegmentLight { sampler, u, point })
-            })
-            .collect();
-        Self { lights, samples }
+            }));
     }
 
     /// Density with which a point or spot light's samples land at `t`, all
@@ -352,40 +354,26 @@ impl EquiangularNee {
 
     /// In-scattered radiance from lights whose last scattering lies on the
     /// segment, relative to the segment's start.
-    fn estimate(
-        &self,
-        integrator: &Integrator,
-        scene: &Scene,
-        segment: &FogSegment,
-        counts: &mut RayCounts,
-    ) -> Rgb {
-        let fog = segment.fog;
+    fn estimate(&self, segment: &FogSegment, counts: &mut RayCounts) -> Rgb {
+        let medium = &segment.medium;
+        let fog = medium.fog;
+        let n = self.samples as f32;
         let mut sum = Rgb::ZERO;
         for (index, entry) in self.lights.iter().enumerate() {
             let Some(entry) = entry else { continue };
-            let light = &scene.lights[index];
+            let light = &medium.scene.lights[index];
             for k in 0..self.samples {
-                let (t, p_e) = entry
-                    .sampler
-                    .sample((k as f32 + entry.u) / self.samples as f32);
-                let x = segment.ray.at(t);
+                let (t, p_e) = entry.sampler.sample((k as f32 + entry.u) / n);
+                let x = medium.ray.at(t);
                 let Some(incident) = light.incident(x, Some(entry.point)) else {
                     continue;
                 };
-                let glass = integrator
-                    .visibility
-                    .transmittance(scene, index, x, None, &incident, counts);
-                if glass == Rgb::ZERO {
+                let light_in = scattered_light(medium, index, x, &incident, counts);
+                if light_in == Rgb::ZERO {
                     continue;
                 }
-                let phase = fog
-                    .phase
-                    .eval(incident.direction.dot(segment.ray.direction));
-                let fog_t = fog.transmittance_along(x, incident.direction, incident.distance);
-                let camera_t = transmittance(fog.sigma_t, t - segment.a);
                 let p_flight = segment.flight_pdf(t);
-                let n = self.samples as f32;
-                // f = T(a, t)·σs·p·E·V·T_light over the summed densities.
+                // The integrand T(a, t)·σs·(eq. 1) over the summed densities.
                 let denominator = match light {
                     Light::Quad(q) => {
                         // E = L·A·G (area sampling), so the (t, y)
@@ -393,14 +381,12 @@ impl EquiangularNee {
                         let g = q.quad.normal.dot(incident.direction).abs()
                             / (incident.distance * incident.distance);
                         let p_omega = q.pdf(x, entry.point, incident.direction);
-                        n * p_e + q.quad.area() * p_flight * g * (p_omega + phase)
+                        n * p_e + q.quad.area() * p_flight * g * (p_omega + medium.phase(&incident))
                     }
                     _ => n * p_e + p_flight,
                 };
-                sum += fog.sigma_s()
-                    * incident.irradiance
-                    * glass
-                    * (phase * fog_t * camera_t / denominator);
+                let camera_t = transmittance(fog.sigma_t, t - segment.a);
+                sum += fog.sigma_s() * light_in * (camera_t / denominator);
             }
         }
         sum
@@ -411,18 +397,18 @@ impl EquiangularNee {
 /// to the free-flight event's, in solid-angle terms:
 /// `q = (n·p_e(t | y)/A) / (p_flight(t)·G)`. Added to `p_Ω + p_phase` it
 /// completes the three-way balance heuristic at a fog event.
-fn segment_term(segment: &SegmentCopy, t: f32, samples: u32, light: &Light, y: Vec3) -> f32 {
+fn segment_term(segment: &FogSegment, t: f32, samples: u32, light: &Light, y: Vec3) -> f32 {
     let Light::Quad(q) = light else {
         return 0.0;
     };
-    let Some(eq) = EquiangularSampler::new(&segment.ray, y, segment.a, segment.b) else {
+    let ray = &segment.medium.ray;
+    let Some(eq) = EquiangularSampler::new(ray, y, segment.a, segment.b) else {
         return 0.0;
     };
-    let x = segment.ray.at(t);
-    let d = y - x;
+    let d = y - ray.at(t);
     let d2 = d.length_squared();
     let g = q.quad.normal.dot(d).abs() / (d2 * d2.sqrt());
-    let p_flight = segment.sigma_t * transmittance(segment.sigma_t, t - segment.a);
+    let p_flight = segment.flight_pdf(t);
     if !(g > 0.0 && p_flight > 0.0) {
         return 0.0;
     }
@@ -477,7 +463,7 @@ fn emission_weight(
             Some(index),
         ) => {
             let light = &scene.lights[index];
-            let p_light = light_pdf(light, segment.ray.at(t), p, direction);
+            let p_light = light_pdf(light, segment.medium.ray.at(t), p, direction);
             let q = segment_term(&segment, t, samples, light, p);
             pdf / (pdf + p_light + q)
         }
@@ -485,60 +471,42 @@ fn emission_weight(
     }
 }
 
-/// NEE at the free-flight event at `t` on `segment`: the
-/// in-scattered radiance `Σ p(θ)·E·V·Tr_glass·T_fog`, MIS-weighted for
-/// area lights (against phase sampling) and for point and spot lights
-/// (against the segment's equiangular samples). The path's throughput
-/// already holds the albedo.
+/// NEE at the free-flight event at `t` on `segment`: the in-scattered
+/// radiance of eq. 1 without σs (the path's throughput already holds the
+/// albedo), MIS-weighted for area lights (against phase sampling and the
+/// segment's equiangular samples) and for point and spot lights (against
+/// the equiangular samples).
 fn medium_nee(
-    integrator: &Integrator,
-    scene: &Scene,
     segment: &FogSegment,
     t: f32,
     equiangular: &EquiangularNee,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
 ) -> Rgb {
-    let (fog, x, direction) = (segment.fog, segment.ray.at(t), segment.ray.direction);
+    let medium = &segment.medium;
+    let x = medium.ray.at(t);
     let mut sum = Rgb::ZERO;
-    for (index, light) in scene.lights.iter().enumerate() {
+    for (index, light) in medium.scene.lights.iter().enumerate() {
         let Some((incident, p_light)) = sample_light(light, x, sampler) else {
             continue;
         };
-        let phase = fog.phase.eval(incident.direction.dot(direction));
         let weight = match p_light {
-            // Area lights: against phase sampling and the segment's
-            // equiangular samples.
             Some(p_light) => {
                 let y = x + incident.direction * incident.distance;
-                let copy = SegmentCopy {
-                    ray: *segment.ray,
-                    a: segment.a,
-                    b: segment.b,
-                    sigma_t: fog.sigma_t,
-                };
                 let q = if equiangular.covers(index) {
-                    segment_term(&copy, t, equiangular.samples, light, y)
+                    segment_term(segment, t, equiangular.samples, light, y)
                 } else {
                     0.0
                 };
-                p_light / (p_light + phase + q)
+                p_light / (p_light + medium.phase(&incident) + q)
             }
-            // Point and spot lights: against the segment's equiangular samples.
             None if equiangular.covers(index) => {
                 let p_flight = segment.flight_pdf(t);
                 p_flight / (p_flight + equiangular.delta_pdf(index, t))
             }
             None => 1.0,
         };
-        let glass = integrator
-            .visibility
-            .transmittance(scene, index, x, None, &incident, counts);
-        if glass == Rgb::ZERO {
-            continue;
-        }
-        let fog_t = fog.transmittance_along(x, incident.direction, incident.distance);
-        sum += incident.irradiance * glass * (phase * fog_t * weight);
+        sum += scattered_light(medium, index, x, &incident, counts) * weight;
     }
     sum
 }
