@@ -103,6 +103,10 @@ pub enum RenderError {
         "fog albedo {0} exceeds 1 in some channel: that is not physical, and the `{1}` integrator only accepts physical media (the `march` integrator accepts it)"
     )]
     NonPhysicalAlbedo(String, &'static str),
+    #[error(
+        "the scene has {0} volume(s) ([[media]]), which only the `volpath` integrator renders; `{1}` estimates homogeneous [fog] only: use --integrator volpath"
+    )]
+    VolumesNeedVolpath(usize, &'static str),
     #[error("could not start the worker threads: {0}")]
     ThreadPool(String),
 }
@@ -149,6 +153,12 @@ impl RenderSettings {
         {
             return Err(RenderError::NonPhysicalAlbedo(
                 format!("{:?}", fog.albedo.to_array()),
+                self.integrator.name(),
+            ));
+        }
+        if !scene.volumes.is_empty() && self.integrator != IntegratorKind::Volpath {
+            return Err(RenderError::VolumesNeedVolpath(
+                scene.volumes.len(),
                 self.integrator.name(),
             ));
         }

@@ -15,6 +15,7 @@
 
 use super::{MediumQuery, PixelPosition, light_point, scattered_radiance};
 use crate::color::Rgb;
+use crate::media::tracking::VolumeTracker;
 use crate::media::transmittance;
 use crate::sampler::PixelSampler;
 use crate::visibility::RayCounts;
@@ -56,6 +57,7 @@ pub(crate) fn in_scattered(
     (k, count): (u32, u32),
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
+    tracker: &mut VolumeTracker,
 ) -> Rgb {
     let (scene, fog, ray) = (medium.scene, medium.fog, &medium.ray);
     let jitter = (k as f32 + sampler.next_1d()) / count as f32;
@@ -88,7 +90,7 @@ pub(crate) fn in_scattered(
         let camera_t = transmittance(fog.sigma_t, t - a);
         for (light_index, light) in scene.lights.iter().enumerate() {
             let y = light_point(light, sampler);
-            sum += camera_t * scattered_radiance(medium, light_index, y, x, counts);
+            sum += camera_t * scattered_radiance(medium, light_index, y, x, counts, tracker);
         }
     }
     sum * step

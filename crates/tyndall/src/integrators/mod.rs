@@ -25,6 +25,7 @@ use crate::color::Rgb;
 use crate::lights::{Incident, Light};
 use crate::materials::{Material, Surface, dielectric_scatter};
 use crate::media::Fog;
+use crate::media::tracking::VolumeTracker;
 use crate::ray::{Ray, offset_origin};
 use crate::render::RenderSettings;
 use crate::sampler::PixelSampler;
@@ -122,11 +123,15 @@ impl<'a> Integrator<'a> {
         let mut radiance = Rgb::ZERO;
         let mut throughput = Rgb::ONE;
         let (mut bounces, mut crossings) = (0u32, 0u32);
+        let mut solids = SolidDepth::default();
+        let mut tracker = VolumeTracker::new(sampler.stream(TRACKING_STREAM));
         loop {
             counts.camera += 1;
             let hit = scene.geometry.intersect(&ray, f32::INFINITY);
             let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
-            if let Some(fog) = &scene.fog {
+            if let Some(fog) = &scene.fog
+                && !solids.inside()
+            {
                 let medium = MediumQuery {
                     scene,
                     visibility: self.visibility,
@@ -134,7 +139,8 @@ impl<'a> Integrator<'a> {
                     ray,
                     t_hit,
                 };
-                radiance += throughput * self.in_scattered(&medium, pixel, sampler, counts);
+                radiance +=
+                    throughput * self.in_scattered(&medium, pixel, sampler, counts, &mut tracker);
                 throughput *= fog.transmittance(&ray, 0.0, t_hit);
             }
             let Some(hit) = hit else {
@@ -178,6 +184,7 @@ impl<'a> Integrator<'a> {
                     bounces += 1;
                     let direction =
                         dielectric_scatter(ray.direction, geometric_normal, ior, sampler.next_1d());
+                    solids.cross(ray.direction, direction, geometric_normal);
                     ray = Ray {
                         origin: offset_origin(p, geometric_normal, direction),
                         direction,
@@ -186,12 +193,28 @@ impl<'a> Integrator<'a> {
                 Material::Glass(glass) => {
                     let surface = Surface::diffuse(glass.color);
                     radiance += throughput
-                        * self.direct_lighting(scene, &surface, p, normal, sampler, counts);
+                        * self.direct_lighting(
+                            scene,
+                            &surface,
+                            p,
+                            normal,
+                            sampler,
+                            counts,
+                            &mut tracker,
+                        );
                     return radiance;
                 }
                 Material::Opaque(surface) => {
                     radiance += throughput
-                        * self.direct_lighting(scene, &surface, p, normal, sampler, counts);
+                        * self.direct_lighting(
+                            scene,
+                            &surface,
+                            p,
+                            normal,
+                            sampler,
+                            counts,
+                            &mut tracker,
+                        );
                     if !surface.has_specular() || bounces >= self.max_bounces {
                         return radiance;
                     }
@@ -218,19 +241,21 @@ impl<'a> Integrator<'a> {
         pixel: PixelPosition,
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
+        tracker: &mut VolumeTracker,
     ) -> Rgb {
         // `volpath` samples its own free flights and never gets here.
         if self.kind == IntegratorKind::March {
             let stratum = march::interleaved_stratum(pixel, self.interleave);
-            march::in_scattered(medium, self.step, stratum, sampler, counts)
+            march::in_scattered(medium, self.step, stratum, sampler, counts, tracker)
         } else {
-            single::in_scattered(medium, self.volume_samples, sampler, counts)
+            single::in_scattered(medium, self.volume_samples, sampler, counts, tracker)
         }
     }
 
     /// Reflected radiance from direct lighting at surface point `p` with
     /// unit normal `normal` facing the viewer: `Σ ρ/π · E · cos θ · V ·
     /// Tr_glass · T_fog`, one sample per light.
+    #[allow(clippy::too_many_arguments)]
     fn direct_lighting(
         &self,
         scene: &Scene,
@@ -239,6 +264,7 @@ impl<'a> Integrator<'a> {
         normal: Vec3,
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
+        tracker: &mut VolumeTracker,
     ) -> Rgb {
         lambert_direct_lighting(
             scene,
@@ -248,6 +274,7 @@ impl<'a> Integrator<'a> {
             normal,
             sampler,
             counts,
+            tracker,
             |_, _| 1.0,
         )
     }
@@ -255,7 +282,7 @@ impl<'a> Integrator<'a> {
 
 /// Direct lighting of the Lambertian lobe of `surface` at point `p` with
 /// unit normal `normal` facing the viewer, one sample per light:
-/// `Σ ρ/π · E · cos θ · V · Tr_glass · T_fog · w`, where
+/// `Σ ρ/π · E · cos θ · V · Tr_glass · T_media · w`, where
 /// `w = weight(p_light, cos θ)` is the caller's MIS weight given the
 /// light sample's solid-angle density (`None` for delta lights).
 #[allow(clippy::too_many_arguments)]
@@ -267,6 +294,7 @@ pub(crate) fn lambert_direct_lighting(
     normal: Vec3,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
+    tracker: &mut VolumeTracker,
     weight: impl Fn(Option<f32>, f32) -> f32,
 ) -> Rgb {
     if surface.diffuse == Rgb::ZERO {
@@ -281,17 +309,47 @@ pub(crate) fn lambert_direct_lighting(
         if cos <= 0.0 {
             continue;
         }
-        let origin = offset_origin(p, normal, incident.direction);
-        let glass = visibility.transmittance(scene, index, origin, Some(normal), &incident, counts);
-        if glass == Rgb::ZERO {
-            continue;
-        }
-        let fog_t = scene.fog.as_ref().map_or(1.0, |fog| {
-            fog.transmittance_along(p, incident.direction, incident.distance)
-        });
-        sum += incident.irradiance * glass * (cos * fog_t * weight(p_light, cos));
+        let arriving = light_arriving(
+            scene,
+            visibility,
+            index,
+            p,
+            Some(normal),
+            &incident,
+            counts,
+            tracker,
+        );
+        sum += arriving * (cos * weight(p_light, cos));
     }
     sum * surface.diffuse_brdf()
+}
+
+/// The [`PixelSampler::stream`] purpose of a path's tracking numbers.
+const TRACKING_STREAM: u64 = 1;
+
+/// How many solid dielectrics a path is inside. A solid displaces the
+/// media: no fog or volume exists inside glass, so segments inside one
+/// are not in-scattering (where regions and solids overlap, the solid
+/// wins).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct SolidDepth(u32);
+
+impl SolidDepth {
+    pub fn inside(self) -> bool {
+        self.0 > 0
+    }
+
+    /// Records a scattering at a dielectric with geometric normal `n`
+    /// from `incoming` to `outgoing`: a transmission into its front
+    /// enters it, one out of its back leaves it.
+    pub fn cross(&mut self, incoming: Vec3, outgoing: Vec3, n: Vec3) {
+        let (din, dout) = (incoming.dot(n), outgoing.dot(n));
+        if din < 0.0 && dout < 0.0 {
+            self.0 += 1;
+        } else if din > 0.0 && dout > 0.0 {
+            self.0 = self.0.saturating_sub(1);
+        }
+    }
 }
 
 /// Where a ray meets a surface: the point, the geometric normal, the
@@ -391,16 +449,17 @@ pub(crate) fn scattered_radiance(
     y: Option<Vec3>,
     x: Vec3,
     counts: &mut RayCounts,
+    tracker: &mut VolumeTracker,
 ) -> Rgb {
     let Some(incident) = medium.scene.lights[index].incident(x, y) else {
         return Rgb::ZERO;
     };
-    medium.fog.sigma_s() * scattered_light(medium, index, x, &incident, counts)
+    medium.fog.sigma_s() * scattered_light(medium, index, x, &incident, counts, tracker)
 }
 
 /// Eq. 1 without σs: light from light number `index` arriving at fog
 /// point `x` as `incident` and scattered towards the query's origin,
-/// `p(θ) · E · V · Tr_glass · exp(−σt·d)`; zero when occluded. Every
+/// `p(θ) · E · V · Tr_glass · T_media`; zero when occluded. Every
 /// integrator evaluates in-scattering through this function.
 #[inline]
 pub(crate) fn scattered_light(
@@ -409,15 +468,53 @@ pub(crate) fn scattered_light(
     x: Vec3,
     incident: &Incident,
     counts: &mut RayCounts,
+    tracker: &mut VolumeTracker,
 ) -> Rgb {
-    let glass = medium
-        .visibility
-        .transmittance(medium.scene, index, x, None, incident, counts);
+    let arriving = light_arriving(
+        medium.scene,
+        medium.visibility,
+        index,
+        x,
+        None,
+        incident,
+        counts,
+        tracker,
+    );
+    arriving * medium.phase(incident)
+}
+
+/// Light from light number `index` arriving at `x` as `incident`, after
+/// everything on its way: `E · V · Tr_glass · T_fog · T_volumes` (the
+/// fog's in closed form, the volumes' by ratio tracking). `normal` is the
+/// receiving surface's, facing the light's side (`None` in a medium): the
+/// shadow ray starts just off it.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub(crate) fn light_arriving(
+    scene: &Scene,
+    visibility: &Visibility,
+    index: usize,
+    x: Vec3,
+    normal: Option<Vec3>,
+    incident: &Incident,
+    counts: &mut RayCounts,
+    tracker: &mut VolumeTracker,
+) -> Rgb {
+    let origin = normal.map_or(x, |n| offset_origin(x, n, incident.direction));
+    let glass = visibility.transmittance(scene, index, origin, normal, incident, counts);
     if glass == Rgb::ZERO {
         return Rgb::ZERO;
     }
-    let fog_t = medium
-        .fog
-        .transmittance_along(x, incident.direction, incident.distance);
-    incident.irradiance * glass * (medium.phase(incident) * fog_t)
+    let fog_t = scene.fog.as_ref().map_or(1.0, |fog| {
+        fog.transmittance_along(x, incident.direction, incident.distance)
+    });
+    if fog_t == 0.0 {
+        return Rgb::ZERO;
+    }
+    let to_light = Ray {
+        origin,
+        direction: incident.direction,
+    };
+    let volumes_t = tracker.transmittance(&scene.volumes, &to_light, 0.0, incident.distance);
+    incident.irradiance * glass * volumes_t * fog_t
 }

@@ -21,6 +21,7 @@
 
 use super::{MediumQuery, light_point, scattered_radiance};
 use crate::color::Rgb;
+use crate::media::tracking::VolumeTracker;
 use crate::media::transmittance;
 use crate::sampler::PixelSampler;
 use crate::sampling::{EquiangularSampler, ExponentialSampler};
@@ -33,6 +34,7 @@ pub(crate) fn in_scattered(
     samples_per_light: u32,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
+    tracker: &mut VolumeTracker,
 ) -> Rgb {
     let (scene, fog, ray) = (medium.scene, medium.fog, &medium.ray);
     let u_distance = sampler.next_1d();
@@ -60,14 +62,14 @@ pub(crate) fn in_scattered(
         if let Some(eq) = &equiangular {
             for k in 0..samples_per_light {
                 let (t, pdf_e) = eq.sample((k as f32 + u_equiangular) / n);
-                let f = scattered_radiance(medium, index, y, ray.at(t), counts);
+                let f = scattered_radiance(medium, index, y, ray.at(t), counts, tracker);
                 if f != Rgb::ZERO {
                     sum += f * (camera_t(t) / (n * pdf_e + distance.pdf(t)));
                 }
             }
         }
         let pdf_e = equiangular.map_or(0.0, |eq| eq.pdf(t_d));
-        let f = scattered_radiance(medium, index, y, x_d, counts);
+        let f = scattered_radiance(medium, index, y, x_d, counts, tracker);
         if f != Rgb::ZERO {
             sum += f * (camera_t(t_d) / (pdf_d + n * pdf_e));
         }

@@ -32,17 +32,21 @@
 //! probability proportional to its reflectance's luminance.
 
 use super::{
-    Integrator, MediumQuery, SurfaceHit, lambert_direct_lighting, sample_light, scattered_light,
+    Integrator, MediumQuery, SolidDepth, SurfaceHit, TRACKING_STREAM, lambert_direct_lighting,
+    light_arriving, sample_light, scattered_light,
 };
 use crate::color::{Rgb, luminance};
 use crate::lights::Light;
 use crate::materials::{Material, Surface, dielectric_scatter};
+use crate::media::tracking::{Collision, VolumeTracker};
 use crate::media::{Fog, transmittance};
+use crate::phase::PhaseFunction;
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
 use crate::sampling::{EquiangularSampler, cosine_hemisphere};
 use crate::scene::Scene;
 use crate::visibility::RayCounts;
+use crate::visibility::Visibility;
 use glam::Vec3;
 use std::f32::consts::FRAC_1_PI;
 
@@ -89,17 +93,22 @@ pub(crate) fn radiance(
     let mut throughput = Rgb::ONE;
     let mut depth = 0u32;
     let mut crossings = 0u32;
+    let mut solids = SolidDepth::default();
     let mut arrival = Arrival::Unweighted;
     let mut equiangular = EquiangularNee::with_capacity(scene.lights.len());
+    let mut tracker = VolumeTracker::new(sampler.stream(TRACKING_STREAM));
+    let max_events = integrator.max_depth.min(MAX_PATH_EVENTS);
     loop {
         counts.camera += 1;
         let hit = scene.geometry.intersect(&ray, f32::INFINITY);
         let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
+        // The fog's free-flight event, if one comes before the surface.
+        let mut fog_event = None;
         if let Some(fog) = &scene.fog
+            && !solids.inside()
             && let Some(segment) = FogSegment::new(integrator, scene, fog, ray, t_hit)
         {
             let u_flight = sampler.next_1d();
-            let max_events = integrator.max_depth.min(MAX_PATH_EVENTS);
             // Point and spot lights: equiangular samples along the whole
             // segment, for light whose last scattering is on it.
             let samples = if depth == 0 {
@@ -109,35 +118,72 @@ pub(crate) fn radiance(
             };
             equiangular.prepare(&segment, samples, sampler);
             if depth < max_events {
-                radiance += throughput * equiangular.estimate(&segment, counts);
+                radiance += throughput * equiangular.estimate(&segment, counts, &mut tracker);
             }
-            if let Some(t) = segment.free_flight(u_flight) {
-                // A real scattering event in the fog.
-                if depth >= max_events {
-                    return radiance;
+            fog_event = segment.free_flight(u_flight).map(|t| (segment, t, samples));
+        }
+        // The volumes' first collision before the fog's event or the
+        // surface: the first of independent events is the nearest.
+        if !solids.inside() {
+            let t_end = fog_event.map_or(t_hit, |(_, t, _)| t);
+            match tracker.sample_collision(&scene.volumes, &ray, 0.0, t_end, &mut throughput) {
+                Collision::Escaped => {}
+                Collision::Absorbed => return radiance,
+                Collision::Scatter { t, volume } => {
+                    if depth >= max_events {
+                        return radiance;
+                    }
+                    depth += 1;
+                    let x = ray.at(t);
+                    let phase = &scene.volumes[volume].phase;
+                    let medium = PathVertex {
+                        scene,
+                        visibility: integrator.visibility,
+                        x,
+                        direction: ray.direction,
+                        phase,
+                    };
+                    radiance += throughput * medium.nee(sampler, counts, &mut tracker);
+                    let (direction, pdf) = phase.sample(ray.direction, sampler.next_2d());
+                    arrival = Arrival::Sampled { from: x, pdf };
+                    ray = Ray {
+                        origin: x,
+                        direction,
+                    };
+                    if !survives_roulette(&mut throughput, depth, sampler) {
+                        return radiance;
+                    }
+                    continue;
                 }
-                depth += 1;
-                throughput *= fog.albedo;
-                let x = ray.at(t);
-                let nee = medium_nee(&segment, t, &equiangular, sampler, counts);
-                radiance += throughput * nee;
-                let (direction, pdf) = fog.phase.sample(ray.direction, sampler.next_2d());
-                // Phase sampling is exact: the weight p/pdf is 1.
-                arrival = Arrival::Medium {
-                    pdf,
-                    segment,
-                    t,
-                    samples,
-                };
-                ray = Ray {
-                    origin: x,
-                    direction,
-                };
-                if !survives_roulette(&mut throughput, depth, sampler) {
-                    return radiance;
-                }
-                continue;
             }
+        }
+        if let Some((segment, t, samples)) = fog_event {
+            // A real scattering event in the fog.
+            if depth >= max_events {
+                return radiance;
+            }
+            depth += 1;
+            let fog = segment.medium.fog;
+            throughput *= fog.albedo;
+            let x = ray.at(t);
+            let nee = medium_nee(&segment, t, &equiangular, sampler, counts, &mut tracker);
+            radiance += throughput * nee;
+            let (direction, pdf) = fog.phase.sample(ray.direction, sampler.next_2d());
+            // Phase sampling is exact: the weight p/pdf is 1.
+            arrival = Arrival::Medium {
+                pdf,
+                segment,
+                t,
+                samples,
+            };
+            ray = Ray {
+                origin: x,
+                direction,
+            };
+            if !survives_roulette(&mut throughput, depth, sampler) {
+                return radiance;
+            }
+            continue;
         }
         // No event before the surface: transmittance over its probability is 1.
         let Some(hit) = hit else {
@@ -171,12 +217,13 @@ pub(crate) fn radiance(
             }
             Material::Dielectric { ior } => {
                 // A specular event: NEE cannot reach through it.
-                if depth >= integrator.max_depth.min(MAX_PATH_EVENTS) {
+                if depth >= max_events {
                     return radiance;
                 }
                 depth += 1;
                 let direction =
                     dielectric_scatter(ray.direction, geometric_normal, ior, sampler.next_1d());
+                solids.cross(ray.direction, direction, geometric_normal);
                 arrival = Arrival::Unweighted;
                 ray = Ray {
                     origin: offset_origin(p, geometric_normal, direction),
@@ -190,7 +237,7 @@ pub(crate) fn radiance(
             Material::Glass(glass) => Surface::diffuse(glass.color),
             Material::Opaque(surface) => surface,
         };
-        if depth >= integrator.max_depth.min(MAX_PATH_EVENTS) {
+        if depth >= max_events {
             return radiance;
         }
         depth += 1;
@@ -209,7 +256,17 @@ pub(crate) fn radiance(
         };
         let visibility = integrator.visibility;
         radiance += throughput
-            * lambert_direct_lighting(scene, visibility, &surface, p, normal, sampler, counts, mis);
+            * lambert_direct_lighting(
+                scene,
+                visibility,
+                &surface,
+                p,
+                normal,
+                sampler,
+                counts,
+                &mut tracker,
+                mis,
+            );
         let choice = sampler.next_1d();
         let u = sampler.next_2d();
         let direction = if choice < p_diffuse {
@@ -354,7 +411,12 @@ impl EquiangularNee {
 
     /// In-scattered radiance from lights whose last scattering lies on the
     /// segment, relative to the segment's start.
-    fn estimate(&self, segment: &FogSegment, counts: &mut RayCounts) -> Rgb {
+    fn estimate(
+        &self,
+        segment: &FogSegment,
+        counts: &mut RayCounts,
+        tracker: &mut VolumeTracker,
+    ) -> Rgb {
         let medium = &segment.medium;
         let fog = medium.fog;
         let n = self.samples as f32;
@@ -368,7 +430,7 @@ impl EquiangularNee {
                 let Some(incident) = light.incident(x, Some(entry.point)) else {
                     continue;
                 };
-                let light_in = scattered_light(medium, index, x, &incident, counts);
+                let light_in = scattered_light(medium, index, x, &incident, counts, tracker);
                 if light_in == Rgb::ZERO {
                     continue;
                 }
@@ -385,8 +447,9 @@ impl EquiangularNee {
                     }
                     _ => n * p_e + p_flight,
                 };
-                let camera_t = transmittance(fog.sigma_t, t - segment.a);
-                sum += fog.sigma_s() * light_in * (camera_t / denominator);
+                let camera_t = transmittance(fog.sigma_t, t - segment.a)
+                    * tracker.transmittance(&medium.scene.volumes, &medium.ray, 0.0, t);
+                sum += fog.sigma_s() * light_in * camera_t / denominator;
             }
         }
         sum
@@ -482,6 +545,7 @@ fn medium_nee(
     equiangular: &EquiangularNee,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
+    tracker: &mut VolumeTracker,
 ) -> Rgb {
     let medium = &segment.medium;
     let x = medium.ray.at(t);
@@ -506,7 +570,50 @@ fn medium_nee(
             }
             None => 1.0,
         };
-        sum += scattered_light(medium, index, x, &incident, counts) * weight;
+        sum += scattered_light(medium, index, x, &incident, counts, tracker) * weight;
     }
     sum
+}
+
+/// A real scattering event in a volume: where, the direction the path
+/// arrived along, and the volume's phase function.
+struct PathVertex<'a> {
+    scene: &'a Scene,
+    visibility: &'a Visibility,
+    x: Vec3,
+    direction: Vec3,
+    phase: &'a PhaseFunction,
+}
+
+impl PathVertex<'_> {
+    /// NEE to every light: `Σ p(θ)·E·V·Tr·w`, where `w` is the balance
+    /// heuristic against phase sampling for area lights (delta lights
+    /// have only this strategy). The path's throughput holds σs.
+    fn nee(
+        &self,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+        tracker: &mut VolumeTracker,
+    ) -> Rgb {
+        let mut sum = Rgb::ZERO;
+        for (index, light) in self.scene.lights.iter().enumerate() {
+            let Some((incident, p_light)) = sample_light(light, self.x, sampler) else {
+                continue;
+            };
+            let phase = self.phase.eval(incident.direction.dot(self.direction));
+            let weight = p_light.map_or(1.0, |p_light| p_light / (p_light + phase));
+            let arriving = light_arriving(
+                self.scene,
+                self.visibility,
+                index,
+                self.x,
+                None,
+                &incident,
+                counts,
+                tracker,
+            );
+            sum += arriving * (phase * weight);
+        }
+        sum
+    }
 }

@@ -19,6 +19,7 @@ use crate::glass::GlassModel;
 use crate::lights::{Light, QuadLight};
 use crate::materials::{Material, MaterialId};
 use crate::media::Fog;
+use crate::media::volume::Volume;
 use crate::render::RenderSettings;
 use crate::shapes::{Quad, Shape};
 use std::path::PathBuf;
@@ -39,6 +40,9 @@ pub struct Scene {
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     pub fog: Option<Fog>,
+    /// General media (RGB, non-uniform, mesh-bounded); only `volpath`
+    /// renders them.
+    pub volumes: Vec<Volume>,
     /// Radiance of rays that leave the scene (linear RGB).
     pub background: Rgb,
     pub glass: GlassSettings,
@@ -75,6 +79,7 @@ pub struct SceneDescription {
 pub struct SceneBuilder {
     pub camera: CameraSpec,
     pub fog: Option<Fog>,
+    pub volumes: Vec<Volume>,
     pub background: Rgb,
     pub glass: GlassSettings,
     materials: Vec<Material>,
@@ -88,6 +93,7 @@ impl SceneBuilder {
         Self {
             camera,
             fog: None,
+            volumes: Vec::new(),
             background: Rgb::ZERO,
             glass: GlassSettings::default(),
             area_lights: Vec::new(),
@@ -138,6 +144,7 @@ impl SceneBuilder {
             materials: self.materials,
             lights: self.lights,
             fog: self.fog,
+            volumes: self.volumes,
             background: self.background,
             glass: self.glass,
             // Pushed in primitive order, so already sorted.
@@ -190,16 +197,21 @@ pub(crate) fn check_lighting(builder: &SceneBuilder, warnings: &mut Vec<String>)
     if builder.lights().is_empty() {
         warnings.push("the scene has no lights: only emissive surfaces will be visible".into());
     }
-    if let Some(fog) = &builder.fog
-        && fog.bounds.is_none()
-        && fog.sigma_t > 0.0
+    let unbounded_fog = builder
+        .fog
+        .is_some_and(|fog| fog.bounds.is_none() && fog.sigma_t > 0.0);
+    let unbounded_volume = builder
+        .volumes
+        .iter()
+        .any(|v| v.is_unbounded() && v.max_extinction() > 0.0);
+    if (unbounded_fog || unbounded_volume)
         && builder
             .lights()
             .iter()
             .any(|l| matches!(l, Light::Directional(_)))
     {
         warnings.push(
-            "a directional light shines into fog that fills all space: its light is fully extinguished before it arrives; bound the fog with a box"
+            "a directional light shines into fog that fills all space: its light is fully extinguished before it arrives; bound the medium with a box"
                 .into(),
         );
     }

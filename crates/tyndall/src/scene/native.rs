@@ -13,9 +13,13 @@ use crate::integrators::IntegratorKind;
 use crate::lights::{DirectionalLight, Light, PointLight, SpotLight, SpotProfile};
 use crate::materials::{Material, MaterialId, Surface};
 use crate::media::Fog;
+use crate::media::grid::VoxelGrid;
+use crate::media::noise::SmokeNoise;
+use crate::media::tracking::MAX_VOLUMES;
+use crate::media::volume::{Density, MeshRegion, Volume, VolumeRegion};
 use crate::phase::PhaseFunction;
 use crate::render::RenderSettings;
-use crate::shapes::{Bounds, Quad, Shape, Sphere, box_faces};
+use crate::shapes::{Bounds, Quad, Shape, Sphere, Triangle, box_faces};
 use crate::visibility::{DEFAULT_MAP_RESOLUTION, VisibilityMode};
 use glam::Vec3;
 use serde::Deserialize;
@@ -41,6 +45,29 @@ struct SceneFile {
     shapes: Vec<Spanned<ShapeDesc>>,
     #[serde(default)]
     lights: Vec<Spanned<LightDesc>>,
+    #[serde(default)]
+    media: Vec<Spanned<MediumDesc>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MediumDesc {
+    sigma_t: ColorValue,
+    albedo: ColorValue,
+    #[serde(default)]
+    g: f32,
+    #[serde(rename = "box")]
+    bounds: Option<BoxDesc>,
+    mesh: Option<String>,
+    translate: Option<V3>,
+    scale: Option<ColorValue>,
+    rotate_deg: Option<V3>,
+    density: Option<String>,
+    file: Option<String>,
+    frequency: Option<f32>,
+    octaves: Option<u32>,
+    bias: Option<f32>,
+    seed: Option<u32>,
 }
 
 #[derive(Deserialize)]
@@ -464,6 +491,17 @@ impl Loader<'_> {
         for light in &file.lights {
             self.light(light, &mut builder)?;
         }
+        for (i, medium) in file.media.iter().enumerate() {
+            if i == MAX_VOLUMES {
+                return Err(self.err(
+                    &medium.span(),
+                    "sigma_t",
+                    format!("a scene may hold at most {MAX_VOLUMES} media"),
+                ));
+            }
+            let volume = self.medium(medium)?;
+            builder.volumes.push(volume);
+        }
         super::check_lighting(&builder, &mut self.warnings);
         Ok(SceneDescription {
             scene: builder.build(),
@@ -825,40 +863,177 @@ impl Loader<'_> {
                 rotate_deg,
             }) => {
                 let m = self.material_id(&span, material, ids)?;
-                let transform = MeshTransform {
-                    translate: self.vec3(&span, "translate", translate.unwrap_or([0.0; 3]))?,
-                    scale: match scale {
-                        Some(s) => {
-                            let v = self.vec3(&span, "scale", s.0)?;
-                            if v.cmpeq(Vec3::ZERO).any() {
-                                return Err(self.err(
-                                    &span,
-                                    "scale",
-                                    "`scale` must be non-zero on every axis",
-                                ));
-                            }
-                            v
-                        }
-                        None => Vec3::ONE,
-                    },
-                    rotate_deg: self.vec3(&span, "rotate_deg", rotate_deg.unwrap_or([0.0; 3]))?,
-                };
-                let path = self.relative(file);
-                let triangles =
-                    load_obj_mesh(&path, &transform).map_err(|m| self.err(&span, "file", m))?;
-                if triangles.skipped_degenerate > 0 {
-                    self.warnings.push(format!(
-                        "{}: skipped {} degenerate triangles",
-                        path.display(),
-                        triangles.skipped_degenerate
-                    ));
-                }
-                for t in triangles.triangles {
+                let placement = (*translate, *scale, *rotate_deg);
+                for t in self.mesh(&span, "file", file, placement)? {
                     builder.add_shape(Shape::Triangle(t), m);
                 }
             }
         }
         Ok(())
+    }
+
+    /// The triangles of mesh file `file` (named by key `key`), placed by
+    /// (translate, scale, rotate_deg).
+    fn mesh(
+        &mut self,
+        span: &Range<usize>,
+        key: &str,
+        file: &str,
+        (translate, scale, rotate_deg): (Option<V3>, Option<ColorValue>, Option<V3>),
+    ) -> Result<Vec<Triangle>, SceneError> {
+        let transform = MeshTransform {
+            translate: self.vec3(span, "translate", translate.unwrap_or([0.0; 3]))?,
+            scale: match scale {
+                Some(s) => {
+                    let v = self.vec3(span, "scale", s.0)?;
+                    if v.cmpeq(Vec3::ZERO).any() {
+                        return Err(self.err(
+                            span,
+                            "scale",
+                            "`scale` must be non-zero on every axis",
+                        ));
+                    }
+                    v
+                }
+                None => Vec3::ONE,
+            },
+            rotate_deg: self.vec3(span, "rotate_deg", rotate_deg.unwrap_or([0.0; 3]))?,
+        };
+        let path = self.relative(file);
+        let triangles = load_obj_mesh(&path, &transform).map_err(|m| self.err(span, key, m))?;
+        if triangles.skipped_degenerate > 0 {
+            self.warnings.push(format!(
+                "{}: skipped {} degenerate triangles",
+                path.display(),
+                triangles.skipped_degenerate
+            ));
+        }
+        Ok(triangles.triangles)
+    }
+
+    /// A `[[media]]` volume.
+    fn medium(&mut self, desc: &Spanned<MediumDesc>) -> Result<Volume, SceneError> {
+        let span = desc.span();
+        let m = desc.get_ref();
+        let sigma_t = self.color(&span, "sigma_t", m.sigma_t, false)?;
+        let albedo = self.color(&span, "albedo", m.albedo, true)?;
+        let g = self.number(&span, "g", m.g, (-0.999, 0.999), "in (−1, 1)")?;
+        let placement = (m.translate, m.scale, m.rotate_deg);
+        let placed = m.translate.is_some() || m.scale.is_some() || m.rotate_deg.is_some();
+        if m.mesh.is_none() && placed {
+            let key = if m.translate.is_some() {
+                "translate"
+            } else if m.scale.is_some() {
+                "scale"
+            } else {
+                "rotate_deg"
+            };
+            return Err(self.err(
+                &span,
+                key,
+                format!("`{key}` places a `mesh`; this medium has none"),
+            ));
+        }
+        let region = match (&m.bounds, &m.mesh) {
+            (Some(_), Some(_)) => {
+                return Err(self.err(&span, "mesh", "give a medium a `box` or a `mesh`, not both"));
+            }
+            (Some(b), None) => VolumeRegion::Box(self.bounds(&span, "box", b.min, b.max)?),
+            (None, Some(file)) => {
+                VolumeRegion::Mesh(MeshRegion::new(self.mesh(&span, "mesh", file, placement)?))
+            }
+            (None, None) => VolumeRegion::Everywhere,
+        };
+        let kind = m.density.as_deref().unwrap_or("uniform");
+        let misplaced = |key: &str, given: bool| {
+            if given {
+                Err(self.err(
+                    &span,
+                    key,
+                    format!("`{key}` does not apply to density \"{kind}\""),
+                ))
+            } else {
+                Ok(())
+            }
+        };
+        let noise_keys = [
+            ("frequency", m.frequency.is_some()),
+            ("octaves", m.octaves.is_some()),
+            ("bias", m.bias.is_some()),
+            ("seed", m.seed.is_some()),
+        ];
+        let density = match kind {
+            "uniform" => {
+                misplaced("file", m.file.is_some())?;
+                for (key, given) in noise_keys {
+                    misplaced(key, given)?;
+                }
+                Density::Uniform
+            }
+            "noise" => {
+                misplaced("file", m.file.is_some())?;
+                Density::Noise(SmokeNoise {
+                    frequency: self.number(
+                        &span,
+                        "frequency",
+                        m.frequency.unwrap_or(3.0),
+                        (0.01, 1024.0),
+                        "between 0.01 and 1024 lattice cells across the box",
+                    )?,
+                    octaves: match m.octaves.unwrap_or(5) {
+                        o @ 1..=8 => o,
+                        o => {
+                            return Err(self.err(
+                                &span,
+                                "octaves",
+                                format!("`octaves` must be between 1 and 8, got {o}"),
+                            ));
+                        }
+                    },
+                    bias: self.number(
+                        &span,
+                        "bias",
+                        m.bias.unwrap_or(0.0),
+                        (-1.0, 1.0),
+                        "in [−1, 1]",
+                    )?,
+                    seed: m.seed.unwrap_or(1),
+                })
+            }
+            "grid" => {
+                for (key, given) in noise_keys {
+                    misplaced(key, given)?;
+                }
+                let file = m.file.as_ref().ok_or_else(|| {
+                    self.err(
+                        &span,
+                        "density",
+                        "density \"grid\" needs `file = \"….tgrid\"`",
+                    )
+                })?;
+                let grid = VoxelGrid::read(&self.relative(file))
+                    .map_err(|e| self.err(&span, "file", e))?;
+                Density::Grid(grid)
+            }
+            other => {
+                return Err(self.err(
+                    &span,
+                    "density",
+                    format!(
+                        "unknown density \"{other}\": expected \"uniform\", \"noise\" or \"grid\""
+                    ),
+                ));
+            }
+        };
+        let key = if m.mesh.is_some() { "mesh" } else { "density" };
+        Volume::new(
+            sigma_t,
+            albedo,
+            PhaseFunction::from_asymmetry(g),
+            density,
+            region,
+        )
+        .map_err(|e| self.err(&span, key, e))
     }
 
     fn light(

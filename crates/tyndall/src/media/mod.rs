@@ -1,8 +1,22 @@
-//! Participating media: homogeneous fog, everywhere or inside a box.
+//! Participating media.
 //!
-//! Extinction `sigma_t` (the paper's density τ, per scene unit) is grey;
-//! the single-scattering `albedo` is RGB, so `sigma_s = albedo·sigma_t`.
-//! Transmittance over a length `d` of fog is `T = exp(−sigma_t·d)`.
+//! Two kinds, by what estimating them needs:
+//!
+//! * [`Fog`]: the paper's medium — homogeneous, everywhere or inside a
+//!   box, with grey extinction `sigma_t` (the paper's density τ, per scene
+//!   unit) and an RGB `albedo`, so `sigma_s = albedo·sigma_t`.
+//!   Transmittance over a length `d` is `T = exp(−sigma_t·d)` in closed
+//!   form, which the equiangular and distance sampling of every integrator
+//!   relies on.
+//! * [`volume::Volume`]: the general medium — RGB extinction, a density
+//!   field (uniform, procedural [`noise`] or a voxel [`grid`]) inside a
+//!   box or a closed mesh; estimated by [`tracking`] (delta and ratio
+//!   tracking against per-cell majorants). `volpath` renders them.
+
+pub mod grid;
+pub mod noise;
+pub mod tracking;
+pub mod volume;
 
 use crate::color::Rgb;
 use crate::phase::PhaseFunction;
