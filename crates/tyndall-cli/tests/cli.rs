@@ -127,6 +127,44 @@ fn volpath_renders_legacy_scene_with_fog_from_flags() {
     assert!(out.exists());
 }
 
+/// The smoke scene renders with `volpath`; a single-scattering integrator
+/// refuses its volumes with an error that says what to use, and writes
+/// nothing.
+#[test]
+fn smoke_scene_renders_with_volpath_only() {
+    let scene = repo().join("scenes/smoke.toml");
+    let small = ["--width", "24", "--height", "27", "--spp", "2"];
+    let out = temp("smoke.png");
+    let mut args = vec![
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend(small);
+    let o = tyndall(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out.exists());
+    let refused = temp("smoke-single.png");
+    let mut args = vec![
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        refused.to_str().unwrap(),
+        "--integrator",
+        "single",
+    ];
+    args.extend(small);
+    let o = tyndall(&args);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("--integrator volpath"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!refused.exists());
+}
+
 #[test]
 fn renders_with_shadow_maps_and_interleaving() {
     let out = temp("maps.png");

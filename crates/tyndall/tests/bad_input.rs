@@ -186,3 +186,76 @@ fn legacy_errors_name_line_and_column() {
         );
     }
 }
+
+/// Errors in a `[[media]]` table appended to the good scene, at the line
+/// (counted from the table header, 1 = the header) of the offending key.
+fn assert_media_error(table: &str, line_in_table: usize, words: &str) {
+    let text = format!("{GOOD}\n[[media]]\n{table}");
+    let e = native_error(&text);
+    assert_error(&e, GOOD.lines().count() + 1 + line_in_table, words);
+}
+
+#[test]
+fn media_errors_name_the_key() {
+    let base = "sigma_t = 1.0\nalbedo = 0.9\nbox = { min = [-1, -1, -1], max = [1, 1, 1] }\n";
+    assert_media_error(
+        &format!("{base}density = \"fluffy\"\n"),
+        5,
+        "unknown density \"fluffy\"",
+    );
+    assert_media_error(&format!("{base}density = \"grid\"\n"), 5, "needs `file");
+    assert_media_error(
+        &format!("{base}density = \"grid\"\nfile = \"no-such-grid.tgrid\"\n"),
+        6,
+        "no-such-grid.tgrid",
+    );
+    assert_media_error(
+        &format!("{base}density = \"noise\"\noctaves = 12\n"),
+        6,
+        "`octaves` must be between 1 and 8",
+    );
+    assert_media_error(&format!("{base}frequency = 2\n"), 5, "does not apply");
+    assert_media_error(
+        &format!("{base}mesh = \"m.obj\"\n"),
+        5,
+        "a `box` or a `mesh`, not both",
+    );
+    assert_media_error(
+        "sigma_t = 1.0\nalbedo = 0.9\ndensity = \"noise\"\n",
+        4,
+        "needs a `box` or a `mesh`",
+    );
+    assert_media_error("sigma_t = 1.0\nalbedo = 1.2\n", 3, "between 0 and 1");
+    assert_media_error("sigma_t = -1.0\nalbedo = 0.5\n", 2, "sigma_t");
+    assert_media_error(
+        "sigma_t = 1.0\nalbedo = 0.5\ntranslate = [1, 0, 0]\n",
+        4,
+        "places a `mesh`",
+    );
+}
+
+/// A malformed grid file is named with what is wrong in it.
+#[test]
+fn bad_grid_file_is_reported() {
+    let dir = std::env::temp_dir().join(format!("tyndall-bad-grid-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("short.tgrid"), b"tyndall-grid 1 2 2 2\n\0\0\0\0").unwrap();
+    let text = format!(
+        "{GOOD}\n[[media]]\nsigma_t = 1.0\nalbedo = 0.9\nbox = {{ min = [-1, -1, -1], max = [1, 1, 1] }}\ndensity = \"grid\"\nfile = \"short.tgrid\"\n"
+    );
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, &text).unwrap();
+    let e = match native::load(&path) {
+        Ok(_) => panic!("a short grid file must be an error"),
+        Err(e) => e.to_string(),
+    };
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(
+        e.contains("short.tgrid") && e.contains("expected 8 f32 values"),
+        "{e}"
+    );
+    assert!(
+        e.contains(&format!(":{}:", GOOD.lines().count() + 7)),
+        "{e}"
+    );
+}
