@@ -73,6 +73,52 @@ impl Camera {
     }
 }
 
+/// Where a scene point appears on the film, for light paths connected to
+/// the camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Projection {
+    /// Film position in pixels (as [`Camera::ray`] takes it).
+    pub film: Vec2,
+    /// Unit direction from the point to the camera.
+    pub to_camera: Vec3,
+    pub distance: f32,
+    /// The camera's importance `W = 1/(A_pixel·cos³θ)` per unit solid
+    /// angle at the camera, θ off the optical axis, `A_pixel` a pixel's
+    /// area on the image plane at distance 1. Our pixels average radiance
+    /// uniformly over their area on that plane, and a solid angle dω
+    /// there covers `dω/cos³θ` of it, so `∫_pixel W·L dω` is the pixel's
+    /// value: the light tracer's measurement matches the camera's.
+    pub importance: f32,
+}
+
+impl Camera {
+    /// The projection of `x`, or `None` if it is behind the camera or
+    /// outside the image.
+    pub fn project(&self, x: Vec3) -> Option<Projection> {
+        let d = x - self.position;
+        let distance = d.length();
+        let z = d.dot(self.forward);
+        if !(z > 0.0 && distance > 0.0) {
+            return None;
+        }
+        let plane = Vec2::new(d.dot(self.right), d.dot(self.up)) / z;
+        let ndc = Vec2::new(plane.x / self.half_extent.x, -plane.y / self.half_extent.y);
+        let film = (ndc + Vec2::ONE) * 0.5 * self.resolution;
+        if !(film.cmpge(Vec2::ZERO).all() && film.cmplt(self.resolution).all()) {
+            return None;
+        }
+        let pixel_area = 4.0 * self.half_extent.x * self.half_extent.y
+            / (self.resolution.x * self.resolution.y);
+        let cos = z / distance;
+        Some(Projection {
+            film,
+            to_camera: -d / distance,
+            distance,
+            importance: 1.0 / (pixel_area * cos * cos * cos),
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -93,5 +139,39 @@ mod tests {
         assert!(top.direction.y > 0.0 && (angle - 20.0).abs() < 1e-3);
         let right = cam.ray(Vec2::new(320.0, 120.0));
         assert!(right.direction.x > 0.0);
+    }
+
+    #[test]
+    fn projection_inverts_rays_and_importance_integrates_to_one() {
+        let spec = CameraSpec {
+            position: Vec3::new(0.3, 1.0, 5.0),
+            look_at: Vec3::new(0.0, 0.8, 0.0),
+            up: Vec3::Y,
+            fov: FieldOfView::Vertical(50.0),
+        };
+        let cam = Camera::new(&spec, 64, 48);
+        for film in [Vec2::new(10.5, 7.25), Vec2::new(63.0, 0.5), Vec2::new(32.0, 24.0)] {
+            let ray = cam.ray(film);
+            let p = cam.project(ray.at(3.0)).unwrap();
+            assert!((p.film - film).length() < 1e-3, "{film} → {}", p.film);
+            assert!((p.to_camera + ray.direction).length() < 1e-5);
+            assert!((p.distance - 3.0).abs() < 1e-5);
+        }
+        // ∫ W dω over one pixel is 1: midpoint rule over 16² sub-cells,
+        // each of solid angle ≈ A_cell·cos³θ (plane at distance 1).
+        let pixel = Vec2::new(5.0, 40.0);
+        let mut integral = 0.0;
+        for i in 0..16 {
+            for j in 0..16 {
+                let f = pixel + (Vec2::new(i as f32, j as f32) + 0.5) / 16.0;
+                let r = cam.ray(f);
+                let w = cam.project(r.at(1.0)).unwrap().importance;
+                let cos = r.direction.dot(cam.forward);
+                let cell = 4.0 * cam.half_extent.x * cam.half_extent.y / (64.0 * 48.0) / 256.0;
+                integral += w * cell * cos * cos * cos;
+            }
+        }
+        assert!((integral - 1.0).abs() < 1e-3, "{integral}");
+        assert!(cam.project(Vec3::new(0.3, 1.0, 6.0)).is_none(), "behind");
     }
 }

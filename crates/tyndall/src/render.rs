@@ -7,6 +7,7 @@
 use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::film::Image;
+use crate::integrators::light_tracer::{self, LightPaths};
 use crate::integrators::{Integrator, IntegratorKind, PixelPosition};
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
@@ -278,6 +279,29 @@ pub fn render(
                 progress(done as u32);
             });
     });
+    if settings.integrator == IntegratorKind::Volpath && light_tracer::has_caustics(scene) {
+        // Light focused by dielectrics from point and spot lights: one
+        // light path per camera sample (see `light_tracer`).
+        let paths = width as u64 * settings.height as u64 * settings.spp as u64;
+        let (caustics, counts) = pool.install(|| {
+            light_tracer::trace(
+                scene,
+                &camera,
+                (settings.width, settings.height),
+                paths,
+                settings.seed,
+                settings.max_depth,
+                LightPaths::Caustic,
+            )
+        });
+        for (pixel, c) in pixels.iter_mut().zip(&caustics) {
+            if c.is_finite() {
+                *pixel += *c;
+            }
+        }
+        camera_rays.fetch_add(counts.camera, Ordering::Relaxed);
+        shadow_rays.fetch_add(counts.shadow, Ordering::Relaxed);
+    }
     let stats = RenderStats {
         elapsed: start.elapsed(),
         maps,

@@ -9,6 +9,7 @@
 //! (Monte Carlo error falls like 1/spp, time grows like spp).
 
 mod maps;
+mod smoke;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
@@ -38,8 +39,9 @@ pub struct BenchArgs {
     pub(crate) quick: bool,
     /// Which part to run: `equal-error` (time to equal error per integrator),
     /// `maps` (shadow maps against shadow rays), `volpath` (the path tracer
-    /// on the Cornell fog scene) or `all`.
-    #[arg(long, default_value = "all", value_parser = ["all", "equal-error", "maps", "volpath"])]
+    /// on the Cornell fog scene), `smoke` (the path tracer in the voxel
+    /// smoke, and its cost against homogeneous media) or `all`.
+    #[arg(long, default_value = "all", value_parser = ["all", "equal-error", "maps", "volpath", "smoke"])]
     only: String,
     /// Stop a curve after a point whose render takes longer than this (seconds).
     #[arg(long, default_value_t = 20.0)]
@@ -48,7 +50,7 @@ pub struct BenchArgs {
 
 /// One measured point of an error curve.
 #[derive(Clone, Copy, Debug)]
-struct Point {
+pub(crate) struct Point {
     spp: u32,
     seconds: f64,
     rel_mse: f64,
@@ -122,6 +124,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     if all || args.only == "volpath" {
         volpath(&args)?;
+    }
+    if all || args.only == "smoke" {
+        smoke::run(&args)?;
     }
     Ok(())
 }
@@ -299,7 +304,7 @@ pub(crate) fn settings(
     }
 }
 
-fn measure(
+pub(crate) fn measure(
     desc: &SceneDescription,
     args: &BenchArgs,
     width: u32,
@@ -341,7 +346,7 @@ pub(crate) fn median(times: &mut [Duration]) -> Duration {
 }
 
 /// A long `single` render, cached by scene text, size and sample count.
-fn long_render(
+pub(crate) fn long_render(
     desc: &SceneDescription,
     args: &BenchArgs,
     key: &str,
@@ -373,10 +378,11 @@ fn scene_fingerprint(desc: &SceneDescription, width: u32, height: u32) -> u64 {
     use std::hash::{Hash, Hasher};
     let mut h = std::collections::hash_map::DefaultHasher::new();
     format!(
-        "{:?}{:?}{:?}{:?}",
+        "{:?}{:?}{:?}{:?}{:?}",
         desc.scene.geometry.primitives(),
         desc.scene.lights,
         desc.scene.fog,
+        desc.scene.volumes,
         desc.scene.camera
     )
     .hash(&mut h);
@@ -384,7 +390,7 @@ fn scene_fingerprint(desc: &SceneDescription, width: u32, height: u32) -> u64 {
     h.finish()
 }
 
-fn print_curve(method: &Method, curve: &[Point]) {
+pub(crate) fn print_curve(method: &Method, curve: &[Point]) {
     println!(
         "{}:\n\n| spp | time (s) | relMSE |\n|---:|---:|---:|",
         method.label()
@@ -423,7 +429,7 @@ fn time_to_error(curve: &[Point], target: f64) -> TimeToError {
         })
 }
 
-fn report_time_to_error(curves: &[(Method, Vec<Point>)], targets: &[f64]) {
+pub(crate) fn report_time_to_error(curves: &[(Method, Vec<Point>)], targets: &[f64]) {
     for &target in targets {
         println!("Time to relMSE {target:.0e}:\n");
         let mut best_march: Option<(f64, String)> = None;

@@ -16,6 +16,7 @@
 //! with MIS. Both evaluate the integrand through [`scattered_radiance`],
 //! the paper's eq. 1 in one place.
 
+pub mod light_tracer;
 pub mod march;
 pub mod single;
 pub mod volpath;

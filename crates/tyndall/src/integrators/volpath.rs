@@ -480,7 +480,7 @@ fn segment_term(segment: &FogSegment, t: f32, samples: u32, light: &Light, y: Ve
 
 /// Russian roulette after [`ROULETTE_DEPTH`] events: continue with
 /// probability `q = min(1, max(throughput))`, dividing by `q`.
-fn survives_roulette(throughput: &mut Rgb, depth: u32, sampler: &mut PixelSampler) -> bool {
+pub(crate) fn survives_roulette(throughput: &mut Rgb, depth: u32, sampler: &mut PixelSampler) -> bool {
     if depth < ROULETTE_DEPTH {
         return true;
     }

@@ -75,6 +75,7 @@ impl Density {
 }
 
 /// Where a volume is.
+#[derive(Debug)]
 pub enum VolumeRegion {
     /// All of space (only for a uniform density).
     Everywhere,
@@ -86,6 +87,14 @@ pub enum VolumeRegion {
 /// The interior of a closed (watertight) triangle mesh.
 pub struct MeshRegion {
     geometry: Geometry,
+}
+
+impl std::fmt::Debug for MeshRegion {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("MeshRegion")
+            .field("triangles", &self.geometry.primitives())
+            .finish()
+    }
 }
 
 impl MeshRegion {
@@ -248,6 +257,7 @@ impl MajorantGrid {
 
 /// A medium: RGB extinction scale, albedo, phase function, density field
 /// and region.
+#[derive(Debug)]
 pub struct Volume {
     /// Extinction per channel (1/scene unit) where the density is 1.
     pub sigma_t: Rgb,
@@ -317,6 +327,12 @@ impl Volume {
     pub fn max_extinction(&self) -> f32 {
         let peak = self.majorants.max.iter().copied().fold(0.0, f32::max);
         peak * self.sigma_t.max_element()
+    }
+
+    /// The box the density field is mapped to: the region's bounds
+    /// (infinite for a volume everywhere).
+    pub fn field_box(&self) -> Bounds {
+        self.field_box
     }
 
     /// Whether the volume fills all of space.

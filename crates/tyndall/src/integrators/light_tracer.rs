@@ -1,0 +1,417 @@
+//! Light tracing: paths from point and spot lights, each scattering event
+//! connected to the camera — how `volpath` gets caustics.
+//!
+//! A camera path cannot reach a point or spot light through a refractive
+//! surface: NEE's shadow ray is blocked by it, and a sampled direction
+//! never hits a point. So every path whose light end starts `light →
+//! dielectric …` (the beam a glass sphere focuses into the fog) is missing
+//! from `volpath`'s camera paths. Traced from the light, those paths are
+//! easy: emit, refract through the glass (Fresnel-chosen reflection or
+//! refraction), and at every later scattering event in a medium or on a
+//! diffuse surface connect to the camera through its importance
+//! ([`crate::camera::Projection`]).
+//!
+//! [`LightPaths::Caustic`] keeps exactly those paths — at least one
+//! specular event before the first scattering — so it complements the
+//! camera paths without overlap. [`LightPaths::All`] keeps every path; it
+//! is a complete, independent estimator of everything lit by point and
+//! spot lights, used to validate the measurement against `volpath`.
+//!
+//! Not covered by either side: light seen through a dielectric after a
+//! specular chain (light → glass → fog → glass → camera), and point
+//! lights seen in mirrors — connections through specular surfaces.
+
+use super::volpath::survives_roulette;
+use super::{MAX_GLASS_CROSSINGS, SolidDepth, TRACKING_STREAM};
+use crate::camera::Camera;
+use crate::color::{Rgb, luminance};
+use crate::lights::Light;
+use crate::materials::{Material, dielectric_scatter};
+use crate::media::tracking::{Collision, VolumeTracker};
+use crate::phase::PhaseFunction;
+use crate::ray::{Ray, offset_origin};
+use crate::sampler::PixelSampler;
+use crate::sampling::cosine_hemisphere;
+use crate::scene::Scene;
+use crate::visibility::RayCounts;
+use glam::{DVec3, Vec2, Vec3};
+use rayon::prelude::*;
+use std::f32::consts::{FRAC_1_PI, PI};
+use std::ops::ControlFlow;
+
+/// Which light paths to trace.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LightPaths {
+    /// Only paths that meet a dielectric before they first scatter.
+    Caustic,
+    /// Every path.
+    All,
+}
+
+/// Paths are split into this many chunks, each with its own film, summed
+/// in order: the image does not depend on the thread count.
+const CHUNKS: usize = 16;
+
+/// Whether the scene has light that only light tracing delivers: a point
+/// or spot light and a dielectric.
+pub fn has_caustics(scene: &Scene) -> bool {
+    scene
+        .lights
+        .iter()
+        .any(|l| matches!(l, Light::Point(_) | Light::Spot(_)))
+        && scene
+            .materials
+            .iter()
+            .any(|m| matches!(m, Material::Dielectric { .. }))
+}
+
+/// Traces `paths` light paths (split over the lights uniformly) and
+/// returns the image of their camera connections, in radiance: each pixel
+/// is the sum of its connections divided by `paths`.
+pub fn trace(
+    scene: &Scene,
+    camera: &Camera,
+    (width, height): (u32, u32),
+    paths: u64,
+    seed: u64,
+    max_depth: u32,
+    which: LightPaths,
+) -> (Vec<Rgb>, RayCounts) {
+    let emitters: Vec<usize> = (0..scene.lights.len())
+        .filter(|&i| matches!(scene.lights[i], Light::Point(_) | Light::Spot(_)))
+        .collect();
+    let size = (width * height) as usize;
+    if emitters.is_empty() || paths == 0 {
+        return (vec![Rgb::ZERO; size], RayCounts::default());
+    }
+    let tracer = Tracer {
+        scene,
+        camera,
+        width,
+        emitters: &emitters,
+        max_depth,
+        which,
+    };
+    let per_chunk = paths.div_ceil(CHUNKS as u64);
+    let chunks: Vec<(Vec<Rgb>, RayCounts)> = (0..CHUNKS as u64)
+        .into_par_iter()
+        .map(|chunk| {
+            let mut film = vec![Rgb::ZERO; size];
+            let mut counts = RayCounts::default();
+            let first = chunk * per_chunk;
+            for index in first..(first + per_chunk).min(paths) {
+                // One Sobol sequence over all paths: stratified emission.
+                let mut sampler = PixelSampler::new(seed ^ 0x5eed_1197, 0, index as u32);
+                tracer.trace_path(&mut sampler, &mut film, &mut counts);
+            }
+            (film, counts)
+        })
+        .collect();
+    let mut sum = vec![DVec3::ZERO; size];
+    let mut counts = RayCounts::default();
+    for (film, c) in &chunks {
+        for (s, p) in sum.iter_mut().zip(film) {
+            *s += p.as_dvec3();
+        }
+        counts.camera += c.camera;
+        counts.shadow += c.shadow;
+    }
+    let scale = 1.0 / paths as f64;
+    (sum.iter().map(|s| (*s * scale).as_vec3()).collect(), counts)
+}
+
+struct Tracer<'a> {
+    scene: &'a Scene,
+    camera: &'a Camera,
+    width: u32,
+    emitters: &'a [usize],
+    max_depth: u32,
+    which: LightPaths,
+}
+
+/// How light leaves a scattering event, for the camera connection.
+enum Scatterer<'a> {
+    Medium(&'a PhaseFunction),
+    /// A Lambertian surface of reflectance `rho` with unit normal `normal`
+    /// facing the side the light arrived from.
+    Diffuse { rho: Rgb, normal: Vec3 },
+}
+
+impl Tracer<'_> {
+    fn trace_path(&self, sampler: &mut PixelSampler, film: &mut [Rgb], counts: &mut RayCounts) {
+        let scene = self.scene;
+        let n = self.emitters.len();
+        let pick = ((sampler.next_1d() * n as f32) as usize).min(n - 1);
+        let u = sampler.next_2d();
+        let Some((mut ray, mut beta)) = emit(&scene.lights[self.emitters[pick]], u) else {
+            return;
+        };
+        beta *= n as f32;
+        let mut tracker = VolumeTracker::new(sampler.stream(TRACKING_STREAM));
+        let mut solids = SolidDepth::default();
+        let (mut depth, mut crossings) = (0u32, 0u32);
+        // Whether a specular event came before any scattering.
+        let mut caustic = false;
+        loop {
+            counts.camera += 1;
+            let hit = scene.geometry.intersect(&ray, f32::INFINITY);
+            let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
+            let event = if solids.inside() {
+                MediumEvent::None
+            } else {
+                medium_event(scene, &ray, t_hit, sampler, &mut tracker, &mut beta)
+            };
+            if let MediumEvent::Absorbed = event {
+                return;
+            }
+            if let MediumEvent::Scatter(t, phase) = event {
+                if !self.scattering_allowed(caustic) || depth >= self.max_depth {
+                    return;
+                }
+                depth += 1;
+                let x = ray.at(t);
+                self.connect(x, ray.direction, &Scatterer::Medium(phase), beta, &mut tracker, film, counts);
+                let (direction, _) = phase.sample(ray.direction, sampler.next_2d());
+                ray = Ray { origin: x, direction };
+                if !survives_roulette(&mut beta, depth, sampler) {
+                    return;
+                }
+                continue;
+            }
+            let Some(hit) = hit else { return };
+            let p = ray.at(hit.t);
+            let geometric_normal = scene.geometry.normal(hit.primitive, p);
+            match *scene.material(hit.primitive) {
+                Material::Emissive { .. } => return,
+                Material::Glass(glass) => {
+                    crossings += 1;
+                    if crossings > MAX_GLASS_CROSSINGS {
+                        return;
+                    }
+                    beta *= glass.filter_transmittance();
+                    ray.origin = offset_origin(p, geometric_normal, ray.direction);
+                }
+                Material::Dielectric { ior } => {
+                    if depth >= self.max_depth {
+                        return;
+                    }
+                    depth += 1;
+                    caustic = true;
+                    let direction =
+                        dielectric_scatter(ray.direction, geometric_normal, ior, sampler.next_1d());
+                    solids.cross(ray.direction, direction, geometric_normal);
+                    ray = Ray {
+                        origin: offset_origin(p, geometric_normal, direction),
+                        direction,
+                    };
+                }
+                Material::Opaque(surface) => {
+                    if !self.scattering_allowed(caustic) || depth >= self.max_depth {
+                        return;
+                    }
+                    depth += 1;
+                    let normal = if geometric_normal.dot(ray.direction) < 0.0 {
+                        geometric_normal
+                    } else {
+                        -geometric_normal
+                    };
+                    if surface.diffuse != Rgb::ZERO {
+                        let diffuse = Scatterer::Diffuse {
+                            rho: surface.diffuse,
+                            normal,
+                        };
+                        self.connect(p, ray.direction, &diffuse, beta, &mut tracker, film, counts);
+                    }
+                    // Continue by the lobes, as `volpath` does.
+                    let (d, s) = (luminance(surface.diffuse), luminance(surface.specular));
+                    if d + s <= 0.0 {
+                        return;
+                    }
+                    let p_diffuse = d / (d + s);
+                    let choice = sampler.next_1d();
+                    let u = sampler.next_2d();
+                    let direction = if choice < p_diffuse {
+                        beta *= surface.diffuse / p_diffuse;
+                        cosine_hemisphere(normal, u)
+                    } else {
+                        let Some(direction) = surface.reflect(ray.direction, normal, u) else {
+                            return;
+                        };
+                        beta *= surface.specular / (1.0 - p_diffuse);
+                        direction
+                    };
+                    ray = Ray {
+                        origin: offset_origin(p, geometric_normal, direction),
+                        direction,
+                    };
+                    if !survives_roulette(&mut beta, depth, sampler) {
+                        return;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Whether a scattering event may be connected (and the path go on):
+    /// caustic tracing stops at a first scattering with no specular event
+    /// before it, which the camera paths estimate.
+    fn scattering_allowed(&self, caustic: bool) -> bool {
+        caustic || self.which == LightPaths::All
+    }
+
+    /// Splats the light scattered at `x` towards the camera:
+    /// `β·f·T·W/d²`, f the phase function or `ρ/π·cos` towards the camera,
+    /// T everything between (fog, volumes, thin glass; zero if blocked).
+    #[allow(clippy::too_many_arguments)]
+    fn connect(
+        &self,
+        x: Vec3,
+        arriving: Vec3,
+        scatterer: &Scatterer,
+        beta: Rgb,
+        tracker: &mut VolumeTracker,
+        film: &mut [Rgb],
+        counts: &mut RayCounts,
+    ) {
+        let Some(projection) = self.camera.project(x) else {
+            return;
+        };
+        let to_camera = projection.to_camera;
+        let (f, origin) = match scatterer {
+            // Light travelling along `arriving` turns towards the camera.
+            Scatterer::Medium(phase) => (Rgb::splat(phase.eval(arriving.dot(to_camera))), x),
+            Scatterer::Diffuse { rho, normal } => {
+                let cos = normal.dot(to_camera);
+                if cos <= 0.0 {
+                    return;
+                }
+                (*rho * (FRAC_1_PI * cos), offset_origin(x, *normal, to_camera))
+            }
+        };
+        counts.shadow += 1;
+        let distance = projection.distance;
+        let glass = self.glass_towards_camera(origin, to_camera, distance);
+        if glass == Rgb::ZERO {
+            return;
+        }
+        let scene = self.scene;
+        let fog_t = scene
+            .fog
+            .as_ref()
+            .map_or(1.0, |fog| fog.transmittance_along(x, to_camera, distance));
+        let ray = Ray {
+            origin,
+            direction: to_camera,
+        };
+        let volumes_t = tracker.transmittance(&scene.volumes, &ray, 0.0, distance);
+        let value = beta * f * glass * volumes_t
+            * (fog_t * projection.importance / (distance * distance));
+        let pixel = projection.film.floor().as_uvec2();
+        film[(pixel.y * self.width + pixel.x) as usize] += value;
+    }
+
+    /// Transmittance of thin glass between `origin` and the camera; zero
+    /// if anything else is in the way (a dielectric included: light is
+    /// not connected through refraction).
+    fn glass_towards_camera(&self, origin: Vec3, direction: Vec3, distance: f32) -> Rgb {
+        let scene = self.scene;
+        let ray = Ray { origin, direction };
+        let mut tint = Rgb::ONE;
+        let opaque_glass = scene.glass.opaque_to_camera;
+        scene
+            .geometry
+            .for_each_hit(&ray, distance * (1.0 - 1e-4), |_, primitive| {
+                match scene.material(primitive) {
+                    Material::Glass(glass) if !opaque_glass => {
+                        tint *= glass.filter_transmittance();
+                        ControlFlow::Continue(())
+                    }
+                    _ => {
+                        tint = Rgb::ZERO;
+                        ControlFlow::Break(())
+                    }
+                }
+            });
+        tint
+    }
+}
+
+/// A ray leaving a point or spot light and its weight `I(ω)/p(ω)` (W):
+/// uniform directions over the sphere, or over the spot's cone.
+fn emit(light: &Light, u: Vec2) -> Option<(Ray, Rgb)> {
+    match light {
+        Light::Point(p) => {
+            let direction = uniform_cone(Vec3::Z, -1.0, u);
+            let ray = Ray {
+                origin: p.position,
+                direction,
+            };
+            Some((ray, p.intensity * (4.0 * PI)))
+        }
+        Light::Spot(s) => {
+            let direction = uniform_cone(s.direction, s.cos_cutoff, u);
+            let falloff = s.falloff(direction.dot(s.direction));
+            if falloff <= 0.0 {
+                return None;
+            }
+            let solid_angle = 2.0 * PI * (1.0 - s.cos_cutoff);
+            let ray = Ray {
+                origin: s.position,
+                direction,
+            };
+            Some((ray, s.intensity * (falloff * solid_angle)))
+        }
+        _ => None,
+    }
+}
+
+/// A direction uniform in the cone of half-angle acos(`cos_max`) around
+/// the unit `axis` (the whole sphere for `cos_max = −1`).
+fn uniform_cone(axis: Vec3, cos_max: f32, u: Vec2) -> Vec3 {
+    let cos = 1.0 - u.x * (1.0 - cos_max);
+    let sin = (1.0 - cos * cos).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    let (a, b) = axis.any_orthonormal_pair();
+    (a * (sin * phi.cos()) + b * (sin * phi.sin()) + axis * cos).normalize()
+}
+
+/// What a light path meets in the media before its next surface.
+enum MediumEvent<'s> {
+    None,
+    /// A real scattering event at `t` in a medium with this phase function.
+    Scatter(f32, &'s PhaseFunction),
+    Absorbed,
+}
+
+/// The first real event in the fog or the volumes before `t_hit`; `beta`
+/// is weighted (albedo for the fog, spectral tracking for volumes).
+fn medium_event<'s>(
+    scene: &'s Scene,
+    ray: &Ray,
+    t_hit: f32,
+    sampler: &mut PixelSampler,
+    tracker: &mut VolumeTracker,
+    beta: &mut Rgb,
+) -> MediumEvent<'s> {
+    let u = sampler.next_1d();
+    let fog_event = scene.fog.as_ref().and_then(|fog| {
+        let (a, b) = fog.interval(ray, 0.0, t_hit)?;
+        if fog.sigma_t <= 0.0 {
+            return None;
+        }
+        let t = a - (1.0 - u).ln() / fog.sigma_t;
+        (t < b).then_some((t, fog))
+    });
+    let t_end = fog_event.map_or(t_hit, |(t, _)| t);
+    match tracker.sample_collision(&scene.volumes, ray, 0.0, t_end, beta) {
+        Collision::Scatter { t, volume } => MediumEvent::Scatter(t, &scene.volumes[volume].phase),
+        Collision::Absorbed => MediumEvent::Absorbed,
+        Collision::Escaped => match fog_event {
+            Some((t, fog)) => {
+                *beta *= fog.albedo;
+                MediumEvent::Scatter(t, &fog.phase)
+            }
+            None => MediumEvent::None,
+        },
+    }
+}
