@@ -107,8 +107,8 @@ impl Camera {
         if !(film.cmpge(Vec2::ZERO).all() && film.cmplt(self.resolution).all()) {
             return None;
         }
-        let pixel_area = 4.0 * self.half_extent.x * self.half_extent.y
-            / (self.resolution.x * self.resolution.y);
+        let pixel_area =
+            4.0 * self.half_extent.x * self.half_extent.y / (self.resolution.x * self.resolution.y);
         let cos = z / distance;
         Some(Projection {
             film,
@@ -150,7 +150,11 @@ mod tests {
             fov: FieldOfView::Vertical(50.0),
         };
         let cam = Camera::new(&spec, 64, 48);
-        for film in [Vec2::new(10.5, 7.25), Vec2::new(63.0, 0.5), Vec2::new(32.0, 24.0)] {
+        for film in [
+            Vec2::new(10.5, 7.25),
+            Vec2::new(63.0, 0.5),
+            Vec2::new(32.0, 24.0),
+        ] {
             let ray = cam.ray(film);
             let p = cam.project(ray.at(3.0)).unwrap();
             assert!((p.film - film).length() < 1e-3, "{film} → {}", p.film);

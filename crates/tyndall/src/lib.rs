@@ -6,7 +6,8 @@
 //! every module are those of DESIGN §1: radiance is linear RGB, fog has a
 //! grey extinction `sigma_t` and an RGB albedo, transmittance is
 //! `exp(−sigma_t·d)`, lights are given by intensity (W/sr), irradiance or
-//! radiance.
+//! radiance. General media ([`media::volume`]) add RGB extinction and
+//! non-uniform density for the path tracer.
 //!
 //! Modules follow pbrt's decomposition: [`camera`], [`shapes`], [`accel`],
 //! [`lights`], [`materials`], [`glass`], [`media`], [`phase`], [`sampler`],

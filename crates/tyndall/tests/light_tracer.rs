@@ -169,8 +169,8 @@ fn index_matched_sphere_is_invisible_with_caustic_paths() {
         LightPaths::Caustic,
     );
     let total: f32 = caustic.iter().map(|p| p.x).sum();
-    let reference_total: f64 = reference.iter().map(|b| b.0).sum::<f64>() / 3.0
-        * (BLOCK * BLOCK) as f64;
+    let reference_total: f64 =
+        reference.iter().map(|b| b.0).sum::<f64>() / 3.0 * (BLOCK * BLOCK) as f64;
     assert!(
         total as f64 > 0.2 * reference_total,
         "caustic share {total} of {reference_total}"

@@ -134,7 +134,10 @@ enum Scatterer<'a> {
     Medium(&'a PhaseFunction),
     /// A Lambertian surface of reflectance `rho` with unit normal `normal`
     /// facing the side the light arrived from.
-    Diffuse { rho: Rgb, normal: Vec3 },
+    Diffuse {
+        rho: Rgb,
+        normal: Vec3,
+    },
 }
 
 impl Tracer<'_> {
@@ -170,9 +173,20 @@ impl Tracer<'_> {
                 }
                 depth += 1;
                 let x = ray.at(t);
-                self.connect(x, ray.direction, &Scatterer::Medium(phase), beta, &mut tracker, film, counts);
+                self.connect(
+                    x,
+                    ray.direction,
+                    &Scatterer::Medium(phase),
+                    beta,
+                    &mut tracker,
+                    film,
+                    counts,
+                );
                 let (direction, _) = phase.sample(ray.direction, sampler.next_2d());
-                ray = Ray { origin: x, direction };
+                ray = Ray {
+                    origin: x,
+                    direction,
+                };
                 if !survives_roulette(&mut beta, depth, sampler) {
                     return;
                 }
@@ -285,7 +299,10 @@ impl Tracer<'_> {
                 if cos <= 0.0 {
                     return;
                 }
-                (*rho * (FRAC_1_PI * cos), offset_origin(x, *normal, to_camera))
+                (
+                    *rho * (FRAC_1_PI * cos),
+                    offset_origin(x, *normal, to_camera),
+                )
             }
         };
         counts.shadow += 1;
@@ -304,8 +321,8 @@ impl Tracer<'_> {
             direction: to_camera,
         };
         let volumes_t = tracker.transmittance(&scene.volumes, &ray, 0.0, distance);
-        let value = beta * f * glass * volumes_t
-            * (fog_t * projection.importance / (distance * distance));
+        let value =
+            beta * f * glass * volumes_t * (fog_t * projection.importance / (distance * distance));
         let pixel = projection.film.floor().as_uvec2();
         film[(pixel.y * self.width + pixel.x) as usize] += value;
     }

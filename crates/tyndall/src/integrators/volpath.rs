@@ -30,6 +30,19 @@
 //! NEE (with MIS); the reflective layer is sampled only, its light found
 //! when its reflected ray hits an emitter. The lobe is chosen with
 //! probability proportional to its reflectance's luminance.
+//!
+//! Volumes (`[[media]]`): on each segment the fog's free flight is drawn
+//! first, then the volumes' first collision before it by spectral
+//! tracking ([`crate::media::tracking`]); the nearer real event wins (the
+//! first of independent Poisson processes). At a volume event NEE uses
+//! ratio-tracked shadow rays and MIS against phase sampling. Every
+//! transmittance the fog estimators use is multiplied by the volumes'
+//! (ratio tracking), which keeps their MIS weights valid: the weights
+//! still sum to one, and each strategy stays unbiased. Segments inside a
+//! solid dielectric carry no medium.
+//!
+//! Light focused by dielectrics from point and spot lights cannot be
+//! reached from here; [`super::light_tracer`] adds it.
 
 use super::{
     Integrator, MediumQuery, SolidDepth, SurfaceHit, TRACKING_STREAM, lambert_direct_lighting,
@@ -480,7 +493,11 @@ fn segment_term(segment: &FogSegment, t: f32, samples: u32, light: &Light, y: Ve
 
 /// Russian roulette after [`ROULETTE_DEPTH`] events: continue with
 /// probability `q = min(1, max(throughput))`, dividing by `q`.
-pub(crate) fn survives_roulette(throughput: &mut Rgb, depth: u32, sampler: &mut PixelSampler) -> bool {
+pub(crate) fn survives_roulette(
+    throughput: &mut Rgb,
+    depth: u32,
+    sampler: &mut PixelSampler,
+) -> bool {
     if depth < ROULETTE_DEPTH {
         return true;
     }
