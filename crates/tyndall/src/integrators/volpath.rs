@@ -61,7 +61,7 @@ use crate::scene::Scene;
 use crate::visibility::RayCounts;
 use crate::visibility::Visibility;
 use glam::Vec3;
-use std::f32::consts::FRAC_1_PI;
+use std::f32::consts::{FRAC_1_PI, PI};
 
 /// Scattering events before Russian roulette may end a path.
 const ROULETTE_DEPTH: u32 = 3;
@@ -111,6 +111,10 @@ pub(crate) fn radiance(
     let mut equiangular = EquiangularNee::with_capacity(scene.lights.len());
     let mut tracker = VolumeTracker::new(sampler.stream(TRACKING_STREAM));
     let max_events = integrator.max_depth.min(MAX_PATH_EVENTS);
+    let connections = scene.volumes.is_empty() && scene.area_light_count() > 0;
+    // The continuation density at the fog event the ray leaves from, if
+    // that event connected to a light vertex.
+    let mut connected_from = None;
     loop {
         counts.camera += 1;
         let hit = scene.geometry.intersect(&ray, f32::INFINITY);
@@ -119,7 +123,7 @@ pub(crate) fn radiance(
         let mut fog_event = None;
         if let Some(fog) = &scene.fog
             && !solids.inside()
-            && let Some(segment) = FogSegment::new(integrator, scene, fog, ray, t_hit)
+            && let Some(segment) = FogSegment::new(integrator, scene, fog, ray, t_hit, connected_from)
         {
             let u_flight = sampler.next_1d();
             // Point and spot lights: equiangular samples along the whole
@@ -159,6 +163,7 @@ pub(crate) fn radiance(
                     radiance += throughput * medium.nee(sampler, counts, &mut tracker);
                     let (direction, pdf) = phase.sample(ray.direction, sampler.next_2d());
                     arrival = Arrival::Sampled { from: x, pdf };
+                    connected_from = None;
                     ray = Ray {
                         origin: x,
                         direction,
@@ -181,8 +186,15 @@ pub(crate) fn radiance(
             let x = ray.at(t);
             let nee = medium_nee(&segment, t, &equiangular, sampler, counts, &mut tracker);
             radiance += throughput * nee;
+            let connects = connections && depth < max_events;
+            if connects {
+                let vertex = x;
+                radiance += throughput
+                    * connect_light_vertex(integrator, scene, fog, vertex, ray.direction, sampler, counts);
+            }
             let (direction, pdf) = fog.phase.sample(ray.direction, sampler.next_2d());
             // Phase sampling is exact: the weight p/pdf is 1.
+            connected_from = connects.then_some(pdf);
             arrival = Arrival::Medium {
                 pdf,
                 segment,
@@ -226,6 +238,8 @@ pub(crate) fn radiance(
                 }
                 throughput *= glass.filter_transmittance();
                 ray.origin = offset_origin(p, geometric_normal, ray.direction);
+                // The segment after the pane no longer starts at the event.
+                connected_from = None;
                 continue;
             }
             Material::Dielectric { ior } => {
@@ -238,6 +252,7 @@ pub(crate) fn radiance(
                     dielectric_scatter(ray.direction, geometric_normal, ior, sampler.next_1d());
                 solids.cross(ray.direction, direction, geometric_normal);
                 arrival = Arrival::Unweighted;
+                connected_from = None;
                 ray = Ray {
                     origin: offset_origin(p, geometric_normal, direction),
                     direction,
@@ -299,6 +314,7 @@ pub(crate) fn radiance(
             arrival = Arrival::Unweighted;
             direction
         };
+        connected_from = None;
         ray = Ray {
             origin: offset_origin(p, geometric_normal, direction),
             direction,
@@ -315,6 +331,9 @@ struct FogSegment<'a> {
     medium: MediumQuery<'a>,
     a: f32,
     b: f32,
+    /// If the ray starts at a fog event that connected to a light vertex,
+    /// the density with which that event chose the ray's direction.
+    connected_from: Option<f32>,
 }
 
 impl<'a> FogSegment<'a> {
@@ -324,6 +343,7 @@ impl<'a> FogSegment<'a> {
         fog: &'a Fog,
         ray: Ray,
         t_hit: f32,
+        connected_from: Option<f32>,
     ) -> Option<Self> {
         let (a, b) = fog.interval(&ray, 0.0, t_hit)?;
         let medium = MediumQuery {
@@ -333,7 +353,12 @@ impl<'a> FogSegment<'a> {
             ray,
             t_hit,
         };
-        (fog.sigma_t > 0.0).then_some(Self { medium, a, b })
+        (fog.sigma_t > 0.0).then_some(Self {
+            medium,
+            a,
+            b,
+            connected_from,
+        })
     }
 
     /// Distance to a real scattering event, sampled with density
@@ -348,6 +373,37 @@ impl<'a> FogSegment<'a> {
     fn flight_pdf(&self, t: f32) -> f32 {
         let sigma_t = self.medium.fog.sigma_t;
         sigma_t * transmittance(sigma_t, t - self.a)
+    }
+
+    /// For a quad light, the light-vertex connection's density for the
+    /// event at `t` lit from the light point `y0`, relative to the
+    /// free-flight event's (see [`connect_light_vertex`]), in the
+    /// solid-angle terms of the balance heuristic at a fog event:
+    /// `p₄ / (p_dir·p_flight(t)/t² · G)`, where
+    /// `p₄ = σt·T(y0, y)·cos θ₀ / (n_q·A·π·s·|y − y0|²)` is the volume
+    /// density of the light vertex y, `p_dir` the density of the ray's
+    /// direction at its origin and `G = cos θ₀/|y − y0|²`. Zero unless the
+    /// ray starts at an event that connected.
+    fn connection_term(&self, t: f32, light: &Light, y0: Vec3) -> f32 {
+        let (Some(p_dir), Light::Quad(q)) = (self.connected_from, light) else {
+            return 0.0;
+        };
+        let medium = &self.medium;
+        let y = medium.ray.at(t);
+        let to_y = y - y0;
+        let d = to_y.length();
+        if !(d > 0.0) || !(q.two_sided || to_y.dot(q.quad.normal) > 0.0) {
+            return 0.0;
+        }
+        let p_flight = self.flight_pdf(t);
+        if !(p_dir > 0.0 && p_flight > 0.0) {
+            return 0.0;
+        }
+        let fog = medium.fog;
+        let t_light = fog.transmittance_along(y0, to_y / d, d);
+        let lights = medium.scene.area_light_count() as f32;
+        let sides = if q.two_sided { 2.0 } else { 1.0 };
+        fog.sigma_t * t_light * t * t / (lights * q.quad.area() * PI * sides * p_dir * p_flight)
     }
 }
 
@@ -456,7 +512,12 @@ impl EquiangularNee {
                         let g = q.quad.normal.dot(incident.direction).abs()
                             / (incident.distance * incident.distance);
                         let p_omega = q.pdf(x, entry.point, incident.direction);
-                        n * p_e + q.quad.area() * p_flight * g * (p_omega + medium.phase(&incident))
+                        let p_connect = segment.connection_term(t, light, entry.point);
+                        n * p_e
+                            + q.quad.area()
+                                * p_flight
+                                * g
+                                * (p_omega + medium.phase(&incident) + p_connect)
                     }
                     _ => n * p_e + p_flight,
                 };
@@ -545,7 +606,8 @@ fn emission_weight(
             let light = &scene.lights[index];
             let p_light = light_pdf(light, segment.medium.ray.at(t), p, direction);
             let q = segment_term(&segment, t, samples, light, p);
-            pdf / (pdf + p_light + q)
+            let p_connect = segment.connection_term(t, light, p);
+            pdf / (pdf + p_light + q + p_connect)
         }
         _ => 1.0,
     }
@@ -579,7 +641,8 @@ fn medium_nee(
                 } else {
                     0.0
                 };
-                p_light / (p_light + medium.phase(&incident) + q)
+                let p_connect = segment.connection_term(t, light, y);
+                p_light / (p_light + medium.phase(&incident) + q + p_connect)
             }
             None if equiangular.covers(index) => {
                 let p_flight = segment.flight_pdf(t);
@@ -633,4 +696,137 @@ impl PathVertex<'_> {
         }
         sum
     }
+}
+
+/// A light-vertex connection at the fog event `x` (reached along `view`):
+/// a light subpath is started on a quad light (chosen uniformly, a point
+/// uniform on it, a cosine-distributed direction, through thin glass)
+/// and its first free-flight event y in the fog is connected to `x`.
+/// Returns the MIS-weighted radiance it brings to `x` (times the path's
+/// throughput, which holds x's albedo).
+///
+/// Why: fog right next to an area light is lit by a large solid angle of
+/// it and glows brightly. Camera paths reach that glow only when a random
+/// walk happens to pass close to the lamp — rare, and then worth a lot:
+/// the fireflies of multiply scattered light. Light subpaths start there,
+/// so their first events sample the glow where it is brightest. The
+/// strategy competes, by the balance heuristic, with NEE at y, the
+/// equiangular sample on x's continuation segment, and the phase-sampled
+/// hit from y; each of those adds its density
+/// ([`FogSegment::connection_term`]) when the segment starts at an event
+/// that connected. The connection's own 1/|x − y|² is tamed the same way:
+/// near x, phase sampling from x dominates the weights.
+fn connect_light_vertex(
+    integrator: &Integrator,
+    scene: &Scene,
+    fog: &Fog,
+    x: Vec3,
+    view: Vec3,
+    sampler: &mut PixelSampler,
+    counts: &mut RayCounts,
+) -> Rgb {
+    let lights = scene.area_light_count();
+    let choice = sampler.next_1d() * lights as f32;
+    let (u_point, u_direction, u_flight) = (sampler.next_2d(), sampler.next_2d(), sampler.next_1d());
+    let Some((index, q)) = scene
+        .lights
+        .iter()
+        .enumerate()
+        .filter_map(|(i, l)| match l {
+            Light::Quad(q) => Some((i, q)),
+            _ => None,
+        })
+        .nth((choice as usize).min(lights - 1))
+    else {
+        return Rgb::ZERO;
+    };
+    // A two-sided light picks its side with the choice's fraction.
+    let (normal, sides) = if q.two_sided {
+        let back = choice.fract() >= 0.5;
+        (if back { -q.quad.normal } else { q.quad.normal }, 2.0)
+    } else {
+        (q.quad.normal, 1.0)
+    };
+    let y0 = q.quad.point(u_point.x, u_point.y);
+    let direction = cosine_hemisphere(normal, u_direction);
+    // The light's free flight: one optical depth, spent piece by piece
+    // across thin glass panes.
+    let mut depth_left = -(1.0 - u_flight).ln();
+    let mut tint = Rgb::ONE;
+    let mut ray = Ray {
+        origin: offset_origin(y0, normal, direction),
+        direction,
+    };
+    let mut travelled = 0.0f32;
+    let y = loop {
+        counts.camera += 1;
+        let hit = scene.geometry.intersect(&ray, f32::INFINITY);
+        let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
+        if let Some((a, b)) = fog.interval(&ray, 0.0, t_hit) {
+            let depth = fog.sigma_t * (b - a);
+            if depth_left < depth {
+                break ray.at(a + depth_left / fog.sigma_t);
+            }
+            depth_left -= depth;
+        }
+        let Some(hit) = hit else { return Rgb::ZERO };
+        match scene.material(hit.primitive) {
+            Material::Glass(glass) => {
+                tint *= glass.filter_transmittance();
+                let p = ray.at(hit.t);
+                travelled += hit.t;
+                if travelled > 1e6 {
+                    return Rgb::ZERO;
+                }
+                let n = scene.geometry.normal(hit.primitive, p);
+                ray.origin = offset_origin(p, n, ray.direction);
+            }
+            _ => return Rgb::ZERO,
+        }
+    };
+    // Connect x → y: no surface between (see `connected_from` resets).
+    let to_y = y - x;
+    let t = to_y.length();
+    if !(t > 0.0) {
+        return Rgb::ZERO;
+    }
+    let omega = to_y / t;
+    let segment_ray = Ray {
+        origin: x,
+        direction: omega,
+    };
+    counts.shadow += 1;
+    let t_hit = scene
+        .geometry
+        .intersect(&segment_ray, f32::INFINITY)
+        .map_or(f32::INFINITY, |h| h.t);
+    if t_hit <= t {
+        return Rgb::ZERO;
+    }
+    let phase_x = fog.phase.eval(omega.dot(view));
+    let Some(segment) =
+        FogSegment::new(integrator, scene, fog, segment_ray, t_hit, Some(phase_x))
+    else {
+        return Rgb::ZERO;
+    };
+    let light = &scene.lights[index];
+    let to_light = -direction;
+    let phase_y = fog.phase.eval(to_light.dot(omega));
+    // f/p of the path x → y → y0: p(x)·T(x, y)/t² · σs/σt · p(y) · Le ·
+    // n_q·A·π·s (the light vertex's density cancels T(y0, y), cos θ₀
+    // and 1/|y − y0|²).
+    let value = q.radiance
+        * tint
+        * fog.albedo
+        * (phase_x * transmittance(fog.sigma_t, t) / (t * t)
+            * phase_y
+            * lights as f32
+            * q.quad.area()
+            * PI
+            * sides);
+    let p_connect = segment.connection_term(t, light, y0);
+    let p_omega = q.pdf(y, y0, to_light);
+    let equiangular = segment_term(&segment, t, 1, light, y0);
+    let weight = p_connect / (p_connect + p_omega + phase_y + equiangular);
+    value * weight
 }

@@ -60,6 +60,11 @@ impl Scene {
             .map(|i| self.area_lights[i].1 as usize)
     }
 
+    /// How many quad area lights the scene has.
+    pub fn area_light_count(&self) -> usize {
+        self.area_lights.len()
+    }
+
     pub fn material(&self, primitive: u32) -> &Material {
         &self.materials[self.geometry.primitive(primitive).material as usize]
     }
