@@ -344,6 +344,7 @@ fn fog_and_uniform_volume_agree() {
         Vec3::new(0.0, 1.5, 0.0),
         Vec3::new(0.3, 0.7, 0.0),
         Vec3::new(-0.5, 0.0, 0.5),
+        Vec3::new(0.1, 0.0, -0.2),
     ] {
         let ray = Ray::new(origin, target - origin);
         let (a, a_se) = estimate_ray(&fog, IntegratorKind::Volpath, 0.1, ray, 16384);
@@ -356,5 +357,51 @@ fn fog_and_uniform_volume_agree() {
             );
         }
         assert!(a.x > 20.0 * a_se.x, "{target}: {a} ± {a_se}");
+    }
+}
+
+/// Light-vertex connections from a diffuse floor: dense fog around a
+/// small bright lamp, where the glow under the lamp lights the floor
+/// mostly through one more scattering. The fog (connections, four-way
+/// MIS) and the equal uniform volume (no connections) must agree on the
+/// floor's radiance.
+#[test]
+fn floor_lit_through_the_glow_agrees_with_volume() {
+    let base = r#"
+        [camera]
+        position = [0, 1, 3]
+        look_at = [0, 0, 0]
+        fov_y_deg = 40
+        [materials.floor]
+        type = "diffuse"
+        reflectance = 0.8
+        [materials.block]
+        type = "diffuse"
+        reflectance = 0.0
+        [[shapes]]
+        type = "quad"
+        corners = [[-3, 0, -3], [-3, 0, 3], [3, 0, 3], [3, 0, -3]]
+        material = "floor"
+        [[lights]]
+        type = "quad"
+        corners = [[-0.2, 1, -0.2], [0.2, 1, -0.2], [0.2, 1, 0.2], [-0.2, 1, 0.2]]
+        radiance = 40
+        "#;
+    let medium =
+        "sigma_t = 1.5\nalbedo = 0.95\ng = 0.0\nbox = { min = [-3, 0, -3], max = [3, 1.2, 3] }\n";
+    let fog = scene(&format!("{base}\n[fog]\n{medium}"));
+    let volume = scene(&format!("{base}\n[[media]]\n{medium}"));
+    let origin = Vec3::new(0.0, 1.0, 3.0);
+    for target in [Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.6, 0.0, -0.3)] {
+        let ray = Ray::new(origin, target - origin);
+        let (a, a_se) = estimate_ray(&fog, IntegratorKind::Volpath, 0.1, ray, 32768);
+        let (b, b_se) = estimate_ray(&volume, IntegratorKind::Volpath, 0.1, ray, 32768);
+        for c in 0..3 {
+            let tol = 5.0 * (a_se[c].powi(2) + b_se[c].powi(2)).sqrt() + 1e-5;
+            assert!(
+                (a[c] - b[c]).abs() <= tol,
+                "{target}: fog {a} ± {a_se} vs volume {b} ± {b_se}"
+            );
+        }
     }
 }

@@ -15,7 +15,7 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use std::path::PathBuf;
 use std::time::Duration;
-use tyndall::metrics::relative_mse;
+use tyndall::metrics::{error_concentration, relative_mse};
 use tyndall::render::DEFAULT_VOLUME_SAMPLES;
 use tyndall::scene::{SceneDescription, demo, native};
 use tyndall::{Image, IntegratorKind, RenderSettings};
@@ -54,6 +54,8 @@ pub(crate) struct Point {
     spp: u32,
     seconds: f64,
     rel_mse: f64,
+    /// Share of the error in the worst 0.1% of pixels (fireflies).
+    worst_share: f64,
 }
 
 /// A configuration that is benchmarked: an integrator and, for `march`, a step.
@@ -335,6 +337,7 @@ pub(crate) fn measure(
             spp,
             seconds: median(&mut times).as_secs_f64(),
             rel_mse: relative_mse(&image, reference),
+            worst_share: error_concentration(&image, reference, 0.001),
         });
     }
     Ok(curve)
@@ -392,11 +395,17 @@ fn scene_fingerprint(desc: &SceneDescription, width: u32, height: u32) -> u64 {
 
 pub(crate) fn print_curve(method: &Method, curve: &[Point]) {
     println!(
-        "{}:\n\n| spp | time (s) | relMSE |\n|---:|---:|---:|",
+        "{}:\n\n| spp | time (s) | relMSE | error in worst 0.1% of pixels |\n|---:|---:|---:|---:|",
         method.label()
     );
     for p in curve {
-        println!("| {} | {:.3} | {:.3e} |", p.spp, p.seconds, p.rel_mse);
+        println!(
+            "| {} | {:.3} | {:.3e} | {:.1}% |",
+            p.spp,
+            p.seconds,
+            p.rel_mse,
+            100.0 * p.worst_share
+        );
     }
     println!();
 }
@@ -487,11 +496,13 @@ mod tests {
                 spp: 1,
                 seconds: 1.0,
                 rel_mse: 1e-2,
+                worst_share: 0.0,
             },
             Point {
                 spp: 10,
                 seconds: 10.0,
                 rel_mse: 1e-3,
+                worst_share: 0.0,
             },
         ];
         let TimeToError::Seconds(t) = time_to_error(&curve, 10f64.powf(-2.5)) else {

@@ -123,7 +123,8 @@ pub(crate) fn radiance(
         let mut fog_event = None;
         if let Some(fog) = &scene.fog
             && !solids.inside()
-            && let Some(segment) = FogSegment::new(integrator, scene, fog, ray, t_hit, connected_from)
+            && let Some(segment) =
+                FogSegment::new(integrator, scene, fog, ray, t_hit, connected_from)
         {
             let u_flight = sampler.next_1d();
             // Point and spot lights: equiangular samples along the whole
@@ -188,9 +189,12 @@ pub(crate) fn radiance(
             radiance += throughput * nee;
             let connects = connections && depth < max_events;
             if connects {
-                let vertex = x;
+                let vertex = ConnectionVertex::Medium {
+                    phase: &fog.phase,
+                    view: ray.direction,
+                };
                 radiance += throughput
-                    * connect_light_vertex(integrator, scene, fog, vertex, ray.direction, sampler, counts);
+                    * connect_light_vertex(integrator, scene, fog, x, &vertex, sampler, counts);
             }
             let (direction, pdf) = fog.phase.sample(ray.direction, sampler.next_2d());
             // Phase sampling is exact: the weight p/pdf is 1.
@@ -295,16 +299,26 @@ pub(crate) fn radiance(
                 &mut tracker,
                 mis,
             );
+        // Light-vertex connections from Lambertian surfaces only: a
+        // glossy lobe's density could not be weighed against them.
+        let connects = connections && depth < max_events && !surface.has_specular();
+        if connects && let Some(fog) = &scene.fog {
+            let vertex = ConnectionVertex::Diffuse {
+                rho: surface.diffuse,
+                normal,
+            };
+            radiance += throughput
+                * connect_light_vertex(integrator, scene, fog, p, &vertex, sampler, counts);
+        }
         let choice = sampler.next_1d();
         let u = sampler.next_2d();
         let direction = if choice < p_diffuse {
             let direction = cosine_hemisphere(normal, u);
             // f·cos/pdf = (ρ/π)·cos / (P_d·cos/π) = ρ/P_d.
             throughput *= surface.diffuse / p_diffuse;
-            arrival = Arrival::Sampled {
-                from: p,
-                pdf: p_diffuse * normal.dot(direction).max(0.0) * FRAC_1_PI,
-            };
+            let pdf = p_diffuse * normal.dot(direction).max(0.0) * FRAC_1_PI;
+            arrival = Arrival::Sampled { from: p, pdf };
+            connected_from = (connects && scene.fog.is_some()).then_some(pdf);
             direction
         } else {
             let Some(direction) = surface.reflect(ray.direction, normal, u) else {
@@ -312,9 +326,9 @@ pub(crate) fn radiance(
             };
             throughput *= surface.specular / (1.0 - p_diffuse);
             arrival = Arrival::Unweighted;
+            connected_from = None;
             direction
         };
-        connected_from = None;
         ray = Ray {
             origin: offset_origin(p, geometric_normal, direction),
             direction,
@@ -392,7 +406,7 @@ impl<'a> FogSegment<'a> {
         let y = medium.ray.at(t);
         let to_y = y - y0;
         let d = to_y.length();
-        if !(d > 0.0) || !(q.two_sided || to_y.dot(q.quad.normal) > 0.0) {
+        if d.is_nan() || d <= 0.0 || !(q.two_sided || to_y.dot(q.quad.normal) > 0.0) {
             return 0.0;
         }
         let p_flight = self.flight_pdf(t);
@@ -721,13 +735,14 @@ fn connect_light_vertex(
     scene: &Scene,
     fog: &Fog,
     x: Vec3,
-    view: Vec3,
+    vertex: &ConnectionVertex,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
 ) -> Rgb {
     let lights = scene.area_light_count();
     let choice = sampler.next_1d() * lights as f32;
-    let (u_point, u_direction, u_flight) = (sampler.next_2d(), sampler.next_2d(), sampler.next_1d());
+    let (u_point, u_direction, u_flight) =
+        (sampler.next_2d(), sampler.next_2d(), sampler.next_1d());
     let Some((index, q)) = scene
         .lights
         .iter()
@@ -787,12 +802,15 @@ fn connect_light_vertex(
     // Connect x → y: no surface between (see `connected_from` resets).
     let to_y = y - x;
     let t = to_y.length();
-    if !(t > 0.0) {
+    if t.is_nan() || t <= 0.0 {
         return Rgb::ZERO;
     }
     let omega = to_y / t;
+    let Some((f_x, p_dir)) = vertex.scatter(omega) else {
+        return Rgb::ZERO;
+    };
     let segment_ray = Ray {
-        origin: x,
+        origin: vertex.origin(x, omega),
         direction: omega,
     };
     counts.shadow += 1;
@@ -803,22 +821,21 @@ fn connect_light_vertex(
     if t_hit <= t {
         return Rgb::ZERO;
     }
-    let phase_x = fog.phase.eval(omega.dot(view));
-    let Some(segment) =
-        FogSegment::new(integrator, scene, fog, segment_ray, t_hit, Some(phase_x))
+    let Some(segment) = FogSegment::new(integrator, scene, fog, segment_ray, t_hit, Some(p_dir))
     else {
         return Rgb::ZERO;
     };
     let light = &scene.lights[index];
     let to_light = -direction;
     let phase_y = fog.phase.eval(to_light.dot(omega));
-    // f/p of the path x → y → y0: p(x)·T(x, y)/t² · σs/σt · p(y) · Le ·
+    // f/p of the path x → y → y0: f(x)·T(x, y)/t² · σs/σt · p(y) · Le ·
     // n_q·A·π·s (the light vertex's density cancels T(y0, y), cos θ₀
     // and 1/|y − y0|²).
     let value = q.radiance
         * tint
         * fog.albedo
-        * (phase_x * transmittance(fog.sigma_t, t) / (t * t)
+        * f_x
+        * (fog.transmittance(&segment_ray, 0.0, t) / (t * t)
             * phase_y
             * lights as f32
             * q.quad.area()
@@ -829,4 +846,43 @@ fn connect_light_vertex(
     let equiangular = segment_term(&segment, t, 1, light, y0);
     let weight = p_connect / (p_connect + p_omega + phase_y + equiangular);
     value * weight
+}
+
+/// A camera-path vertex that connects to light vertices, and how it
+/// scatters light towards the path.
+enum ConnectionVertex<'a> {
+    /// A fog event reached along `view`.
+    Medium {
+        phase: &'a PhaseFunction,
+        view: Vec3,
+    },
+    /// A Lambertian surface with the normal facing the path.
+    Diffuse { rho: Rgb, normal: Vec3 },
+}
+
+impl ConnectionVertex<'_> {
+    /// For light arriving from direction `omega`, the scattering towards
+    /// the path (`p(θ)`, or `ρ/π·cos θ`) and the density with which the
+    /// path's continuation picks `omega` (phase sampling, or cosine
+    /// sampling of a surface with no reflective layer: P_d = 1).
+    fn scatter(&self, omega: Vec3) -> Option<(Rgb, f32)> {
+        match *self {
+            ConnectionVertex::Medium { phase, view } => {
+                let p = phase.eval(omega.dot(view));
+                Some((Rgb::splat(p), p))
+            }
+            ConnectionVertex::Diffuse { rho, normal } => {
+                let cos = normal.dot(omega);
+                (cos > 0.0).then(|| (rho * (FRAC_1_PI * cos), cos * FRAC_1_PI))
+            }
+        }
+    }
+
+    /// Where a ray towards `omega` starts: just off a surface.
+    fn origin(&self, x: Vec3, omega: Vec3) -> Vec3 {
+        match *self {
+            ConnectionVertex::Medium { .. } => x,
+            ConnectionVertex::Diffuse { normal, .. } => offset_origin(x, normal, omega),
+        }
+    }
 }
