@@ -22,11 +22,11 @@
 //! lights seen in mirrors — connections through specular surfaces.
 
 use super::volpath::survives_roulette;
-use super::{MAX_GLASS_CROSSINGS, SolidDepth, TRACKING_STREAM};
+use super::{MAX_GLASS_CROSSINGS, SolidDepth, TRACKING_STREAM, refract_or_reflect};
 use crate::camera::Camera;
 use crate::color::{Rgb, luminance};
 use crate::lights::Light;
-use crate::materials::{Material, dielectric_scatter};
+use crate::materials::Material;
 use crate::media::tracking::{Collision, VolumeTracker};
 use crate::phase::PhaseFunction;
 use crate::ray::{Ray, offset_origin};
@@ -211,13 +211,7 @@ impl Tracer<'_> {
                     }
                     depth += 1;
                     caustic = true;
-                    let direction =
-                        dielectric_scatter(ray.direction, geometric_normal, ior, sampler.next_1d());
-                    solids.cross(ray.direction, direction, geometric_normal);
-                    ray = Ray {
-                        origin: offset_origin(p, geometric_normal, direction),
-                        direction,
-                    };
+                    ray = refract_or_reflect(&ray, p, geometric_normal, ior, sampler, &mut solids);
                 }
                 Material::Opaque(surface) => {
                     if !self.scattering_allowed(caustic) || depth >= self.max_depth {

@@ -183,15 +183,10 @@ impl<'a> Integrator<'a> {
                         return radiance;
                     }
                     bounces += 1;
-                    let direction =
-                        dielectric_scatter(ray.direction, geometric_normal, ior, sampler.next_1d());
-                    solids.cross(ray.direction, direction, geometric_normal);
-                    ray = Ray {
-                        origin: offset_origin(p, geometric_normal, direction),
-                        direction,
-                    };
+                    ray = refract_or_reflect(&ray, p, geometric_normal, ior, sampler, &mut solids);
                 }
                 Material::Glass(glass) => {
+                    // Glass drawn opaque: a diffuse surface of its colour.
                     let surface = Surface::diffuse(glass.color);
                     radiance += throughput
                         * self.direct_lighting(
@@ -350,6 +345,26 @@ impl SolidDepth {
         } else if din > 0.0 && dout > 0.0 {
             self.0 = self.0.saturating_sub(1);
         }
+    }
+}
+
+/// The ray leaving a solid dielectric of index `ior` at `p` (geometric
+/// normal `geometric_normal`) for `ray` arriving there: reflected or
+/// refracted with the Fresnel probabilities (one sample dimension), its
+/// origin moved off the surface; records entering or leaving the solid.
+pub(crate) fn refract_or_reflect(
+    ray: &Ray,
+    p: Vec3,
+    geometric_normal: Vec3,
+    ior: f32,
+    sampler: &mut PixelSampler,
+    solids: &mut SolidDepth,
+) -> Ray {
+    let direction = dielectric_scatter(ray.direction, geometric_normal, ior, sampler.next_1d());
+    solids.cross(ray.direction, direction, geometric_normal);
+    Ray {
+        origin: offset_origin(p, geometric_normal, direction),
+        direction,
     }
 }
 

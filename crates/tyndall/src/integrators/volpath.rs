@@ -22,6 +22,15 @@
 //! camera segment takes `volume_samples` stratified samples per light,
 //! later segments one.
 //!
+//! Light-vertex connections: at every fog event and Lambertian surface
+//! vertex (after the camera's), a light subpath is started on a quad
+//! light and its first fog event joined to the vertex
+//! ([`connect_light_vertex`]). This reaches the glow of fog right around
+//! an area light, which camera paths find only by rare random walks; it
+//! joins the balance heuristic as a fourth strategy. With volumes in the
+//! scene it is off (the light subpath's flight density would need
+//! tracking).
+//!
 //! Depth counts scattering events, as in pbrt-v4: with `max_depth = 1` the
 //! path stops at its second event, so it holds exactly light scattered once
 //! (by fog or a surface) on its way to the camera — what `single` computes.
@@ -46,11 +55,11 @@
 
 use super::{
     Integrator, MediumQuery, SolidDepth, SurfaceHit, TRACKING_STREAM, lambert_direct_lighting,
-    light_arriving, sample_light, scattered_light,
+    light_arriving, refract_or_reflect, sample_light, scattered_light,
 };
 use crate::color::{Rgb, luminance};
 use crate::lights::Light;
-use crate::materials::{Material, Surface, dielectric_scatter};
+use crate::materials::{Material, Surface};
 use crate::media::tracking::{Collision, VolumeTracker};
 use crate::media::{Fog, transmittance};
 use crate::phase::PhaseFunction;
@@ -252,15 +261,9 @@ pub(crate) fn radiance(
                     return radiance;
                 }
                 depth += 1;
-                let direction =
-                    dielectric_scatter(ray.direction, geometric_normal, ior, sampler.next_1d());
-                solids.cross(ray.direction, direction, geometric_normal);
+                ray = refract_or_reflect(&ray, p, geometric_normal, ior, sampler, &mut solids);
                 arrival = Arrival::Unweighted;
                 connected_from = None;
-                ray = Ray {
-                    origin: offset_origin(p, geometric_normal, direction),
-                    direction,
-                };
                 if !survives_roulette(&mut throughput, depth, sampler) {
                     return radiance;
                 }
