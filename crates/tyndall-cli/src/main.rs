@@ -36,7 +36,7 @@ enum Command {
     Compare {
         candidate: PathBuf,
         reference: PathBuf,
-        /// Also list the N pixels that contribute most to the error.
+        /// Also list the N pixels that contribute most to the error, and the share of the error in the worst 0.1% of pixels (a firefly measure).
         #[arg(long, default_value_t = 0)]
         worst: usize,
     },
@@ -310,6 +310,13 @@ fn compare(candidate: &Path, reference: &Path, worst: usize) -> Result<()> {
         })
         .collect();
     pixels.sort_by(|a, b| b.0.total_cmp(&a.0));
+    if worst > 0 {
+        let share = tyndall::metrics::error_concentration(&c, &r, 0.001);
+        println!(
+            "  the worst 0.1% of pixels carry {:.1}% of the error",
+            100.0 * share
+        );
+    }
     for (e, x, y) in pixels.into_iter().take(worst) {
         println!(
             "  pixel ({x}, {y}): {:.3e}  candidate {:?}  reference {:?}",

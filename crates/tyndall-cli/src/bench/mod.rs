@@ -145,7 +145,7 @@ fn volpath(args: &BenchArgs) -> Result<()> {
     let ladder: &[u32] = if args.quick {
         &[4, 8]
     } else {
-        &[4, 8, 16, 32, 64]
+        &[4, 8, 16, 32, 64, 128]
     };
     println!("## volpath on the Cornell fog scene (scenes/cornell-fog.toml) at {w}×{h}\n");
     let method = Method::volpath();

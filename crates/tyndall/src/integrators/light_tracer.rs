@@ -21,7 +21,7 @@
 //! specular chain (light → glass → fog → glass → camera), and point
 //! lights seen in mirrors — connections through specular surfaces.
 
-use super::volpath::survives_roulette;
+use super::volpath::{MAX_PATH_EVENTS, survives_roulette};
 use super::{MAX_GLASS_CROSSINGS, SolidDepth, TRACKING_STREAM, refract_or_reflect};
 use crate::camera::Camera;
 use crate::color::{Rgb, luminance};
@@ -89,7 +89,8 @@ pub fn trace(
         camera,
         width,
         emitters: &emitters,
-        max_depth,
+        // The same guard as `volpath`'s against endless albedo-1 walks.
+        max_depth: max_depth.min(MAX_PATH_EVENTS),
         which,
     };
     let per_chunk = paths.div_ceil(CHUNKS as u64);

@@ -81,7 +81,7 @@ const ROULETTE_DEPTH: u32 = 3;
 /// a path would never end. Paths this long carry nothing measurable in any
 /// scene that absorbs at all; in one that absorbs nothing the cut is a bias
 /// and the only one in `volpath`.
-const MAX_PATH_EVENTS: u32 = 65_536;
+pub(crate) const MAX_PATH_EVENTS: u32 = 65_536;
 
 /// How the current path segment was sampled, for the MIS weight of the
 /// emitter it may hit.
@@ -775,7 +775,7 @@ fn connect_light_vertex(
         origin: offset_origin(y0, normal, direction),
         direction,
     };
-    let mut travelled = 0.0f32;
+    let mut crossings = 0u32;
     let y = loop {
         counts.camera += 1;
         let hit = scene.geometry.intersect(&ray, f32::INFINITY);
@@ -791,11 +791,11 @@ fn connect_light_vertex(
         match scene.material(hit.primitive) {
             Material::Glass(glass) => {
                 tint *= glass.filter_transmittance();
-                let p = ray.at(hit.t);
-                travelled += hit.t;
-                if travelled > 1e6 {
+                crossings += 1;
+                if crossings > super::MAX_GLASS_CROSSINGS {
                     return Rgb::ZERO;
                 }
+                let p = ray.at(hit.t);
                 let n = scene.geometry.normal(hit.primitive, p);
                 ray.origin = offset_origin(p, n, ray.direction);
             }
