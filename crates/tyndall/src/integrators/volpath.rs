@@ -121,8 +121,8 @@ pub(crate) fn radiance(
     let mut tracker = VolumeTracker::new(sampler.stream(TRACKING_STREAM));
     let max_events = integrator.max_depth.min(MAX_PATH_EVENTS);
     let connections = scene.volumes.is_empty() && scene.area_light_count() > 0;
-    // The continuation density at the fog event the ray leaves from, if
-    // that event connected to a light vertex.
+    // The continuation density at the vertex the ray leaves from, if that
+    // vertex connected to a light vertex.
     let mut connected_from = None;
     loop {
         counts.camera += 1;
@@ -348,8 +348,9 @@ struct FogSegment<'a> {
     medium: MediumQuery<'a>,
     a: f32,
     b: f32,
-    /// If the ray starts at a fog event that connected to a light vertex,
-    /// the density with which that event chose the ray's direction.
+    /// If the ray starts at a vertex (fog event or Lambertian surface)
+    /// that connected to a light vertex, the solid-angle density with
+    /// which that vertex chose the ray's direction.
     connected_from: Option<f32>,
 }
 
@@ -400,7 +401,7 @@ impl<'a> FogSegment<'a> {
     /// `p₄ = σt·T(y0, y)·cos θ₀ / (n_q·A·π·s·|y − y0|²)` is the volume
     /// density of the light vertex y, `p_dir` the density of the ray's
     /// direction at its origin and `G = cos θ₀/|y − y0|²`. Zero unless the
-    /// ray starts at an event that connected.
+    /// ray starts at a vertex that connected.
     fn connection_term(&self, t: f32, light: &Light, y0: Vec3) -> f32 {
         let (Some(p_dir), Light::Quad(q)) = (self.connected_from, light) else {
             return 0.0;
@@ -715,12 +716,14 @@ impl PathVertex<'_> {
     }
 }
 
-/// A light-vertex connection at the fog event `x` (reached along `view`):
-/// a light subpath is started on a quad light (chosen uniformly, a point
-/// uniform on it, a cosine-distributed direction, through thin glass)
-/// and its first free-flight event y in the fog is connected to `x`.
-/// Returns the MIS-weighted radiance it brings to `x` (times the path's
-/// throughput, which holds x's albedo).
+/// A light-vertex connection at the camera-path vertex `x` (a fog event or
+/// a Lambertian surface point, `vertex`): a light subpath is started on a
+/// quad light (chosen uniformly, a point uniform on it, a
+/// cosine-distributed direction, through thin glass) and its first
+/// free-flight event y in the fog is connected to `x`. Returns the
+/// MIS-weighted radiance it brings to the path (to be multiplied by the
+/// path's throughput at `x`, which holds a fog event's albedo but not a
+/// surface's BRDF).
 ///
 /// Why: fog right next to an area light is lit by a large solid angle of
 /// it and glows brightly. Camera paths reach that glow only when a random
@@ -730,9 +733,9 @@ impl PathVertex<'_> {
 /// strategy competes, by the balance heuristic, with NEE at y, the
 /// equiangular sample on x's continuation segment, and the phase-sampled
 /// hit from y; each of those adds its density
-/// ([`FogSegment::connection_term`]) when the segment starts at an event
+/// ([`FogSegment::connection_term`]) when the segment starts at a vertex
 /// that connected. The connection's own 1/|x − y|² is tamed the same way:
-/// near x, phase sampling from x dominates the weights.
+/// near x, sampling the continuation from x dominates the weights.
 fn connect_light_vertex(
     integrator: &Integrator,
     scene: &Scene,
