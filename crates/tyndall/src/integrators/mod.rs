@@ -156,7 +156,7 @@ impl<'a> Integrator<'a> {
                 normal,
                 front,
             } = SurfaceHit::new(scene, &ray, &hit);
-            match *scene.material(hit.primitive) {
+            let surface = match *scene.material(hit.primitive) {
                 Material::Emissive {
                     radiance: le,
                     two_sided,
@@ -177,6 +177,7 @@ impl<'a> Integrator<'a> {
                     // the same value.
                     throughput *= glass.filter_transmittance();
                     ray.origin = offset_origin(p, geometric_normal, ray.direction);
+                    continue;
                 }
                 Material::Dielectric { ior } => {
                     if bounces >= self.max_bounces {
@@ -184,48 +185,26 @@ impl<'a> Integrator<'a> {
                     }
                     bounces += 1;
                     ray = refract_or_reflect(&ray, p, geometric_normal, ior, sampler, &mut solids);
+                    continue;
                 }
-                Material::Glass(glass) => {
-                    // Glass drawn opaque: a diffuse surface of its colour.
-                    let surface = Surface::diffuse(glass.color);
-                    radiance += throughput
-                        * self.direct_lighting(
-                            scene,
-                            &surface,
-                            p,
-                            normal,
-                            sampler,
-                            counts,
-                            &mut tracker,
-                        );
-                    return radiance;
-                }
-                Material::Opaque(surface) => {
-                    radiance += throughput
-                        * self.direct_lighting(
-                            scene,
-                            &surface,
-                            p,
-                            normal,
-                            sampler,
-                            counts,
-                            &mut tracker,
-                        );
-                    if !surface.has_specular() || bounces >= self.max_bounces {
-                        return radiance;
-                    }
-                    let Some(direction) = surface.reflect(ray.direction, normal, sampler.next_2d())
-                    else {
-                        return radiance;
-                    };
-                    bounces += 1;
-                    throughput *= surface.specular;
-                    ray = Ray {
-                        origin: offset_origin(p, geometric_normal, direction),
-                        direction,
-                    };
-                }
+                // Glass drawn opaque: a diffuse surface of its colour.
+                Material::Glass(glass) => Surface::diffuse(glass.color),
+                Material::Opaque(surface) => surface,
+            };
+            radiance += throughput
+                * self.direct_lighting(scene, &surface, p, normal, sampler, counts, &mut tracker);
+            if !surface.has_specular() || bounces >= self.max_bounces {
+                return radiance;
             }
+            let Some(direction) = surface.reflect(ray.direction, normal, sampler.next_2d()) else {
+                return radiance;
+            };
+            bounces += 1;
+            throughput *= surface.specular;
+            ray = Ray {
+                origin: offset_origin(p, geometric_normal, direction),
+                direction,
+            };
         }
     }
 
