@@ -9,6 +9,7 @@ use crate::color::Rgb;
 use crate::film::Image;
 use crate::integrators::light_tracer::{self, LightPaths};
 use crate::integrators::{Integrator, IntegratorKind, PixelPosition};
+use crate::media::tracking::MAX_VOLUMES;
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
 use crate::visibility::{RayCounts, Visibility, VisibilityMode};
@@ -108,6 +109,8 @@ pub enum RenderError {
         "the scene has {0} volume(s) ([[media]]), which only the `volpath` integrator renders; `{1}` estimates homogeneous [fog] only: use --integrator volpath"
     )]
     VolumesNeedVolpath(usize, &'static str),
+    #[error("the scene has {0} volumes; at most {MAX_VOLUMES} are supported")]
+    TooManyVolumes(usize),
     #[error("could not start the worker threads: {0}")]
     ThreadPool(String),
 }
@@ -156,6 +159,9 @@ impl RenderSettings {
                 format!("{:?}", fog.albedo.to_array()),
                 self.integrator.name(),
             ));
+        }
+        if scene.volumes.len() > MAX_VOLUMES {
+            return Err(RenderError::TooManyVolumes(scene.volumes.len()));
         }
         if !scene.volumes.is_empty() && self.integrator != IntegratorKind::Volpath {
             return Err(RenderError::VolumesNeedVolpath(
