@@ -121,9 +121,8 @@ pub(crate) fn radiance(
     let mut tracker = VolumeTracker::new(sampler.stream(TRACKING_STREAM));
     let max_events = integrator.max_depth.min(MAX_PATH_EVENTS);
     let connections = scene.volumes.is_empty() && scene.area_light_count() > 0;
-    // The continuation density at the vertex the ray leaves from, if that
-    // vertex connected to a light vertex.
-    let mut connected_from = None;
+    // What the vertex the ray leaves from connected to.
+    let mut connected_from = Connections::default();
     loop {
         counts.camera += 1;
         let hit = scene.geometry.intersect(&ray, f32::INFINITY);
@@ -173,7 +172,7 @@ pub(crate) fn radiance(
                     radiance += throughput * medium.nee(sampler, counts, &mut tracker);
                     let (direction, pdf) = phase.sample(ray.direction, sampler.next_2d());
                     arrival = Arrival::Sampled { from: x, pdf };
-                    connected_from = None;
+                    connected_from = Connections::default();
                     ray = Ray {
                         origin: x,
                         direction,
@@ -197,17 +196,31 @@ pub(crate) fn radiance(
             let nee = medium_nee(&segment, t, &equiangular, sampler, counts, &mut tracker);
             radiance += throughput * nee;
             let connects = connections && depth < max_events;
+            let twice = connects && depth + 1 < max_events;
+            // The density with which the camera path reached x from a
+            // vertex that connected to second light vertices.
+            let reached = segment.reached_density(t);
             if connects {
                 let vertex = ConnectionVertex::Medium {
                     phase: &fog.phase,
                     view: ray.direction,
                 };
-                radiance += throughput
-                    * connect_light_vertex(integrator, scene, fog, x, &vertex, sampler, counts);
+                let at = LightVertexOrigin {
+                    x,
+                    vertex: &vertex,
+                    reached,
+                    twice,
+                };
+                radiance +=
+                    throughput * connect_light_vertex(integrator, scene, fog, &at, sampler, counts);
             }
             let (direction, pdf) = fog.phase.sample(ray.direction, sampler.next_2d());
             // Phase sampling is exact: the weight p/pdf is 1.
-            connected_from = connects.then_some(pdf);
+            connected_from = Connections {
+                first: connects.then_some(pdf),
+                second: twice,
+                reached: reached.map(|r| r * pdf),
+            };
             arrival = Arrival::Medium {
                 pdf,
                 segment,
@@ -252,7 +265,7 @@ pub(crate) fn radiance(
                 throughput *= glass.filter_transmittance();
                 ray.origin = offset_origin(p, geometric_normal, ray.direction);
                 // The segment after the pane no longer starts at the event.
-                connected_from = None;
+                connected_from = Connections::default();
                 continue;
             }
             Material::Dielectric { ior } => {
@@ -263,7 +276,7 @@ pub(crate) fn radiance(
                 depth += 1;
                 ray = refract_or_reflect(&ray, p, geometric_normal, ior, sampler, &mut solids);
                 arrival = Arrival::Unweighted;
-                connected_from = None;
+                connected_from = Connections::default();
                 if !survives_roulette(&mut throughput, depth, sampler) {
                     return radiance;
                 }
@@ -305,13 +318,20 @@ pub(crate) fn radiance(
         // Light-vertex connections from Lambertian surfaces only: a
         // glossy lobe's density could not be weighed against them.
         let connects = connections && depth < max_events && !surface.has_specular();
+        let twice = connects && depth + 1 < max_events;
         if connects && let Some(fog) = &scene.fog {
             let vertex = ConnectionVertex::Diffuse {
                 rho: surface.diffuse,
                 normal,
             };
-            radiance += throughput
-                * connect_light_vertex(integrator, scene, fog, p, &vertex, sampler, counts);
+            let at = LightVertexOrigin {
+                x: p,
+                vertex: &vertex,
+                reached: None,
+                twice,
+            };
+            radiance +=
+                throughput * connect_light_vertex(integrator, scene, fog, &at, sampler, counts);
         }
         let choice = sampler.next_1d();
         let u = sampler.next_2d();
@@ -321,7 +341,12 @@ pub(crate) fn radiance(
             throughput *= surface.diffuse / p_diffuse;
             let pdf = p_diffuse * normal.dot(direction).max(0.0) * FRAC_1_PI;
             arrival = Arrival::Sampled { from: p, pdf };
-            connected_from = (connects && scene.fog.is_some()).then_some(pdf);
+            let connects = connects && scene.fog.is_some();
+            connected_from = Connections {
+                first: connects.then_some(pdf),
+                second: twice && connects,
+                reached: None,
+            };
             direction
         } else {
             let Some(direction) = surface.reflect(ray.direction, normal, u) else {
@@ -329,7 +354,7 @@ pub(crate) fn radiance(
             };
             throughput *= surface.specular / (1.0 - p_diffuse);
             arrival = Arrival::Unweighted;
-            connected_from = None;
+            connected_from = Connections::default();
             direction
         };
         ray = Ray {
@@ -348,10 +373,8 @@ struct FogSegment<'a> {
     medium: MediumQuery<'a>,
     a: f32,
     b: f32,
-    /// If the ray starts at a vertex (fog event or Lambertian surface)
-    /// that connected to a light vertex, the solid-angle density with
-    /// which that vertex chose the ray's direction.
-    connected_from: Option<f32>,
+    /// What the ray's origin vertex connected to.
+    connected_from: Connections,
 }
 
 impl<'a> FogSegment<'a> {
@@ -361,7 +384,7 @@ impl<'a> FogSegment<'a> {
         fog: &'a Fog,
         ray: Ray,
         t_hit: f32,
-        connected_from: Option<f32>,
+        connected_from: Connections,
     ) -> Option<Self> {
         let (a, b) = fog.interval(&ray, 0.0, t_hit)?;
         let medium = MediumQuery {
@@ -403,7 +426,7 @@ impl<'a> FogSegment<'a> {
     /// direction at its origin and `G = cos θ₀/|y − y0|²`. Zero unless the
     /// ray starts at a vertex that connected.
     fn connection_term(&self, t: f32, light: &Light, y0: Vec3) -> f32 {
-        let (Some(p_dir), Light::Quad(q)) = (self.connected_from, light) else {
+        let (Some(p_dir), Light::Quad(q)) = (self.connected_from.first, light) else {
             return 0.0;
         };
         let medium = &self.medium;
@@ -423,6 +446,71 @@ impl<'a> FogSegment<'a> {
         let sides = if q.two_sided { 2.0 } else { 1.0 };
         fog.sigma_t * t_light * t * t / (lights * q.quad.area() * PI * sides * p_dir * p_flight)
     }
+}
+
+impl FogSegment<'_> {
+    /// The densities of both light-vertex strategies for the event at `t`
+    /// lit from `y0`, in the solid-angle terms of the balance heuristic
+    /// at a fog event.
+    fn light_vertex_terms(&self, t: f32, light: &Light, y0: Vec3) -> f32 {
+        self.connection_term(t, light, y0) + self.second_vertex_term(t, light, y0)
+    }
+
+    /// The volume density with which the camera path reaches the event at
+    /// `t` from the ray's origin, `p_dir·p_flight(t)/t²`, if the origin
+    /// connected to second light vertices (which can produce this event
+    /// as one).
+    fn reached_density(&self, t: f32) -> Option<f32> {
+        let p_dir = self.connected_from.first?;
+        (self.connected_from.second && t > 0.0).then(|| p_dir * self.flight_pdf(t) / (t * t))
+    }
+
+    /// For a quad light, the second-light-vertex strategy's density for
+    /// the path (x, y₂, y₁ = ray.at(t), y0) relative to the camera path's
+    /// common factor at y₁, where y₂ is the ray's origin and x the vertex
+    /// before it: `σt·T(y0, y₁)·p(y₁) / (n_q·A·π·s·P_x(y₂)·p_dir(y₂))`
+    /// (the light subpath's densities of y₁ and y₂ over the camera's of
+    /// y₂ and of the event at y₁; see [`connect_light_vertex`]). Zero
+    /// unless the origin was reached from a vertex that connected to
+    /// second light vertices.
+    fn second_vertex_term(&self, t: f32, light: &Light, y0: Vec3) -> f32 {
+        let (Some(reached), Light::Quad(q)) = (self.connected_from.reached, light) else {
+            return 0.0;
+        };
+        let medium = &self.medium;
+        let y1 = medium.ray.at(t);
+        let to_y1 = y1 - y0;
+        let d = to_y1.length();
+        if d.is_nan()
+            || d <= 0.0
+            || !(q.two_sided || to_y1.dot(q.quad.normal) > 0.0)
+            || reached <= 0.0
+        {
+            return 0.0;
+        }
+        let fog = medium.fog;
+        let t_light = fog.transmittance_along(y0, to_y1 / d, d);
+        // Light arrives along to_y1 and turns back along −ray.direction.
+        let phase = fog.phase.eval(-(to_y1 / d).dot(medium.ray.direction));
+        let lights = medium.scene.area_light_count() as f32;
+        let sides = if q.two_sided { 2.0 } else { 1.0 };
+        fog.sigma_t * t_light * phase / (lights * q.quad.area() * PI * sides * reached)
+    }
+}
+
+/// What a camera-path vertex connected to, as seen from the segment that
+/// leaves it.
+#[derive(Clone, Copy, Debug, Default)]
+struct Connections {
+    /// The solid-angle density of the segment's direction, if the vertex
+    /// connected to first light vertices.
+    first: Option<f32>,
+    /// Whether it also connected to second light vertices.
+    second: bool,
+    /// If the vertex is a fog event reached from one that connected to
+    /// second light vertices: that reach's volume density times this
+    /// segment's direction density, `P_x(y₂)·p_dir(y₂)`.
+    reached: Option<f32>,
 }
 
 /// Equiangular NEE along one fog segment (Kulla & Fajardo 2012): `n`
@@ -530,7 +618,7 @@ impl EquiangularNee {
                         let g = q.quad.normal.dot(incident.direction).abs()
                             / (incident.distance * incident.distance);
                         let p_omega = q.pdf(x, entry.point, incident.direction);
-                        let p_connect = segment.connection_term(t, light, entry.point);
+                        let p_connect = segment.light_vertex_terms(t, light, entry.point);
                         n * p_e
                             + q.quad.area()
                                 * p_flight
@@ -624,7 +712,7 @@ fn emission_weight(
             let light = &scene.lights[index];
             let p_light = light_pdf(light, segment.medium.ray.at(t), p, direction);
             let q = segment_term(&segment, t, samples, light, p);
-            let p_connect = segment.connection_term(t, light, p);
+            let p_connect = segment.light_vertex_terms(t, light, p);
             pdf / (pdf + p_light + q + p_connect)
         }
         _ => 1.0,
@@ -659,7 +747,7 @@ fn medium_nee(
                 } else {
                     0.0
                 };
-                let p_connect = segment.connection_term(t, light, y);
+                let p_connect = segment.light_vertex_terms(t, light, y);
                 p_light / (p_light + medium.phase(&incident) + q + p_connect)
             }
             None if equiangular.covers(index) => {
@@ -740,8 +828,7 @@ fn connect_light_vertex(
     integrator: &Integrator,
     scene: &Scene,
     fog: &Fog,
-    x: Vec3,
-    vertex: &ConnectionVertex,
+    at: &LightVertexOrigin,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
 ) -> Rgb {
@@ -749,6 +836,7 @@ fn connect_light_vertex(
     let choice = sampler.next_1d() * lights as f32;
     let (u_point, u_direction, u_flight) =
         (sampler.next_2d(), sampler.next_2d(), sampler.next_1d());
+    let (u_turn, u_flight2) = (sampler.next_2d(), sampler.next_1d());
     let Some((index, q)) = scene
         .lights
         .iter()
@@ -770,88 +858,203 @@ fn connect_light_vertex(
     };
     let y0 = q.quad.point(u_point.x, u_point.y);
     let direction = cosine_hemisphere(normal, u_direction);
-    // The light's free flight: one optical depth, spent piece by piece
-    // across thin glass panes.
-    let mut depth_left = -(1.0 - u_flight).ln();
-    let mut tint = Rgb::ONE;
-    let mut ray = Ray {
+    let first_flight = Ray {
         origin: offset_origin(y0, normal, direction),
         direction,
     };
-    let mut crossings = 0u32;
-    let y = loop {
-        counts.camera += 1;
-        let hit = scene.geometry.intersect(&ray, f32::INFINITY);
-        let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
-        if let Some((a, b)) = fog.interval(&ray, 0.0, t_hit) {
-            let depth = fog.sigma_t * (b - a);
-            if depth_left < depth {
-                break ray.at(a + depth_left / fog.sigma_t);
-            }
-            depth_left -= depth;
-        }
-        let Some(hit) = hit else { return Rgb::ZERO };
-        match scene.material(hit.primitive) {
-            Material::Glass(glass) => {
-                tint *= glass.filter_transmittance();
-                crossings += 1;
-                if crossings > super::MAX_GLASS_CROSSINGS {
-                    return Rgb::ZERO;
-                }
-                let p = ray.at(hit.t);
-                let n = scene.geometry.normal(hit.primitive, p);
-                ray.origin = offset_origin(p, n, ray.direction);
-            }
-            _ => return Rgb::ZERO,
-        }
-    };
-    // Connect x → y: no surface between (see `connected_from` resets).
-    let to_y = y - x;
-    let t = to_y.length();
-    if t.is_nan() || t <= 0.0 {
+    // The first flight may cross thin glass (it is not a camera segment).
+    let Some((y1, tint)) = light_flight(scene, fog, first_flight, u_flight, true, counts) else {
         return Rgb::ZERO;
+    };
+    let light = &scene.lights[index];
+    // Le·n_q·A·π·s: the light vertex's density cancels T(y0, y1), cos θ₀
+    // and 1/|y1 − y0|² of the path's contribution.
+    let emitted = q.radiance * tint * (lights as f32 * q.quad.area() * PI * sides);
+    let mut sum = Rgb::ZERO;
+    if let Some(first) = at.join(integrator, scene, fog, y1, counts) {
+        // f/p of x → y1 → y0: f(x)·T(x, y1)/t² · σs/σt · p(y1) · Le·n_q·A·π·s.
+        let to_light = -direction;
+        let phase_y1 = fog.phase.eval(to_light.dot(first.omega));
+        let t = first.distance;
+        let p_connect = first.segment.light_vertex_terms(t, light, y0);
+        let p_omega = q.pdf(y1, y0, to_light);
+        let equiangular = segment_term(&first.segment, t, 1, light, y0);
+        let weight = first.segment.connection_term(t, light, y0)
+            / (p_connect + p_omega + phase_y1 + equiangular);
+        sum += emitted * fog.albedo * first.value * (phase_y1 * weight);
     }
-    let omega = to_y / t;
-    let Some((f_x, p_dir)) = vertex.scatter(omega) else {
-        return Rgb::ZERO;
+    if !at.twice {
+        return sum;
+    }
+    // The second light vertex: the light turns at y1 by the phase function
+    // and flies to y2 (no surface between: y2 → y1 is a camera segment).
+    let (turn, _) = fog.phase.sample(direction, u_turn);
+    let Some((y2, _)) = light_flight(
+        scene,
+        fog,
+        Ray {
+            origin: y1,
+            direction: turn,
+        },
+        u_flight2,
+        false,
+        counts,
+    ) else {
+        return sum;
     };
+    let Some(second) = at.join(integrator, scene, fog, y2, counts) else {
+        return sum;
+    };
+    // The camera path's view of y2 → y1: its direction density at y2 and
+    // the segment it would fly along.
+    let back = -turn;
+    let p_dir_y2 = fog.phase.eval(back.dot(second.omega));
+    let t12 = (y1 - y2).length();
+    let reach_y2 = second.segment.flight_pdf(second.distance) / (second.distance * second.distance);
+    let p_reach = second.p_dir * reach_y2;
     let segment_ray = Ray {
-        origin: vertex.origin(x, omega),
-        direction: omega,
+        origin: y2,
+        direction: back,
     };
     counts.shadow += 1;
     let t_hit = scene
         .geometry
         .intersect(&segment_ray, f32::INFINITY)
         .map_or(f32::INFINITY, |h| h.t);
-    if t_hit <= t {
-        return Rgb::ZERO;
-    }
-    let Some(segment) = FogSegment::new(integrator, scene, fog, segment_ray, t_hit, Some(p_dir))
-    else {
-        return Rgb::ZERO;
+    let connections = Connections {
+        first: Some(p_dir_y2),
+        second: false,
+        reached: Some(p_reach * p_dir_y2),
     };
-    let light = &scene.lights[index];
+    let Some(segment) = FogSegment::new(integrator, scene, fog, segment_ray, t_hit, connections)
+    else {
+        return sum;
+    };
     let to_light = -direction;
-    let phase_y = fog.phase.eval(to_light.dot(omega));
-    // f/p of the path x → y → y0: f(x)·T(x, y)/t² · σs/σt · p(y) · Le ·
-    // n_q·A·π·s (the light vertex's density cancels T(y0, y), cos θ₀
-    // and 1/|y − y0|²).
-    let value = q.radiance
-        * tint
-        * fog.albedo
-        * f_x
-        * (fog.transmittance(&segment_ray, 0.0, t) / (t * t)
-            * phase_y
-            * lights as f32
-            * q.quad.area()
-            * PI
-            * sides);
-    let p_connect = segment.connection_term(t, light, y0);
-    let p_omega = q.pdf(y, y0, to_light);
-    let equiangular = segment_term(&segment, t, 1, light, y0);
-    let weight = p_connect / (p_connect + p_omega + phase_y + equiangular);
-    value * weight
+    let phase_y1 = fog.phase.eval(to_light.dot(back));
+    let p_connect = segment.light_vertex_terms(t12, light, y0);
+    let p_omega = q.pdf(y1, y0, to_light);
+    let equiangular = segment_term(&segment, t12, 1, light, y0);
+    let weight =
+        segment.second_vertex_term(t12, light, y0) / (p_connect + p_omega + phase_y1 + equiangular);
+    // f/p of x → y2 → y1 → y0: f(x)·T(x, y2)/t² · (σs/σt)² · p(y2) ·
+    // Le·n_q·A·π·s (the second flight's density cancels p(y1), T(y1, y2)
+    // and 1/|y2 − y1|²).
+    sum + emitted * fog.albedo * fog.albedo * second.value * (p_dir_y2 * weight)
+}
+
+/// A camera-path vertex that connects to light vertices: where it is,
+/// how it scatters, and what the camera path's densities need.
+struct LightVertexOrigin<'a> {
+    x: Vec3,
+    vertex: &'a ConnectionVertex<'a>,
+    /// If x is a fog event reached from a vertex that connected to second
+    /// light vertices, the volume density of that reach.
+    reached: Option<f32>,
+    /// Whether x also connects to second light vertices.
+    twice: bool,
+}
+
+/// The camera vertex joined to a light vertex y: the direction towards
+/// y, the distance, the camera-side segment x would fly along towards y,
+/// x's direction density, and `f(x)·T(x, y)/t²`.
+struct Join<'a> {
+    omega: Vec3,
+    distance: f32,
+    segment: FogSegment<'a>,
+    p_dir: f32,
+    value: Rgb,
+}
+
+impl LightVertexOrigin<'_> {
+    /// Joins x to the fog point `y`; `None` if a surface is between them
+    /// or x does not scatter that way.
+    fn join<'s>(
+        &self,
+        integrator: &Integrator<'s>,
+        scene: &'s Scene,
+        fog: &'s Fog,
+        y: Vec3,
+        counts: &mut RayCounts,
+    ) -> Option<Join<'s>> {
+        let to_y = y - self.x;
+        let t = to_y.length();
+        if t.is_nan() || t <= 0.0 {
+            return None;
+        }
+        let omega = to_y / t;
+        let (f_x, p_dir) = self.vertex.scatter(omega)?;
+        let segment_ray = Ray {
+            origin: self.vertex.origin(self.x, omega),
+            direction: omega,
+        };
+        counts.shadow += 1;
+        let t_hit = scene
+            .geometry
+            .intersect(&segment_ray, f32::INFINITY)
+            .map_or(f32::INFINITY, |h| h.t);
+        if t_hit <= t {
+            return None;
+        }
+        let connections = Connections {
+            first: Some(p_dir),
+            second: self.twice,
+            reached: self.reached.map(|r| r * p_dir),
+        };
+        let segment = FogSegment::new(integrator, scene, fog, segment_ray, t_hit, connections)?;
+        let value = f_x * (fog.transmittance(&segment_ray, 0.0, t) / (t * t));
+        Some(Join {
+            omega,
+            distance: t,
+            segment,
+            p_dir,
+            value,
+        })
+    }
+}
+
+/// A light subpath's free flight along `ray` to its first fog event, with
+/// one optical depth `−ln(1 − u)` spent piece by piece; across thin glass
+/// panes (multiplying the tint) if `through_glass`, else stopping at any
+/// surface. The event and the tint, or `None` if the flight ends on a
+/// surface or leaves the scene.
+fn light_flight(
+    scene: &Scene,
+    fog: &Fog,
+    mut ray: Ray,
+    u: f32,
+    through_glass: bool,
+    counts: &mut RayCounts,
+) -> Option<(Vec3, Rgb)> {
+    let mut depth_left = -(1.0 - u).ln();
+    let mut tint = Rgb::ONE;
+    let mut crossings = 0u32;
+    loop {
+        counts.camera += 1;
+        let hit = scene.geometry.intersect(&ray, f32::INFINITY);
+        let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
+        if let Some((a, b)) = fog.interval(&ray, 0.0, t_hit) {
+            let depth = fog.sigma_t * (b - a);
+            if depth_left < depth {
+                return Some((ray.at(a + depth_left / fog.sigma_t), tint));
+            }
+            depth_left -= depth;
+        }
+        let hit = hit?;
+        match scene.material(hit.primitive) {
+            Material::Glass(glass) if through_glass => {
+                tint *= glass.filter_transmittance();
+                crossings += 1;
+                if crossings > super::MAX_GLASS_CROSSINGS {
+                    return None;
+                }
+                let p = ray.at(hit.t);
+                let n = scene.geometry.normal(hit.primitive, p);
+                ray.origin = offset_origin(p, n, ray.direction);
+            }
+            _ => return None,
+        }
+    }
 }
 
 /// A camera-path vertex that connects to light vertices, and how it
