@@ -12,7 +12,7 @@
 //! Modules follow pbrt's decomposition: [`camera`], [`shapes`], [`accel`],
 //! [`lights`], [`materials`], [`glass`], [`media`], [`phase`], [`sampler`],
 //! [`sampling`], [`visibility`], [`integrators`], [`film`], [`scene`]
-//! loading, and the [`render`] loop.
+//! loading, and the [`render()`] loop.
 
 pub mod accel;
 pub mod camera;

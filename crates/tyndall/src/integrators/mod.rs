@@ -13,7 +13,7 @@
 //! and surfaces are shaded with direct lighting. They differ in how they
 //! estimate the integral: [`march`] by the paper's jittered fixed-step
 //! Riemann sum, [`single`] by equiangular and distance sampling combined
-//! with MIS. Both evaluate the integrand through [`scattered_radiance`],
+//! with MIS. Both evaluate the integrand through `scattered_radiance`,
 //! the paper's eq. 1 in one place.
 
 pub mod light_tracer;

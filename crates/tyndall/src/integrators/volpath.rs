@@ -24,10 +24,10 @@
 //!
 //! Light-vertex connections: at every fog event and Lambertian surface
 //! vertex (after the camera's), a light subpath is started on a quad
-//! light and its first fog event joined to the vertex
-//! ([`connect_light_vertex`]). This reaches the glow of fog right around
-//! an area light, which camera paths find only by rare random walks; it
-//! joins the balance heuristic as a fourth strategy. With volumes in the
+//! light and its first fog event, and its second, joined to the vertex
+//! (`connect_light_vertex`). This reaches the glow of fog right around
+//! an area light, which camera paths find only by rare random walks; the
+//! two join the balance heuristic as a fourth and fifth strategy. With volumes in the
 //! scene it is off (the light subpath's flight density would need
 //! tracking).
 //!
@@ -804,26 +804,31 @@ impl PathVertex<'_> {
     }
 }
 
-/// A light-vertex connection at the camera-path vertex `x` (a fog event or
-/// a Lambertian surface point, `vertex`): a light subpath is started on a
-/// quad light (chosen uniformly, a point uniform on it, a
-/// cosine-distributed direction, through thin glass) and its first
-/// free-flight event y in the fog is connected to `x`. Returns the
-/// MIS-weighted radiance it brings to the path (to be multiplied by the
-/// path's throughput at `x`, which holds a fog event's albedo but not a
-/// surface's BRDF).
+/// Light-vertex connections at the camera-path vertex `at.x` (a fog event
+/// or a Lambertian surface point): a light subpath is started on a quad
+/// light (chosen uniformly, a point uniform on it, a cosine-distributed
+/// direction, through thin glass); its first free-flight event y1 in the
+/// fog is connected to x, and, if `at.twice`, the light turns at y1 by the
+/// phase function, flies on to a second event y2, and y2 is connected to
+/// x as well. Returns the MIS-weighted radiance both bring to the path
+/// (to be multiplied by the path's throughput at x, which holds a fog
+/// event's albedo but not a surface's BRDF).
 ///
 /// Why: fog right next to an area light is lit by a large solid angle of
 /// it and glows brightly. Camera paths reach that glow only when a random
 /// walk happens to pass close to the lamp — rare, and then worth a lot:
 /// the fireflies of multiply scattered light. Light subpaths start there,
 /// so their first events sample the glow where it is brightest. The
-/// strategy competes, by the balance heuristic, with NEE at y, the
-/// equiangular sample on x's continuation segment, and the phase-sampled
-/// hit from y; each of those adds its density
+/// first connection competes, by the balance heuristic, with NEE at y1,
+/// the equiangular sample on x's continuation segment, and the
+/// phase-sampled hit from y1; each of those adds its density
 /// ([`FogSegment::connection_term`]) when the segment starts at a vertex
-/// that connected. The connection's own 1/|x − y|² is tamed the same way:
-/// near x, sampling the continuation from x dominates the weights.
+/// that connected. The second does the same one vertex further: the
+/// camera path reaching y2 from x and then generating (y1, y0) by any of
+/// those strategies ([`FogSegment::second_vertex_term`]); it catches
+/// paths that wander into the glow twice. The connections' own
+/// 1/|x − y|² is tamed the same way: near x, sampling the continuation
+/// from x dominates the weights.
 fn connect_light_vertex(
     integrator: &Integrator,
     scene: &Scene,
