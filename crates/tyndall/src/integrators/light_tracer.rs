@@ -27,6 +27,7 @@ use crate::camera::Camera;
 use crate::color::{Rgb, luminance};
 use crate::lights::Light;
 use crate::materials::Material;
+use crate::media::free_flight;
 use crate::media::tracking::{Collision, VolumeTracker};
 use crate::phase::PhaseFunction;
 use crate::ray::{Ray, offset_origin};
@@ -411,8 +412,7 @@ fn medium_event<'s>(
         if fog.sigma_t <= 0.0 {
             return None;
         }
-        let t = a - (1.0 - u).ln() / fog.sigma_t;
-        (t < b).then_some((t, fog))
+        free_flight(fog.sigma_t, a, b, u).map(|t| (t, fog))
     });
     let t_end = fog_event.map_or(t_hit, |(t, _)| t);
     match tracker.sample_collision(&scene.volumes, ray, 0.0, t_end, beta) {

@@ -61,7 +61,7 @@ use crate::color::{Rgb, luminance};
 use crate::lights::Light;
 use crate::materials::{Material, Surface};
 use crate::media::tracking::{Collision, VolumeTracker};
-use crate::media::{Fog, transmittance};
+use crate::media::{Fog, free_flight, transmittance};
 use crate::phase::PhaseFunction;
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
@@ -406,8 +406,7 @@ impl<'a> FogSegment<'a> {
     /// [`FogSegment::flight_pdf`]; `None` if the flight leaves the segment
     /// (probability e^{−σt(b−a)}).
     fn free_flight(&self, u: f32) -> Option<f32> {
-        let t = self.a - (1.0 - u).ln() / self.medium.fog.sigma_t;
-        (t < self.b).then_some(t)
+        free_flight(self.medium.fog.sigma_t, self.a, self.b, u)
     }
 
     /// Density σt·e^{−σt(t−a)} of a free-flight event at `t`.

@@ -75,6 +75,15 @@ impl Fog {
     }
 }
 
+/// A free-flight distance in homogeneous fog entered at `a`: `a − ln(1 −
+/// u)/σt`, density `σt·e^{−σt(t−a)}`; `None` if it lies beyond `b` (the
+/// flight leaves the fog, probability `e^{−σt(b−a)}`). σt must be > 0.
+#[inline]
+pub fn free_flight(sigma_t: f32, a: f32, b: f32, u: f32) -> Option<f32> {
+    let t = a - (1.0 - u).ln() / sigma_t;
+    (t < b).then_some(t)
+}
+
 /// Beer–Lambert transmittance `exp(−σt·d)` of a homogeneous medium; exact
 /// 1 for σt = 0 even over an infinite distance.
 #[inline]

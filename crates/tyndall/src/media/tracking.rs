@@ -142,23 +142,25 @@ impl VolumeTracker {
                 let p_null = (beta * sigma_n).element_sum() / norm;
                 let u = self.rng.next_f32();
                 if u < p_scatter {
-                    // Which volume scatters: the same weighted shares.
+                    // Which volume scatters: the same weighted shares. If
+                    // rounding leaves `pick` past the last share, the last
+                    // volume that scatters takes it.
                     let mut pick = u * norm;
-                    let mut chosen = None;
+                    let (mut chosen, mut last) = (None, None);
                     for_each_volume(volumes, segment.mask, |i, v| {
                         let s = v.extinction_at(ray.at(t)) * v.albedo;
                         let share = (beta * s).element_sum();
-                        if chosen.is_none() && share > 0.0 {
-                            if pick < share {
-                                chosen = Some((i, s, share));
+                        if share > 0.0 {
+                            last = Some((i, s, share));
+                            if chosen.is_none() && pick < share {
+                                chosen = last;
                             }
                             pick -= share;
                         }
                     });
-                    // Rounding may leave `pick` just past the last share.
-                    let (volume, s, share) = match chosen {
-                        Some(c) => c,
-                        None => last_scatterer(volumes, segment.mask, ray, t, beta),
+                    // u < p_scatter, so some volume scatters here.
+                    let Some((volume, s, share)) = chosen.or(last) else {
+                        return Collision::Absorbed;
                     };
                     *throughput *= s * (norm / (majorant * share));
                     return Collision::Scatter { t, volume };
@@ -232,24 +234,4 @@ fn for_each_volume(volumes: &[Volume], mut mask: u32, mut visit: impl FnMut(usiz
         visit(i, &volumes[i]);
         mask &= mask - 1;
     }
-}
-
-/// The last volume in `mask` that scatters at `ray.at(t)`, with its σs
-/// and weighted share.
-fn last_scatterer(
-    volumes: &[Volume],
-    mask: u32,
-    ray: &Ray,
-    t: f32,
-    beta: Rgb,
-) -> (usize, Rgb, f32) {
-    let mut last = (0, Rgb::ZERO, 0.0);
-    for_each_volume(volumes, mask, |i, v| {
-        let s = v.extinction_at(ray.at(t)) * v.albedo;
-        let share = (beta * s).element_sum();
-        if share > 0.0 {
-            last = (i, s, share);
-        }
-    });
-    last
 }

@@ -317,6 +317,8 @@ impl Volume {
     #[inline]
     pub fn extinction_at(&self, x: Vec3) -> Rgb {
         let density = match self.density {
+            // No field coordinates: a volume everywhere has an infinite
+            // box, which would map x to NaN.
             Density::Uniform => 1.0,
             _ => self
                 .density
