@@ -87,7 +87,8 @@ impl Visibility {
     /// past geometry: 0 if an opaque surface is in the way, otherwise the
     /// glass tint of the panes crossed under the scene's glass model.
     /// `origin` must already be offset off any surface it lies on, whose
-    /// normal is `normal` (`None` in fog). Fog is not included.
+    /// normal is `normal` (`None` in fog), and `incident.distance` measured
+    /// from it. Fog is not included.
     pub fn transmittance(
         &self,
         scene: &Scene,
@@ -126,7 +127,7 @@ fn shadow_ray(
         direction: incident.direction,
     };
     let t_max = if incident.distance.is_finite() {
-        shadow_ray_end(incident.distance)
+        shadow_ray_end(origin, incident.direction, incident.distance)
     } else {
         f32::INFINITY
     };

@@ -496,7 +496,13 @@ pub(crate) fn light_arriving(
     tracker: &mut VolumeTracker,
 ) -> Rgb {
     let origin = normal.map_or(x, |n| offset_origin(x, n, incident.direction));
-    let glass = visibility.transmittance(scene, index, origin, normal, incident, counts);
+    // The shadow ray leaves from `origin`, not `x`: the light is this far
+    // from there.
+    let from_origin = Incident {
+        distance: incident.distance - (origin - x).dot(incident.direction),
+        ..*incident
+    };
+    let glass = visibility.transmittance(scene, index, origin, normal, &from_origin, counts);
     if glass == Rgb::ZERO {
         return Rgb::ZERO;
     }
