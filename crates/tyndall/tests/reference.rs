@@ -4,6 +4,7 @@
 mod common;
 
 use common::{mean_and_stderr, pixel_distances, render, repo};
+use tyndall::Image;
 use tyndall::IntegratorKind;
 use tyndall::metrics::relative_mse;
 use tyndall::scene::native;
@@ -56,4 +57,124 @@ fn integrators_converge_to_references() {
             );
         }
     }
+}
+
+/// `volpath` against the multiple-scattering references (Mitsuba 3,
+/// shared/reference/README.md): surface interreflection in a Cornell-like
+/// box (unlimited, and one indirect bounce), and a fog-filled room
+/// (unlimited, and two scattering events).
+///
+/// Rendered at a quarter of the references' resolution: a reference pixel
+/// is the box-filtered mean over its footprint, so the mean of each 4×4
+/// block of it is exactly the reference of the larger pixel, with a
+/// sixteenth of the noise. Two checks per scene:
+/// - the image mean within 0.3 % of the reference's, plus 4 standard
+///   errors of the two renders' mean (estimated from their difference);
+/// - the relMSE excess over the render's own noise (as in
+///   [`integrators_converge_to_references`]) within twice the reference's
+///   own error (its `.ref.json`, an upper bound at the coarser resolution)
+///   plus 4 standard errors.
+///
+/// Before the shadow-ray fix of issue 8 the box with one bounce was 2.5 %
+/// dark and failed the first check by far.
+#[test]
+fn volpath_converges_to_multiple_scattering_references() {
+    // (scene, volpath max_depth, spp)
+    let scenes = [
+        ("cornell-surfaces", None, 16),
+        ("cornell-surfaces-depth3", Some(2), 16),
+        ("fog-room-multi", None, 16),
+        ("fog-room-depth2", Some(2), 16),
+    ];
+    let dir = repo().join("scenes/reference");
+    for (name, max_depth, spp) in scenes {
+        let desc = native::load(&dir.join(format!("{name}.toml"))).expect("scene");
+        let full = Image::read_exr(&dir.join(format!("{name}.exr"))).expect("reference");
+        let reference = downsample(&full, 4);
+        let reference_error = own_error(&dir.join(format!("{name}.ref.json")));
+        let shot = |seed: u64| {
+            render(&desc, |s| {
+                s.width = reference.width();
+                s.height = reference.height();
+                s.spp = spp;
+                s.seed = seed;
+                if let Some(depth) = max_depth {
+                    s.max_depth = depth;
+                }
+            })
+        };
+        let (c1, c2) = (shot(1), shot(2));
+
+        let mean = |im: &Image| {
+            im.pixels()
+                .iter()
+                .map(|p| (p.x + p.y + p.z) as f64)
+                .sum::<f64>()
+                / (3 * im.pixels().len()) as f64
+        };
+        let (m1, m2, m_ref) = (mean(&c1), mean(&c2), mean(&reference));
+        // Var(m1 − m2) = 2·Var(m): the standard error of (m1 + m2)/2 is
+        // |m1 − m2|/2 in expectation of its square; take it from the pixel
+        // differences instead, which estimate it with many more degrees
+        // of freedom.
+        let diffs: Vec<f64> = c1
+            .pixels()
+            .iter()
+            .zip(c2.pixels())
+            .map(|(a, b)| ((a.x + a.y + a.z) - (b.x + b.y + b.z)) as f64 / 3.0)
+            .collect();
+        let (_, stderr_diff) = mean_and_stderr(&diffs);
+        let stderr_mean = stderr_diff / 2.0;
+        let m = 0.5 * (m1 + m2);
+        let bound = 3e-3 * m_ref + 4.0 * stderr_mean;
+        assert!(
+            (m - m_ref).abs() <= bound,
+            "{name}: mean {m:.5} vs reference {m_ref:.5} ({:+.3} %), bound {bound:.2e}",
+            100.0 * (m / m_ref - 1.0)
+        );
+
+        let to_ref = pixel_distances(&c1, &reference, &reference);
+        let between = pixel_distances(&c1, &c2, &reference);
+        let z: Vec<f64> = (0..to_ref.len())
+            .map(|i| (to_ref[i] - 0.5 * between[i]) / 3.0)
+            .collect();
+        let (excess, stderr) = mean_and_stderr(&z);
+        let bound = 2.0 * reference_error + 4.0 * stderr;
+        assert!(
+            excess <= bound,
+            "{name}: relMSE {:.3e}, excess over noise {excess:.3e} > bound {bound:.3e}",
+            relative_mse(&c1, &reference)
+        );
+    }
+}
+
+/// The mean of each `k`×`k` block of `image`.
+fn downsample(image: &Image, k: u32) -> Image {
+    let (w, h) = (image.width() / k, image.height() / k);
+    let mut pixels = Vec::with_capacity((w * h) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let mut sum = glam::DVec3::ZERO;
+            for dy in 0..k {
+                for dx in 0..k {
+                    sum += image.pixel(x * k + dx, y * k + dy).as_dvec3();
+                }
+            }
+            pixels.push((sum / (k * k) as f64).as_vec3());
+        }
+    }
+    Image::from_pixels(w, h, pixels)
+}
+
+/// The reference's own estimated relMSE against the truth,
+/// `est_relMSE_ref_vs_truth` in its `.ref.json`.
+fn own_error(path: &std::path::Path) -> f64 {
+    let text = std::fs::read_to_string(path).expect("reference metadata");
+    let key = "\"est_relMSE_ref_vs_truth\":";
+    let start = text.find(key).expect("est_relMSE_ref_vs_truth") + key.len();
+    let rest = text[start..].trim_start();
+    let end = rest
+        .find(|c: char| !(c.is_ascii_digit() || "+-.eE".contains(c)))
+        .unwrap_or(rest.len());
+    rest[..end].parse().expect("a number")
 }
