@@ -60,6 +60,29 @@ impl Image {
         }
     }
 
+    /// The image at `1/k` of the resolution: the mean of each `k`×`k`
+    /// block (in f64). A pixel being the box-filtered mean of the radiance
+    /// over its footprint, this is exactly the image a `k`-times coarser
+    /// render converges to. Trailing rows and columns that do not fill a
+    /// block are dropped.
+    pub fn box_downsample(&self, k: u32) -> Image {
+        let k = k.max(1);
+        let (w, h) = (self.width / k, self.height / k);
+        let mut pixels = Vec::with_capacity((w * h) as usize);
+        for y in 0..h {
+            for x in 0..w {
+                let mut sum = glam::DVec3::ZERO;
+                for dy in 0..k {
+                    for dx in 0..k {
+                        sum += self.pixel(x * k + dx, y * k + dy).as_dvec3();
+                    }
+                }
+                pixels.push((sum / f64::from(k * k)).as_vec3());
+            }
+        }
+        Image::from_pixels(w, h, pixels)
+    }
+
     pub fn width(&self) -> u32 {
         self.width
     }

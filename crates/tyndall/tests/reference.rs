@@ -90,7 +90,7 @@ fn volpath_converges_to_multiple_scattering_references() {
     for (name, max_depth, spp) in scenes {
         let desc = native::load(&dir.join(format!("{name}.toml"))).expect("scene");
         let full = Image::read_exr(&dir.join(format!("{name}.exr"))).expect("reference");
-        let reference = downsample(&full, 4);
+        let reference = full.box_downsample(4);
         let reference_error = own_error(&dir.join(format!("{name}.ref.json")));
         let shot = |seed: u64| {
             render(&desc, |s| {
@@ -146,24 +146,6 @@ fn volpath_converges_to_multiple_scattering_references() {
             relative_mse(&c1, &reference)
         );
     }
-}
-
-/// The mean of each `k`×`k` block of `image`.
-fn downsample(image: &Image, k: u32) -> Image {
-    let (w, h) = (image.width() / k, image.height() / k);
-    let mut pixels = Vec::with_capacity((w * h) as usize);
-    for y in 0..h {
-        for x in 0..w {
-            let mut sum = glam::DVec3::ZERO;
-            for dy in 0..k {
-                for dx in 0..k {
-                    sum += image.pixel(x * k + dx, y * k + dy).as_dvec3();
-                }
-            }
-            pixels.push((sum / (k * k) as f64).as_vec3());
-        }
-    }
-    Image::from_pixels(w, h, pixels)
 }
 
 /// The reference's own estimated relMSE against the truth,
