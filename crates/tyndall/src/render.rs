@@ -8,7 +8,7 @@ use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::film::Image;
 use crate::integrators::light_tracer::{self, LightPaths};
-use crate::integrators::{Integrator, IntegratorKind, PixelPosition};
+use crate::integrators::{Integrator, IntegratorKind, PixelPosition, Strategies};
 use crate::media::tracking::MAX_VOLUMES;
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
@@ -56,6 +56,9 @@ pub struct RenderSettings {
     pub max_depth: u32,
     /// Exposure in stops applied when writing display images (PNG).
     pub exposure: f32,
+    /// The estimators `volpath` combines (all by default; a subset is for
+    /// checking and measuring them, see [`Strategies`]).
+    pub strategies: Strategies,
 }
 
 impl Default for RenderSettings {
@@ -74,6 +77,7 @@ impl Default for RenderSettings {
             max_bounces: 4,
             max_depth: UNLIMITED_DEPTH,
             exposure: 0.0,
+            strategies: Strategies::ALL,
         }
     }
 }

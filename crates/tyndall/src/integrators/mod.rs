@@ -21,6 +21,8 @@ pub mod march;
 pub mod single;
 pub mod volpath;
 
+pub use volpath::Strategies;
+
 use crate::accel::Hit;
 use crate::color::Rgb;
 use crate::lights::{Incident, Light};
@@ -84,6 +86,7 @@ pub struct Integrator<'a> {
     interleave: u32,
     max_bounces: u32,
     max_depth: u32,
+    strategies: Strategies,
     visibility: &'a Visibility,
 }
 
@@ -104,6 +107,7 @@ impl<'a> Integrator<'a> {
             interleave: settings.interleave,
             max_bounces: settings.max_bounces,
             max_depth: settings.max_depth,
+            strategies: settings.strategies,
             visibility,
         }
     }

@@ -83,6 +83,70 @@ const ROULETTE_DEPTH: u32 = 3;
 /// and the only one in `volpath`.
 pub(crate) const MAX_PATH_EVENTS: u32 = 65_536;
 
+/// The estimators `volpath` combines by the balance heuristic, each of
+/// which can produce the last connection of a path to a light on its own.
+/// A strategy that is off contributes nothing and its density leaves every
+/// other strategy's weight, so any subset that can still produce every
+/// path renders the same image (the tests render each alone against the
+/// others, which checks that the weights of every path sum to one):
+///
+/// - surfaces: `surface_nee` (light sampling) or `surface_hits` (BSDF
+///   sampling that hits an area light);
+/// - fog and volume events: `medium_nee` (light sampling at free-flight
+///   events), `medium_hits` (phase sampling that hits an area light),
+///   `equiangular` (samples along each fog segment towards each light)
+///   and `connections` (light-vertex connections, fog scenes with area
+///   lights only).
+///
+/// Point, spot and directional lights are reached only by light sampling
+/// (`surface_nee`, `medium_nee`) and `equiangular`; single scattering from
+/// an area light not by `connections` alone (the camera is no connecting
+/// vertex).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Strategies {
+    pub surface_nee: bool,
+    pub surface_hits: bool,
+    pub medium_nee: bool,
+    pub medium_hits: bool,
+    pub equiangular: bool,
+    pub connections: bool,
+}
+
+impl Strategies {
+    /// Every strategy: the default.
+    pub const ALL: Self = Self {
+        surface_nee: true,
+        surface_hits: true,
+        medium_nee: true,
+        medium_hits: true,
+        equiangular: true,
+        connections: true,
+    };
+
+    /// No strategy; switch on the ones wanted.
+    pub const NONE: Self = Self {
+        surface_nee: false,
+        surface_hits: false,
+        medium_nee: false,
+        medium_hits: false,
+        equiangular: false,
+        connections: false,
+    };
+}
+
+impl Default for Strategies {
+    fn default() -> Self {
+        Self::ALL
+    }
+}
+
+/// `density` if its strategy is on, else 0: an MIS denominator counts
+/// only the strategies that run.
+#[inline]
+fn on(enabled: bool, density: f32) -> f32 {
+    if enabled { density } else { 0.0 }
+}
+
 /// How the current path segment was sampled, for the MIS weight of the
 /// emitter it may hit.
 #[derive(Clone, Copy)]
@@ -90,8 +154,13 @@ enum Arrival<'a> {
     /// From the camera or a specular/glossy reflection: NEE cannot produce
     /// this direction, so emission counts in full.
     Unweighted,
-    /// BSDF-sampled at surface point `from` with solid-angle density `pdf`.
-    Sampled { from: Vec3, pdf: f32 },
+    /// BSDF-sampled at surface point `from` (or phase-sampled at a volume
+    /// event there, if `in_volume`) with solid-angle density `pdf`.
+    Sampled {
+        from: Vec3,
+        pdf: f32,
+        in_volume: bool,
+    },
     /// Phase-sampled (density `pdf`) at the free-flight event at `t` on
     /// `segment`, whose equiangular estimator took `samples` per light:
     /// three strategies can produce the light it hits.
@@ -120,7 +189,9 @@ pub(crate) fn radiance(
     let mut equiangular = EquiangularNee::with_capacity(scene.lights.len());
     let mut tracker = VolumeTracker::new(sampler.stream(TRACKING_STREAM));
     let max_events = integrator.max_depth.min(MAX_PATH_EVENTS);
-    let connections = scene.volumes.is_empty() && scene.area_light_count() > 0;
+    let strategies = integrator.strategies;
+    let connections =
+        strategies.connections && scene.volumes.is_empty() && scene.area_light_count() > 0;
     // What the vertex the ray leaves from connected to.
     let mut connected_from = Connections::default();
     loop {
@@ -137,14 +208,17 @@ pub(crate) fn radiance(
             let u_flight = sampler.next_1d();
             // Point and spot lights: equiangular samples along the whole
             // segment, for light whose last scattering is on it.
-            let samples = if depth == 0 {
+            let samples = if !strategies.equiangular {
+                0
+            } else if depth == 0 {
                 integrator.volume_samples
             } else {
                 1
             };
             equiangular.prepare(&segment, samples, sampler);
             if depth < max_events {
-                radiance += throughput * equiangular.estimate(&segment, counts, &mut tracker);
+                radiance +=
+                    throughput * equiangular.estimate(&segment, strategies, counts, &mut tracker);
             }
             fog_event = segment.free_flight(u_flight).map(|t| (segment, t, samples));
         }
@@ -169,9 +243,13 @@ pub(crate) fn radiance(
                         direction: ray.direction,
                         phase,
                     };
-                    radiance += throughput * medium.nee(sampler, counts, &mut tracker);
+                    radiance += throughput * medium.nee(strategies, sampler, counts, &mut tracker);
                     let (direction, pdf) = phase.sample(ray.direction, sampler.next_2d());
-                    arrival = Arrival::Sampled { from: x, pdf };
+                    arrival = Arrival::Sampled {
+                        from: x,
+                        pdf,
+                        in_volume: true,
+                    };
                     connected_from = Connections::default();
                     ray = Ray {
                         origin: x,
@@ -193,7 +271,15 @@ pub(crate) fn radiance(
             let fog = segment.medium.fog;
             throughput *= fog.albedo;
             let x = ray.at(t);
-            let nee = medium_nee(&segment, t, &equiangular, sampler, counts, &mut tracker);
+            let nee = medium_nee(
+                &segment,
+                t,
+                &equiangular,
+                strategies,
+                sampler,
+                counts,
+                &mut tracker,
+            );
             radiance += throughput * nee;
             let connects = connections && depth < max_events;
             let twice = connects && depth + 1 < max_events;
@@ -252,7 +338,14 @@ pub(crate) fn radiance(
                 two_sided,
             } => {
                 if front || two_sided {
-                    let weight = emission_weight(scene, arrival, hit.primitive, p, ray.direction);
+                    let weight = emission_weight(
+                        scene,
+                        strategies,
+                        arrival,
+                        hit.primitive,
+                        p,
+                        ray.direction,
+                    );
                     radiance += throughput * le * weight;
                 }
                 return radiance;
@@ -299,22 +392,24 @@ pub(crate) fn radiance(
         // (chosen with probability P_d).
         let mis = |p_light: Option<f32>, cos: f32| {
             p_light.map_or(1.0, |p_light| {
-                p_light / (p_light + p_diffuse * cos * FRAC_1_PI)
+                p_light / (p_light + on(strategies.surface_hits, p_diffuse * cos * FRAC_1_PI))
             })
         };
         let visibility = integrator.visibility;
-        radiance += throughput
-            * lambert_direct_lighting(
-                scene,
-                visibility,
-                &surface,
-                p,
-                normal,
-                sampler,
-                counts,
-                &mut tracker,
-                mis,
-            );
+        if strategies.surface_nee {
+            radiance += throughput
+                * lambert_direct_lighting(
+                    scene,
+                    visibility,
+                    &surface,
+                    p,
+                    normal,
+                    sampler,
+                    counts,
+                    &mut tracker,
+                    mis,
+                );
+        }
         // Light-vertex connections from Lambertian surfaces only: a
         // glossy lobe's density could not be weighed against them.
         let connects = connections && depth < max_events && !surface.has_specular();
@@ -340,7 +435,11 @@ pub(crate) fn radiance(
             // f·cos/pdf = (ρ/π)·cos / (P_d·cos/π) = ρ/P_d.
             throughput *= surface.diffuse / p_diffuse;
             let pdf = p_diffuse * normal.dot(direction).max(0.0) * FRAC_1_PI;
-            arrival = Arrival::Sampled { from: p, pdf };
+            arrival = Arrival::Sampled {
+                from: p,
+                pdf,
+                in_volume: false,
+            };
             let connects = connects && scene.fog.is_some();
             connected_from = Connections {
                 first: connects.then_some(pdf),
@@ -549,10 +648,15 @@ impl EquiangularNee {
     }
 
     /// Sets up `samples` samples per light on `segment`.
+    /// With 0 samples (the strategy is off) no light is estimated here.
     fn prepare(&mut self, segment: &FogSegment, samples: u32, sampler: &mut PixelSampler) {
         let ray = &segment.medium.ray;
         self.samples = samples;
         self.lights.clear();
+        if samples == 0 {
+            self.lights.resize(segment.medium.scene.lights.len(), None);
+            return;
+        }
         self.lights
             .extend(segment.medium.scene.lights.iter().map(|light| {
                 let u = sampler.next_1d();
@@ -588,6 +692,7 @@ impl EquiangularNee {
     fn estimate(
         &self,
         segment: &FogSegment,
+        strategies: Strategies,
         counts: &mut RayCounts,
         tracker: &mut VolumeTracker,
     ) -> Rgb {
@@ -622,9 +727,11 @@ impl EquiangularNee {
                             + q.quad.area()
                                 * p_flight
                                 * g
-                                * (p_omega + medium.phase(&incident) + p_connect)
+                                * (on(strategies.medium_nee, p_omega)
+                                    + on(strategies.medium_hits, medium.phase(&incident))
+                                    + p_connect)
                     }
-                    _ => n * p_e + p_flight,
+                    _ => n * p_e + on(strategies.medium_nee, p_flight),
                 };
                 let camera_t = transmittance(fog.sigma_t, t - segment.a)
                     * tracker.transmittance(&medium.scene.volumes, &medium.ray, 0.0, t);
@@ -689,15 +796,31 @@ fn light_pdf(light: &Light, from: Vec3, p: Vec3, direction: Vec3) -> f32 {
 /// a sampled area light.
 fn emission_weight(
     scene: &Scene,
+    strategies: Strategies,
     arrival: Arrival,
     primitive: u32,
     p: Vec3,
     direction: Vec3,
 ) -> f32 {
     match (arrival, scene.area_light_at(primitive)) {
-        (Arrival::Sampled { from, pdf }, Some(index)) => {
+        (
+            Arrival::Sampled {
+                from,
+                pdf,
+                in_volume,
+            },
+            Some(index),
+        ) => {
+            let (nee, hits) = if in_volume {
+                (strategies.medium_nee, strategies.medium_hits)
+            } else {
+                (strategies.surface_nee, strategies.surface_hits)
+            };
+            if !hits {
+                return 0.0;
+            }
             let p_light = light_pdf(&scene.lights[index], from, p, direction);
-            pdf / (pdf + p_light)
+            pdf / (pdf + on(nee, p_light))
         }
         (
             Arrival::Medium {
@@ -708,11 +831,14 @@ fn emission_weight(
             },
             Some(index),
         ) => {
+            if !strategies.medium_hits {
+                return 0.0;
+            }
             let light = &scene.lights[index];
             let p_light = light_pdf(light, segment.medium.ray.at(t), p, direction);
             let q = segment_term(&segment, t, samples, light, p);
             let p_connect = segment.light_vertex_terms(t, light, p);
-            pdf / (pdf + p_light + q + p_connect)
+            pdf / (pdf + on(strategies.medium_nee, p_light) + q + p_connect)
         }
         _ => 1.0,
     }
@@ -723,14 +849,19 @@ fn emission_weight(
 /// albedo), MIS-weighted for area lights (against phase sampling and the
 /// segment's equiangular samples) and for point and spot lights (against
 /// the equiangular samples).
+#[allow(clippy::too_many_arguments)]
 fn medium_nee(
     segment: &FogSegment,
     t: f32,
     equiangular: &EquiangularNee,
+    strategies: Strategies,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
     tracker: &mut VolumeTracker,
 ) -> Rgb {
+    if !strategies.medium_nee {
+        return Rgb::ZERO;
+    }
     let medium = &segment.medium;
     let x = medium.ray.at(t);
     let mut sum = Rgb::ZERO;
@@ -747,7 +878,8 @@ fn medium_nee(
                     0.0
                 };
                 let p_connect = segment.light_vertex_terms(t, light, y);
-                p_light / (p_light + medium.phase(&incident) + q + p_connect)
+                let p_phase = on(strategies.medium_hits, medium.phase(&incident));
+                p_light / (p_light + p_phase + q + p_connect)
             }
             None if equiangular.covers(index) => {
                 let p_flight = segment.flight_pdf(t);
@@ -776,17 +908,23 @@ impl PathVertex<'_> {
     /// have only this strategy). The path's throughput holds σs.
     fn nee(
         &self,
+        strategies: Strategies,
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
         tracker: &mut VolumeTracker,
     ) -> Rgb {
         let mut sum = Rgb::ZERO;
+        if !strategies.medium_nee {
+            return sum;
+        }
         for (index, light) in self.scene.lights.iter().enumerate() {
             let Some((incident, p_light)) = sample_light(light, self.x, sampler) else {
                 continue;
             };
             let phase = self.phase.eval(incident.direction.dot(self.direction));
-            let weight = p_light.map_or(1.0, |p_light| p_light / (p_light + phase));
+            let weight = p_light.map_or(1.0, |p_light| {
+                p_light / (p_light + on(strategies.medium_hits, phase))
+            });
             let arriving = light_arriving(
                 self.scene,
                 self.visibility,
@@ -836,6 +974,7 @@ fn connect_light_vertex(
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
 ) -> Rgb {
+    let strategies = integrator.strategies;
     let lights = scene.area_light_count();
     let choice = sampler.next_1d() * lights as f32;
     let (u_point, u_direction, u_flight) =
@@ -884,7 +1023,7 @@ fn connect_light_vertex(
         let p_omega = q.pdf(y1, y0, to_light);
         let equiangular = segment_term(&first.segment, t, 1, light, y0);
         let weight = first.segment.connection_term(t, light, y0)
-            / (p_connect + p_omega + phase_y1 + equiangular);
+            / others(strategies, p_connect, p_omega, phase_y1, equiangular);
         sum += emitted * fog.albedo * first.value * (phase_y1 * weight);
     }
     if !at.twice {
@@ -939,12 +1078,30 @@ fn connect_light_vertex(
     let p_connect = segment.light_vertex_terms(t12, light, y0);
     let p_omega = q.pdf(y1, y0, to_light);
     let equiangular = segment_term(&segment, t12, 1, light, y0);
-    let weight =
-        segment.second_vertex_term(t12, light, y0) / (p_connect + p_omega + phase_y1 + equiangular);
+    let weight = segment.second_vertex_term(t12, light, y0)
+        / others(strategies, p_connect, p_omega, phase_y1, equiangular);
     // f/p of x → y2 → y1 → y0: f(x)·T(x, y2)/t² · (σs/σt)² · p(y2) ·
     // Le·n_q·A·π·s (the second flight's density cancels p(y1), T(y1, y2)
     // and 1/|y2 − y1|²).
     sum + emitted * fog.albedo * fog.albedo * second.value * (p_dir_y2 * weight)
+}
+
+/// The balance heuristic's denominator for a light-vertex connection to
+/// the fog point y₁ lit from the light point y₀: the connections' own
+/// densities plus those of the strategies that are on — NEE at y₁, the
+/// phase-sampled hit from y₁ and the equiangular sample on the segment
+/// (all relative to the same common factor).
+fn others(
+    strategies: Strategies,
+    p_connect: f32,
+    p_omega: f32,
+    phase_y1: f32,
+    equiangular: f32,
+) -> f32 {
+    p_connect
+        + on(strategies.medium_nee, p_omega)
+        + on(strategies.medium_hits, phase_y1)
+        + on(strategies.equiangular, equiangular)
 }
 
 /// A camera-path vertex that connects to light vertices: where it is,
