@@ -16,6 +16,11 @@ pub struct PixelSampler {
     seed: u32,
     index: u32,
     dimension: u32,
+    /// Dimensions `4k..4k+4` of the sequence, where `4k` is the last
+    /// multiple of four below `dimension`: the crate computes four
+    /// dimensions at once (SIMD) for about the cost of one, with the same
+    /// values as one at a time.
+    block: [f32; 4],
 }
 
 impl PixelSampler {
@@ -26,6 +31,7 @@ impl PixelSampler {
             seed: (h ^ (h >> 32)) as u32,
             index: sample_index,
             dimension: 0,
+            block: [0.0; 4],
         }
     }
 
@@ -35,7 +41,10 @@ impl PixelSampler {
         let d = self.dimension;
         self.dimension += 1;
         if d < sobol_burley::NUM_DIMENSIONS {
-            sobol_burley::sample(self.index, d, self.seed)
+            if d % 4 == 0 {
+                self.block = sobol_burley::sample_4d(self.index, d / 4, self.seed);
+            }
+            self.block[(d % 4) as usize]
         } else {
             let bits = mix64(((self.seed as u64) << 32 | self.index as u64) ^ mix64(d as u64));
             unit_f32(bits)
@@ -127,6 +136,22 @@ mod tests {
         // Mean of n uniforms: standard error 1/sqrt(12n) ≈ 0.002; 5σ.
         assert!((mean - 0.5).abs() < 5.0 / (12.0 * n as f64).sqrt());
         assert!(same < 5);
+    }
+
+    /// Drawing four dimensions at once changes no value.
+    #[test]
+    fn blocks_of_four_equal_single_dimensions() {
+        for index in [0, 1, 37, 4095] {
+            let mut s = PixelSampler::new(11, 987, index);
+            let seed = s.seed;
+            for d in 0..sobol_burley::NUM_DIMENSIONS {
+                assert_eq!(
+                    s.next_1d(),
+                    sobol_burley::sample(index, d, seed),
+                    "dimension {d}"
+                );
+            }
+        }
     }
 
     #[test]
