@@ -102,8 +102,10 @@ fn surface_strategies_agree() {
 }
 
 /// Fog under an area light, two scattering events: each fog strategy
-/// alone (surfaces keep both of theirs), and light-vertex connections
-/// with NEE (connections alone miss single scattering).
+/// alone (surfaces keep both of theirs; equiangular samples on every
+/// segment, not only camera rays), and light-vertex connections with NEE
+/// (connections alone miss single scattering). The default set leaves
+/// area lights out of equiangular sampling after the first event.
 #[test]
 fn fog_strategies_agree_under_an_area_light() {
     let surfaces = Strategies {
@@ -123,7 +125,13 @@ fn fog_strategies_agree_under_an_area_light() {
         &[
             ("fog NEE", with(|s| s.medium_nee = true)),
             ("phase hits", with(|s| s.medium_hits = true)),
-            ("equiangular", with(|s| s.equiangular = true)),
+            (
+                "equiangular",
+                with(|s| {
+                    s.equiangular = true;
+                    s.later_area_equiangular = true
+                }),
+            ),
             (
                 "connections + NEE",
                 with(|s| {

@@ -13,14 +13,18 @@
 //! scattering event. After three events Russian roulette ends paths with
 //! probability 1 − max(throughput), unbiasedly.
 //!
-//! Every light but the sun is also estimated along every fog segment by
+//! Every light but the sun is also estimated along fog segments by
 //! equiangular sampling (Kulla & Fajardo 2012) towards the light's position
 //! or an area-sampled point on it, combined by the balance heuristic with
 //! NEE at the free-flight event (whose density is σt·e^{−σt(t−a)}) and,
 //! for area lights, with phase-sampled hits: free flights alone put few
 //! events near a light, whose 1/d² makes the rare ones fireflies. The
-//! camera segment takes `volume_samples` stratified samples per light,
-//! later segments one.
+//! camera segment takes `volume_samples` stratified samples per light;
+//! later segments one per point or spot light (NEE from a free-flight
+//! event has unbounded variance next to a point light) and none per area
+//! light (solid-angle NEE is bounded there, and the light-vertex
+//! connections cover the glow: the samples cost more than they saved).
+//! [`Strategies`] switches each estimator off for tests and measurements.
 //!
 //! Light-vertex connections: at every fog event and Lambertian surface
 //! vertex (after the camera's), a light subpath is started on a quad
@@ -109,6 +113,13 @@ pub struct Strategies {
     pub medium_nee: bool,
     pub medium_hits: bool,
     pub equiangular: bool,
+    /// Equiangular sampling towards area lights also on segments after
+    /// the first scattering event (with `equiangular`; towards point and
+    /// spot lights it always runs there). Off by default: on those
+    /// segments NEE, phase sampling and the light-vertex connections
+    /// already cover area lights, and the extra samples cost more time
+    /// than they save error (docs/benchmarks.md).
+    pub later_area_equiangular: bool,
     pub connections: bool,
 }
 
@@ -120,6 +131,7 @@ impl Strategies {
         medium_nee: true,
         medium_hits: true,
         equiangular: true,
+        later_area_equiangular: false,
         connections: true,
     };
 
@@ -130,8 +142,42 @@ impl Strategies {
         medium_nee: false,
         medium_hits: false,
         equiangular: false,
+        later_area_equiangular: false,
         connections: false,
     };
+
+    /// Equiangular samples per light on a camera ray: `volume_samples`
+    /// if the strategy is on.
+    fn camera_equiangular(self, volume_samples: u32) -> EquiangularCounts {
+        let n = if self.equiangular { volume_samples } else { 0 };
+        EquiangularCounts { delta: n, area: n }
+    }
+
+    /// Equiangular samples per light on a segment after a scattering
+    /// event: one.
+    fn later_equiangular(self) -> EquiangularCounts {
+        EquiangularCounts {
+            delta: u32::from(self.equiangular),
+            area: u32::from(self.equiangular && self.later_area_equiangular),
+        }
+    }
+}
+
+/// Equiangular samples per light on one fog segment: towards each point
+/// or spot light, and towards each area light.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct EquiangularCounts {
+    delta: u32,
+    area: u32,
+}
+
+impl EquiangularCounts {
+    fn of(self, light: &Light) -> u32 {
+        match light {
+            Light::Quad(_) => self.area,
+            _ => self.delta,
+        }
+    }
 }
 
 impl Default for Strategies {
@@ -162,13 +208,13 @@ enum Arrival<'a> {
         in_volume: bool,
     },
     /// Phase-sampled (density `pdf`) at the free-flight event at `t` on
-    /// `segment`, whose equiangular estimator took `samples` per light:
-    /// three strategies can produce the light it hits.
+    /// `segment`, whose equiangular estimator took `area_samples` per
+    /// area light: three strategies can produce the light it hits.
     Medium {
         pdf: f32,
         segment: FogSegment<'a>,
         t: f32,
-        samples: u32,
+        area_samples: u32,
     },
 }
 
@@ -206,21 +252,21 @@ pub(crate) fn radiance(
                 FogSegment::new(integrator, scene, fog, ray, t_hit, connected_from)
         {
             let u_flight = sampler.next_1d();
-            // Point and spot lights: equiangular samples along the whole
-            // segment, for light whose last scattering is on it.
-            let samples = if !strategies.equiangular {
-                0
-            } else if depth == 0 {
-                integrator.volume_samples
+            // Equiangular samples along the whole segment, for light
+            // whose last scattering is on it.
+            let samples = if depth == 0 {
+                strategies.camera_equiangular(integrator.volume_samples)
             } else {
-                1
+                strategies.later_equiangular()
             };
             equiangular.prepare(&segment, samples, sampler);
             if depth < max_events {
                 radiance +=
                     throughput * equiangular.estimate(&segment, strategies, counts, &mut tracker);
             }
-            fog_event = segment.free_flight(u_flight).map(|t| (segment, t, samples));
+            fog_event = segment
+                .free_flight(u_flight)
+                .map(|t| (segment, t, samples.area));
         }
         // The volumes' first collision before the fog's event or the
         // surface: the first of independent events is the nearest.
@@ -262,7 +308,7 @@ pub(crate) fn radiance(
                 }
             }
         }
-        if let Some((segment, t, samples)) = fog_event {
+        if let Some((segment, t, area_samples)) = fog_event {
             // A real scattering event in the fog.
             if depth >= max_events {
                 return radiance;
@@ -311,7 +357,7 @@ pub(crate) fn radiance(
                 pdf,
                 segment,
                 t,
-                samples,
+                area_samples,
             };
             ray = Ray {
                 origin: x,
@@ -627,7 +673,7 @@ struct Connections {
 /// for each segment without allocating.
 struct EquiangularNee {
     lights: Vec<Option<SegmentLight>>,
-    samples: u32,
+    counts: EquiangularCounts,
 }
 
 /// One light's equiangular sampler on the segment, its stratification
@@ -637,28 +683,35 @@ struct SegmentLight {
     sampler: EquiangularSampler,
     u: f32,
     point: Vec3,
+    /// Samples taken towards the light.
+    n: u32,
 }
 
 impl EquiangularNee {
     fn with_capacity(lights: usize) -> Self {
         Self {
             lights: Vec::with_capacity(lights),
-            samples: 0,
+            counts: EquiangularCounts::default(),
         }
     }
 
-    /// Sets up `samples` samples per light on `segment`.
-    /// With 0 samples (the strategy is off) no light is estimated here.
-    fn prepare(&mut self, segment: &FogSegment, samples: u32, sampler: &mut PixelSampler) {
+    /// Sets up `counts` samples per light on `segment`; a light with no
+    /// samples is not estimated here.
+    fn prepare(
+        &mut self,
+        segment: &FogSegment,
+        counts: EquiangularCounts,
+        sampler: &mut PixelSampler,
+    ) {
         let ray = &segment.medium.ray;
-        self.samples = samples;
+        self.counts = counts;
         self.lights.clear();
-        if samples == 0 {
-            self.lights.resize(segment.medium.scene.lights.len(), None);
-            return;
-        }
         self.lights
             .extend(segment.medium.scene.lights.iter().map(|light| {
+                let n = counts.of(light);
+                if n == 0 {
+                    return None;
+                }
                 let u = sampler.next_1d();
                 let point = match light {
                     Light::Point(p) => p.position,
@@ -671,14 +724,19 @@ impl EquiangularNee {
                 };
                 let (ea, eb) = light.reach(ray, segment.a, segment.b)?;
                 let sampler = EquiangularSampler::new(ray, point, ea, eb)?;
-                Some(SegmentLight { sampler, u, point })
+                Some(SegmentLight {
+                    sampler,
+                    u,
+                    point,
+                    n,
+                })
             }));
     }
 
     /// Density with which a point or spot light's samples land at `t`, all
     /// `n` counted (0 if the light is not sampled here).
     fn delta_pdf(&self, index: usize, t: f32) -> f32 {
-        self.lights[index].map_or(0.0, |l| self.samples as f32 * l.sampler.pdf(t))
+        self.lights[index].map_or(0.0, |l| l.n as f32 * l.sampler.pdf(t))
     }
 
     /// Whether light `index` is estimated here (and must be MIS-weighted
@@ -698,12 +756,12 @@ impl EquiangularNee {
     ) -> Rgb {
         let medium = &segment.medium;
         let fog = medium.fog;
-        let n = self.samples as f32;
         let mut sum = Rgb::ZERO;
         for (index, entry) in self.lights.iter().enumerate() {
             let Some(entry) = entry else { continue };
             let light = &medium.scene.lights[index];
-            for k in 0..self.samples {
+            let n = entry.n as f32;
+            for k in 0..entry.n {
                 let (t, p_e) = entry.sampler.sample((k as f32 + entry.u) / n);
                 let x = medium.ray.at(t);
                 let Some(incident) = light.incident(x, Some(entry.point)) else {
@@ -827,7 +885,7 @@ fn emission_weight(
                 pdf,
                 segment,
                 t,
-                samples,
+                area_samples,
             },
             Some(index),
         ) => {
@@ -836,7 +894,7 @@ fn emission_weight(
             }
             let light = &scene.lights[index];
             let p_light = light_pdf(light, segment.medium.ray.at(t), p, direction);
-            let q = segment_term(&segment, t, samples, light, p);
+            let q = segment_term(&segment, t, area_samples, light, p);
             let p_connect = segment.light_vertex_terms(t, light, p);
             pdf / (pdf + on(strategies.medium_nee, p_light) + q + p_connect)
         }
@@ -873,7 +931,7 @@ fn medium_nee(
             Some(p_light) => {
                 let y = x + incident.direction * incident.distance;
                 let q = if equiangular.covers(index) {
-                    segment_term(segment, t, equiangular.samples, light, y)
+                    segment_term(segment, t, equiangular.counts.area, light, y)
                 } else {
                     0.0
                 };
@@ -1021,7 +1079,8 @@ fn connect_light_vertex(
         let t = first.distance;
         let p_connect = first.segment.light_vertex_terms(t, light, y0);
         let p_omega = q.pdf(y1, y0, to_light);
-        let equiangular = segment_term(&first.segment, t, 1, light, y0);
+        let samples = strategies.later_equiangular().area;
+        let equiangular = segment_term(&first.segment, t, samples, light, y0);
         let weight = first.segment.connection_term(t, light, y0)
             / others(strategies, p_connect, p_omega, phase_y1, equiangular);
         sum += emitted * fog.albedo * first.value * (phase_y1 * weight);
@@ -1077,7 +1136,8 @@ fn connect_light_vertex(
     let phase_y1 = fog.phase.eval(to_light.dot(back));
     let p_connect = segment.light_vertex_terms(t12, light, y0);
     let p_omega = q.pdf(y1, y0, to_light);
-    let equiangular = segment_term(&segment, t12, 1, light, y0);
+    let samples = strategies.later_equiangular().area;
+    let equiangular = segment_term(&segment, t12, samples, light, y0);
     let weight = segment.second_vertex_term(t12, light, y0)
         / others(strategies, p_connect, p_omega, phase_y1, equiangular);
     // f/p of x → y2 → y1 → y0: f(x)·T(x, y2)/t² · (σs/σt)² · p(y2) ·
@@ -1089,8 +1149,8 @@ fn connect_light_vertex(
 /// The balance heuristic's denominator for a light-vertex connection to
 /// the fog point y₁ lit from the light point y₀: the connections' own
 /// densities plus those of the strategies that are on — NEE at y₁, the
-/// phase-sampled hit from y₁ and the equiangular sample on the segment
-/// (all relative to the same common factor).
+/// phase-sampled hit from y₁, and the equiangular sample on the segment
+/// (already zero when off); all relative to the same common factor.
 fn others(
     strategies: Strategies,
     p_connect: f32,
@@ -1101,7 +1161,7 @@ fn others(
     p_connect
         + on(strategies.medium_nee, p_omega)
         + on(strategies.medium_hits, phase_y1)
-        + on(strategies.equiangular, equiangular)
+        + equiangular
 }
 
 /// A camera-path vertex that connects to light vertices: where it is,
