@@ -285,6 +285,21 @@ impl Shape {
         }
     }
 
+    /// The same shape hit from both sides (spheres already are).
+    pub fn two_sided(self) -> Shape {
+        match self {
+            Shape::Sphere(s) => Shape::Sphere(s),
+            Shape::Quad(q) => Shape::Quad(Quad {
+                one_sided: false,
+                ..q
+            }),
+            Shape::Triangle(t) => Shape::Triangle(Triangle {
+                one_sided: false,
+                ..t
+            }),
+        }
+    }
+
     pub fn bounds(&self) -> Bounds {
         match self {
             Shape::Sphere(s) => s.bounds(),

@@ -148,7 +148,10 @@ fn shadow_ray(
                     count += 1;
                 }
             },
-            Material::Opaque(_) | Material::Emissive { .. } | Material::Dielectric { .. } => {
+            Material::Opaque(_)
+            | Material::Emissive { .. }
+            | Material::LampFace { .. }
+            | Material::Dielectric { .. } => {
                 blocked = true;
                 return ControlFlow::Break(());
             }

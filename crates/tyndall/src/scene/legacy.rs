@@ -408,6 +408,8 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
             source.path.display()
         ));
     }
+    // The lamp-face material of each emissive material used by spots.
+    let mut lamp_ids: Vec<Option<u32>> = vec![None; materials.len()];
     for face in &faces {
         let m = &materials[face.material];
         let c = face.vertices.map(|i| vertices[i]);
@@ -417,7 +419,14 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
             let quad = quad.map_err(|e| source.error_at(at, format!("emissive face: {e}")))?;
             match m.cutoff_deg.or(face.cutoff_deg) {
                 Some(cutoff) => {
-                    builder.add_shape(Shape::Quad(quad), ids[face.material]);
+                    // The quad is the lamp seen by the camera; the spot
+                    // carries its light into the scene (counted once).
+                    let lamp = *lamp_ids[face.material].get_or_insert_with(|| {
+                        builder.add_material(Material::LampFace {
+                            radiance: m.emitted,
+                        })
+                    });
+                    builder.add_shape(Shape::Quad(quad), lamp);
                     builder.add_light(Light::Spot(SpotLight {
                         position: quad.centroid(),
                         direction: quad.normal,
