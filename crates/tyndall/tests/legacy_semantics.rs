@@ -251,3 +251,136 @@ fn glass_tints_light_crossing_it_from_either_side() {
         }
     }
 }
+
+/// The 1-based line of the first line of `text` that is exactly `line`.
+fn line_of(text: &str, line: &str) -> usize {
+    text.lines().position(|l| l == line).expect("line in text") + 1
+}
+
+/// A lamp material (no cutoff of its own), then a glass block, then a
+/// `c 35` line meant for the lamp's faces, then the lamp face. `extra`
+/// goes before the lamp face.
+fn lamp_after_glass(extra: &str) -> String {
+    format!(
+        "material
+diffuse 0 0 0
+reflective 0 0 0
+emitted 40 40 40
+
+material
+diffuse 0.2 0.4 0.9
+reflective 0 0 0
+emitted 0 0 0
+alpha 0.5
+c 35
+
+m 0
+v -0.5 3 -0.5
+v 0.5 3 -0.5
+v 0.5 3 0.5
+v -0.5 3 0.5
+{extra}f 1 2 3 4
+"
+    )
+}
+
+/// Issue 9.3: a `c` after the last field of a non-emissive (glass) block
+/// cannot be that material's: it is the statement for the lamp face that
+/// follows, and the loader says where it read it so.
+#[test]
+fn cutoff_after_glass_block_is_a_statement() {
+    let text = lamp_after_glass("");
+    let desc = parse(&text);
+    assert_eq!(desc.scene.lights.len(), 1);
+    let Light::Spot(spot) = desc.scene.lights[0] else {
+        panic!("the lamp should be a spot, got {:?}", desc.scene.lights[0])
+    };
+    assert!((spot.cos_cutoff - 35f32.to_radians().cos()).abs() < 1e-6);
+    let at = format!("test.obj:{}:1:", line_of(&text, "c 35"));
+    let warned: Vec<_> = desc
+        .warnings
+        .iter()
+        .filter(|w| w.contains("`c 35`"))
+        .collect();
+    assert_eq!(warned.len(), 1, "{:?}", desc.warnings);
+    assert!(
+        warned[0].starts_with(&at) && warned[0].contains("statement"),
+        "{}",
+        warned[0]
+    );
+}
+
+/// A `c` ending an emissive block is that material's cutoff; the loader
+/// warns when reading it as a statement would have changed a face (here
+/// a second lamp of another emissive material that follows it), and
+/// stays quiet when both readings give the same scene (the paper's own
+/// fig. 7 file; the LEGACY-OBJ.md example with `c` in its lamp block).
+#[test]
+fn cutoff_ending_an_emissive_block_is_the_materials() {
+    let text = "material
+diffuse 0 0 0
+reflective 0 0 0
+emitted 40 40 40
+c 30
+
+material
+diffuse 0 0 0
+reflective 0 0 0
+emitted 10 10 10
+
+m 0
+v -0.5 3 -0.5
+v 0.5 3 -0.5
+v 0.5 3 0.5
+v -0.5 3 0.5
+f 1 2 3 4
+m 1
+v 2 3 -0.5
+v 3 3 -0.5
+v 3 3 0.5
+v 2 3 0.5
+f 5 6 7 8
+";
+    let desc = parse(text);
+    let kinds: Vec<_> = desc
+        .scene
+        .lights
+        .iter()
+        .map(|l| match l {
+            Light::Spot(s) => format!("spot {:.4}", s.cos_cutoff),
+            Light::Quad(_) => "quad".to_string(),
+            other => format!("{other:?}"),
+        })
+        .collect();
+    assert_eq!(
+        kinds,
+        [
+            format!("spot {:.4}", 30f32.to_radians().cos()),
+            "quad".into()
+        ]
+    );
+    let at = format!("test.obj:{}:1:", line_of(text, "c 30"));
+    assert!(
+        desc.warnings
+            .iter()
+            .any(|w| w.starts_with(&at) && w.contains("material 0 emits")),
+        "{:?}",
+        desc.warnings
+    );
+
+    // Unambiguous in effect: no warning about `c`.
+    let fig7 = legacy::load(
+        &common::repo().join("scenes/legacy/fig07-spot-sphere.obj"),
+        LegacyOptions::default(),
+    )
+    .expect("fig. 7");
+    assert!(
+        fig7.warnings.iter().all(|w| !w.contains("`c ")),
+        "{:?}",
+        fig7.warnings
+    );
+    // A statement `c` after `m` is not ambiguous either.
+    let plain = parse(&lamp_after_glass("c 20\n").replace("alpha 0.5\nc 35\n", "alpha 0.5\n"));
+    assert!(matches!(plain.scene.lights[0], Light::Spot(_)));
+    assert!(plain.warnings.iter().all(|w| !w.contains("`c ")));
+}
