@@ -9,7 +9,10 @@
 //! model. It is a coloured deep shadow map: a fog point between the light
 //! and a pane is untinted, one behind the pane is tinted, one behind the
 //! opaque surface is dark — what a shadow ray would say, at the map's
-//! resolution. A lookup then costs a projection and four texel reads
+//! resolution. Map rays leave the light while shadow rays head for it, so
+//! map rays meet one-sided quads from the other side
+//! ([`crate::accel::Geometry::for_each_hit_from_light`]): both find the
+//! same occluders between a point and the light. A lookup then costs a projection and four texel reads
 //! instead of a BVH traversal, independent of the march step.
 //!
 //! Projections: a spotlight of cutoff θc ≤ 60° uses one perspective map
@@ -386,7 +389,7 @@ fn render_face(scene: &MapScene, projection: Projection, resolution: u32) -> Fac
                 let mut opaque = f32::INFINITY;
                 scene
                     .geometry
-                    .for_each_hit(&ray, f32::INFINITY, |t, index| {
+                    .for_each_hit_from_light(&ray, f32::INFINITY, |t, index| {
                         match scene.materials[scene.geometry.primitive(index).material as usize] {
                             Material::Glass(g) => hits.push((t, g)),
                             _ => opaque = opaque.min(t),

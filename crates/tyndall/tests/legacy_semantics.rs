@@ -384,3 +384,60 @@ f 5 6 7 8
     assert!(matches!(plain.scene.lights[0], Light::Spot(_)));
     assert!(plain.warnings.iter().all(|w| !w.contains("`c ")));
 }
+
+/// Shadow maps are an acceleration of shadow rays and must say the same.
+/// Rays are traced towards the light, maps from it: below a one-sided
+/// floor that faces a spot above it, a shadow ray meets the floor from
+/// behind and passes (the course code's one-sidedness, LEGACY-OBJ.md),
+/// so the maps must pass that light too rather than stop it at the
+/// floor's front face. The fog under the floor is compared along a ray
+/// that never meets the floor, with `single` under both visibilities
+/// (5 standard errors, from the sample count).
+#[test]
+fn shadow_maps_see_one_sided_quads_as_shadow_rays_do() {
+    use tyndall::visibility::VisibilityMode;
+    let text = "material
+diffuse 0 0 0
+reflective 0 0 0
+emitted 1000 1000 1000
+c 40
+
+material
+diffuse 0.5 0.5 0.5
+reflective 0 0 0
+emitted 0 0 0
+
+m 0
+v -0.1 4 -0.1
+v 0.1 4 -0.1
+v 0.1 4 0.1
+v -0.1 4 0.1
+f 1 2 3 4
+
+m 1
+v -5 0 -5
+v -5 0 5
+v 5 0 5
+v 5 0 -5
+f 5 6 7 8
+";
+    let mut desc = parse(text);
+    desc.override_fog(Some(0.1), Some(0.9)).expect("fog");
+    let ray = Ray::new(Vec3::new(0.0, -1.0, 8.0), Vec3::NEG_Z);
+    let estimate = |visibility| {
+        let settings = RenderSettings {
+            integrator: IntegratorKind::Single,
+            visibility,
+            ..desc.settings
+        };
+        estimate_ray_with(&desc, settings, ray, 1024)
+    };
+    let (rays, rays_err) = estimate(VisibilityMode::ShadowRays);
+    let (maps, maps_err) = estimate(VisibilityMode::Maps { resolution: 256 });
+    assert!(rays.x > 1e-3, "the fog below the floor is lit: {rays}");
+    let tol = 5.0 * (rays_err.x.powi(2) + maps_err.x.powi(2)).sqrt() + 1e-3 * rays.x;
+    assert!(
+        (rays.x - maps.x).abs() <= tol,
+        "shadow rays {rays} vs maps {maps} (tolerance {tol})"
+    );
+}
