@@ -165,7 +165,7 @@ fn singular_pixels(desc: &SceneDescription) -> Vec<bool> {
 
 /// Per block and channel: (mean, variance of the mean) of the average of
 /// the two renders, over the pixels `skip` does not mark.
-fn block_estimates(pair: &[Image; 2], skip: &[bool]) -> Vec<([f64; 3], [f64; 3])> {
+fn block_estimates(pair: &[Image; 2], skip: &[bool]) -> Vec<BlockEstimate> {
     let mut out = Vec::new();
     for by in (0..HEIGHT).step_by(BLOCK.1 as usize) {
         for bx in (0..WIDTH).step_by(BLOCK.0 as usize) {
@@ -190,6 +190,9 @@ fn block_estimates(pair: &[Image; 2], skip: &[bool]) -> Vec<([f64; 3], [f64; 3])
     out
 }
 
+/// A block's (mean, variance of the mean), per channel.
+type BlockEstimate = ([f64; 3], [f64; 3]);
+
 /// The scene with its fog's albedo replaced by `albedo` (grey).
 fn with_albedo(path: &Path, albedo: f32) -> SceneDescription {
     let mut desc = load(path);
@@ -199,7 +202,7 @@ fn with_albedo(path: &Path, albedo: f32) -> SceneDescription {
 
 /// `Σ wᵢ·estimateᵢ` per block and channel, with variance `Σ wᵢ²·Vᵢ`
 /// (independent renders).
-fn combine(terms: &[(f64, &[([f64; 3], [f64; 3])])]) -> Vec<([f64; 3], [f64; 3])> {
+fn combine(terms: &[(f64, &[BlockEstimate])]) -> Vec<BlockEstimate> {
     (0..terms[0].1.len())
         .map(|block| {
             let (mut m, mut v) = ([0.0; 3], [0.0; 3]);
@@ -222,12 +225,7 @@ fn assert_finite(pair: &[Image; 2], what: &str) {
 }
 
 /// Asserts every block and channel of `a` and `b` agree: |z| < Z_LIMIT.
-fn assert_agree(
-    a: &[([f64; 3], [f64; 3])],
-    b: &[([f64; 3], [f64; 3])],
-    what: &str,
-    failures: &mut Vec<String>,
-) {
+fn assert_agree(a: &[BlockEstimate], b: &[BlockEstimate], what: &str, failures: &mut Vec<String>) {
     for (block, ((ma, va), (mb, vb))) in a.iter().zip(b).enumerate() {
         for c in 0..3 {
             let d = ma[c] - mb[c];
