@@ -62,14 +62,16 @@ const VOLPATH_DIFFERS: &[(&str, &str)] = &[
     ),
     (
         "stained-glass.toml",
-        "glossy stone: in volpath the reflection is the path's one scattering event, so the \
-         reflected ray only sees emitters and the background; single lights what the \
-         reflection sees (max_bounces)",
+        "glossy stone under a bright sky: in volpath a glossy reflection is the path's one \
+         scattering event, after which the reflected ray adds only the emitters and background \
+         it meets (here the sky through the window); single either skips reflections \
+         (max_bounces 0, as here) or lights what they see with direct lighting and fog — no \
+         setting of the two computes the same reflected light",
     ),
     (
         "reflective_spheres.obj",
-        "a glossy sphere: as for stained-glass.toml, a reflection is volpath's scattering \
-         event but a free bounce for single",
+        "a glossy sphere reflecting the ceiling light: as for stained-glass.toml, volpath adds \
+         the emitter seen in the reflection, single does not count it the same way",
     ),
 ];
 
@@ -279,6 +281,8 @@ fn every_scene_agrees_across_integrators() {
         })
         .collect();
         assert!(!estimates.is_empty(), "{name}: no integrator renders it");
+        let kinds: Vec<&str> = estimates.iter().map(|(k, _)| k.name()).collect();
+        eprintln!("{name}: {}", kinds.join(", "));
         let volpath_differs = VOLPATH_DIFFERS.iter().any(|(n, _)| *n == name);
         for (i, (ka, a)) in estimates.iter().enumerate() {
             for (kb, b) in &estimates[i + 1..] {
