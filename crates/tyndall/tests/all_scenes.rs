@@ -58,7 +58,8 @@ const VOLPATH_DIFFERS: &[(&str, &str)] = &[
         "glass-sphere-focus.toml",
         "a solid dielectric sphere: volpath counts each refraction as a scattering event, so \
          --max-depth 1 ends camera paths inside the sphere, and it adds the caustic light \
-         tracer's focused light; single follows refraction without counting it and has no caustics",
+         tracer's focused light; single follows refraction as a bounce (max_bounces, 0 here) and \
+         has no caustics",
     ),
     (
         "stained-glass.toml",
