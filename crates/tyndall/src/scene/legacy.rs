@@ -7,7 +7,7 @@
 //! statement that is not one of its fields. A `c` followed by another
 //! field of an open block belongs to the material; a `c` outside a block
 //! applies to the emissive faces that follow (until the next `c`). A `c`
-//! that ends a block's fields could be either ([`TrailingCutoff`]).
+//! that ends a block's fields could be either (`TrailingCutoff`).
 
 use super::{SceneBuilder, SceneDescription, SceneError, SourceText};
 use crate::camera::{CameraSpec, FieldOfView};
