@@ -118,6 +118,24 @@ impl Geometry {
         });
     }
 
+    /// [`Geometry::for_each_hit`] for a ray traced along the light's flow
+    /// (from a light): one-sided shapes are met from the side a ray
+    /// towards the light would meet ([`Shape::intersect_from_light`]).
+    pub fn for_each_hit_from_light(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        mut visit: impl FnMut(f32, u32) -> ControlFlow<()>,
+    ) {
+        self.for_each_candidate(ray, t_max, |_, index| {
+            let prim = &self.primitives[index as usize];
+            match prim.shape.intersect_from_light(ray, t_max) {
+                Some(t) => visit(t, index),
+                None => ControlFlow::Continue(()),
+            }
+        });
+    }
+
     /// Visits the primitives whose BVH leaves the ray reaches; the visitor
     /// may shorten the ray (`tmax`) to prune the traversal.
     #[inline]

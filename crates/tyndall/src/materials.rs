@@ -19,6 +19,16 @@ pub enum Material {
     /// An emitter of constant radiance `radiance` (W·sr⁻¹·m⁻²) from its
     /// front face (both faces if `two_sided`). Emitters are opaque.
     Emissive { radiance: Rgb, two_sided: bool },
+    /// The visible face of a lamp whose light is sampled as a delta light
+    /// elsewhere (the paper's legacy spotlight: an emissive quad with a
+    /// cutoff `c`, whose light is a [`crate::lights::SpotLight`] at its
+    /// centroid). Camera rays, and paths that reach it only through
+    /// specular events, see radiance `radiance` on its front; light
+    /// scattered by fog or diffuse surfaces does not count it, because
+    /// the spot already carries the lamp's emission — a lamp housing
+    /// visible to camera rays only, as Cycles' per-light ray visibility
+    /// does. Opaque like an emitter.
+    LampFace { radiance: Rgb },
     /// Thin coloured glass: tints rays crossing it, never stops them.
     Glass(Glass),
     /// A smooth refractive interface (solid glass, water) of index of

@@ -9,7 +9,10 @@
 //! model. It is a coloured deep shadow map: a fog point between the light
 //! and a pane is untinted, one behind the pane is tinted, one behind the
 //! opaque surface is dark — what a shadow ray would say, at the map's
-//! resolution. A lookup then costs a projection and four texel reads
+//! resolution. Map rays leave the light while shadow rays head for it, so
+//! map rays meet one-sided quads from the other side
+//! ([`crate::accel::Geometry::for_each_hit_from_light`]): both find the
+//! same occluders between a point and the light. A lookup then costs a projection and four texel reads
 //! instead of a BVH traversal, independent of the march step.
 //!
 //! Projections: a spotlight of cutoff θc ≤ 60° uses one perspective map
@@ -46,6 +49,9 @@ use crate::shapes::Bounds;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
+/// Distance from a light, relative to its coordinates' magnitude, within
+/// which map rays ignore what they meet (see `render_face`).
+const LIGHT_CLEARANCE: f32 = 1e-4;
 /// Bias in texel footprints for fog points (no surface normal).
 const BIAS_TEXELS: f32 = 1.5;
 /// Largest slope (tan θ) the surface bias follows; grazing surfaces
@@ -384,9 +390,17 @@ fn render_face(scene: &MapScene, projection: Projection, resolution: u32) -> Fac
                 // first opaque surface.
                 hits.clear();
                 let mut opaque = f32::INFINITY;
+                // Shadow rays end just short of the light
+                // (`ray::shadow_ray_end`): a surface through the light's
+                // own position — a legacy spot's lamp quad — does not
+                // shadow it, however rounding places its hit.
+                let clearance = LIGHT_CLEARANCE * (1.0 + ray.origin.abs().max_element());
                 scene
                     .geometry
-                    .for_each_hit(&ray, f32::INFINITY, |t, index| {
+                    .for_each_hit_from_light(&ray, f32::INFINITY, |t, index| {
+                        if t <= clearance {
+                            return std::ops::ControlFlow::Continue(());
+                        }
                         match scene.materials[scene.geometry.primitive(index).material as usize] {
                             Material::Glass(g) => hits.push((t, g)),
                             _ => opaque = opaque.min(t),

@@ -276,12 +276,56 @@ impl Shape {
         }
     }
 
+    /// Distance to the first intersection in `(0, t_max)` of a ray traced
+    /// along the light's flow (from a light, as shadow maps are). A
+    /// one-sided shape is seen from the side opposite to [`Shape::intersect`]'s:
+    /// a ray from the light meets its back where the reverse ray, traced
+    /// towards the light, meets its front. Both directions then find the
+    /// same occluders between two points, so shadow maps agree with
+    /// shadow rays.
+    pub fn intersect_from_light(&self, ray: &Ray, t_max: f32) -> Option<f32> {
+        match self {
+            // Flipping the normal flips only the culling: t does not depend
+            // on its sign, and (u, v) come from `w`, which is unchanged.
+            Shape::Quad(q) if q.one_sided => Quad {
+                normal: -q.normal,
+                ..*q
+            }
+            .intersect(ray, t_max),
+            // Swapping the edges describes the same triangle with the
+            // opposite winding, so the determinant's sign flips.
+            Shape::Triangle(t) if t.one_sided => Triangle {
+                e1: t.e2,
+                e2: t.e1,
+                normal: -t.normal,
+                ..*t
+            }
+            .intersect(ray, t_max),
+            _ => self.intersect(ray, t_max),
+        }
+    }
+
     /// Outward (sphere) or front-face (quad, triangle) unit normal at `p`.
     pub fn normal(&self, p: Vec3) -> Vec3 {
         match self {
             Shape::Sphere(s) => s.normal(p),
             Shape::Quad(q) => q.normal,
             Shape::Triangle(t) => t.normal,
+        }
+    }
+
+    /// The same shape hit from both sides (spheres already are).
+    pub fn two_sided(self) -> Shape {
+        match self {
+            Shape::Sphere(s) => Shape::Sphere(s),
+            Shape::Quad(q) => Shape::Quad(Quad {
+                one_sided: false,
+                ..q
+            }),
+            Shape::Triangle(t) => Shape::Triangle(Triangle {
+                one_sided: false,
+                ..t
+            }),
         }
     }
 
@@ -342,6 +386,48 @@ mod tests {
         assert!(q.intersect(&back, f32::INFINITY).is_none());
         let two_sided = Quad::new(q.origin, q.edge_u, q.edge_v, false).unwrap();
         assert!(two_sided.intersect(&back, f32::INFINITY).is_some());
+    }
+
+    /// A ray from the light sees a one-sided quad or triangle exactly when
+    /// the reverse ray, towards the light, does.
+    #[test]
+    fn rays_from_light_see_the_reverse_side() {
+        let quad = Shape::Quad(
+            Quad::new(
+                Vec3::new(-1.0, -1.0, 0.0),
+                2.0 * Vec3::X,
+                2.0 * Vec3::Y,
+                true,
+            )
+            .unwrap(),
+        );
+        let triangle = Shape::Triangle(
+            Triangle::new_one_sided(
+                Vec3::new(-1.0, -1.0, 0.0),
+                Vec3::new(2.0, -1.0, 0.0),
+                Vec3::new(-1.0, 2.0, 0.0),
+            )
+            .unwrap(),
+        );
+        for shape in [quad, triangle] {
+            for (a, b) in [
+                (Vec3::new(0.1, 0.2, 1.0), Vec3::new(0.1, 0.2, -1.0)),
+                (Vec3::new(0.1, 0.2, -1.0), Vec3::new(0.3, 0.0, 2.0)),
+            ] {
+                let towards = Ray::new(a, (b - a).normalize());
+                let from = Ray::new(b, (a - b).normalize());
+                let d = (b - a).length();
+                let seen_towards = shape.intersect(&towards, d).is_some();
+                let seen_from = shape.intersect_from_light(&from, d).is_some();
+                assert_eq!(seen_towards, seen_from, "{shape:?} {a} {b}");
+                if let (Some(t0), Some(t1)) = (
+                    shape.intersect(&towards, d),
+                    shape.intersect_from_light(&from, d),
+                ) {
+                    assert!((t0 + t1 - d).abs() < 1e-5);
+                }
+            }
+        }
     }
 
     #[test]

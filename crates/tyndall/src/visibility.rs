@@ -149,7 +149,10 @@ fn shadow_ray(
                     count += 1;
                 }
             },
-            Material::Opaque(_) | Material::Emissive { .. } | Material::Dielectric { .. } => {
+            Material::Opaque(_)
+            | Material::Emissive { .. }
+            | Material::LampFace { .. }
+            | Material::Dielectric { .. } => {
                 blocked = true;
                 return ControlFlow::Break(());
             }

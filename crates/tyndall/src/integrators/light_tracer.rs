@@ -198,7 +198,7 @@ impl Tracer<'_> {
             let p = ray.at(hit.t);
             let geometric_normal = scene.geometry.normal(hit.primitive, p);
             match *scene.material(hit.primitive) {
-                Material::Emissive { .. } => return,
+                Material::Emissive { .. } | Material::LampFace { .. } => return,
                 Material::Glass(glass) => {
                     crossings += 1;
                     if crossings > MAX_GLASS_CROSSINGS {

@@ -170,6 +170,13 @@ impl<'a> Integrator<'a> {
                     }
                     return radiance;
                 }
+                // Camera paths here have only specular events: they see the lamp.
+                Material::LampFace { radiance: le } => {
+                    if front {
+                        radiance += throughput * le;
+                    }
+                    return radiance;
+                }
                 Material::Glass(glass) if !scene.glass.opaque_to_camera => {
                     crossings += 1;
                     if crossings > MAX_GLASS_CROSSINGS {

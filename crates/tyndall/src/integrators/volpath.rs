@@ -396,6 +396,15 @@ pub(crate) fn radiance(
                 }
                 return radiance;
             }
+            // A spot's lamp is seen only by paths without a scattering
+            // event (camera and specular): scattered light already has
+            // the spot by NEE.
+            Material::LampFace { radiance: le } => {
+                if front && matches!(arrival, Arrival::Unweighted) {
+                    radiance += throughput * le;
+                }
+                return radiance;
+            }
             Material::Glass(glass) if !scene.glass.opaque_to_camera => {
                 crossings += 1;
                 if crossings > super::MAX_GLASS_CROSSINGS {

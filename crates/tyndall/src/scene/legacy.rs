@@ -4,9 +4,10 @@
 //!
 //! Tokens are whitespace-separated and newlines are not significant. A
 //! `material` block is open from the `material` token until the next
-//! statement that is not one of its fields; a `c` inside an open block
-//! belongs to the material, elsewhere it applies to the emissive faces
-//! that follow.
+//! statement that is not one of its fields. A `c` followed by another
+//! field of an open block belongs to the material; a `c` outside a block
+//! applies to the emissive faces that follow (until the next `c`). A `c`
+//! that ends a block's fields could be either (`TrailingCutoff`).
 
 use super::{SceneBuilder, SceneDescription, SceneError, SourceText};
 use crate::camera::{CameraSpec, FieldOfView};
@@ -210,8 +211,67 @@ fn describe(t: Option<Token>) -> String {
 struct Face {
     vertices: [usize; 4],
     material: usize,
-    cutoff_deg: Option<f32>,
+    /// The `c` statements written before the face (an index into the
+    /// parse's cutoff list: the first `statements` of them).
+    statements: usize,
     token: usize,
+}
+
+/// A spotlight cutoff `c` read where a statement may stand.
+struct Cutoff {
+    value: f32,
+    /// `Some` for a `c` that ends the fields of a material block: it could
+    /// be that block's field or a statement for the faces that follow.
+    trailing: Option<TrailingCutoff>,
+}
+
+/// A `c` right after the last field of material `material`'s block.
+/// Newlines do not separate statements, so only the material tells the
+/// two readings apart: the cutoff of an emissive material is that
+/// material's (it makes its faces spots); a non-emissive material has no
+/// use for a cutoff, so there it is the statement for the emissive faces
+/// that follow. Either reading is warned about, with the token's place,
+/// when the other would have given any face a different cutoff.
+struct TrailingCutoff {
+    material: usize,
+    offset: usize,
+}
+
+/// Block fields: names that continue an open `material` block.
+fn is_block_field(token: &str) -> bool {
+    matches!(
+        token,
+        "diffuse" | "texture_file" | "reflective" | "roughness" | "emitted" | "alpha"
+    )
+}
+
+/// The cutoff each face gets when `as_statement[i]` says how cutoff `i`
+/// is read: a material's own cutoff (its field, or a trailing `c` read
+/// as its field) wins over the last statement before the face, as in the
+/// paper's loader.
+fn face_cutoffs(
+    faces: &[Face],
+    materials: &[LegacyMaterial],
+    cutoffs: &[Cutoff],
+    as_statement: &[bool],
+) -> Vec<Option<f32>> {
+    let mut own: Vec<Option<f32>> = materials.iter().map(|m| m.cutoff_deg).collect();
+    for (c, statement) in cutoffs.iter().zip(as_statement) {
+        if let (Some(t), false) = (&c.trailing, statement) {
+            own[t.material] = Some(c.value);
+        }
+    }
+    faces
+        .iter()
+        .map(|f| {
+            own[f.material].or_else(|| {
+                (0..f.statements)
+                    .rev()
+                    .find(|&i| as_statement[i])
+                    .map(|i| cutoffs[i].value)
+            })
+        })
+        .collect()
 }
 
 /// Parses legacy text. Quads are one-sided unless `options.two_sided`.
@@ -223,7 +283,7 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
     let mut spheres: Vec<(Sphere, usize)> = Vec::new();
     let mut active: Option<usize> = None;
     let mut open_block = false;
-    let mut statement_cutoff: Option<f32> = None;
+    let mut cutoffs: Vec<Cutoff> = Vec::new();
     let mut background = Rgb::ZERO;
     let mut camera: Option<CameraSpec> = None;
     let mut warnings = Vec::new();
@@ -231,10 +291,7 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
     while let Some(tok) = p.bump() {
         let in_block = open_block;
         open_block = false;
-        let block_field = matches!(
-            tok.text,
-            "diffuse" | "texture_file" | "reflective" | "roughness" | "emitted" | "alpha"
-        ) || (tok.text == "c" && in_block);
+        let block_field = is_block_field(tok.text) || (tok.text == "c" && in_block);
         if block_field {
             let Some(m) = materials.last_mut().filter(|_| in_block) else {
                 return Err(p.error(
@@ -275,8 +332,18 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                     materials.last_mut().expect("open block").alpha = a;
                 }
                 _ => {
-                    let c = cutoff(&mut p)?;
-                    materials.last_mut().expect("open block").cutoff_deg = Some(c);
+                    let value = cutoff(&mut p)?;
+                    if p.peek().is_some_and(|t| is_block_field(t.text)) {
+                        materials.last_mut().expect("open block").cutoff_deg = Some(value);
+                    } else {
+                        cutoffs.push(Cutoff {
+                            value,
+                            trailing: Some(TrailingCutoff {
+                                material: materials.len() - 1,
+                                offset: tok.offset,
+                            }),
+                        });
+                    }
                 }
             }
             open_block = true;
@@ -302,7 +369,13 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                 }
                 active = Some(i);
             }
-            "c" => statement_cutoff = Some(cutoff(&mut p)?),
+            "c" => {
+                let value = cutoff(&mut p)?;
+                cutoffs.push(Cutoff {
+                    value,
+                    trailing: None,
+                });
+            }
             "f" => {
                 let token = p.next - 1;
                 let material = active.ok_or_else(|| {
@@ -322,7 +395,7 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                 faces.push(Face {
                     vertices: v,
                     material,
-                    cutoff_deg: statement_cutoff,
+                    statements: cutoffs.len(),
                     token,
                 });
             }
@@ -372,6 +445,48 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
         }
     }
 
+    // How each `c` is read, and warnings where the other reading differs.
+    let emissive = |m: usize| materials[m].emitted.max_element() > 0.0;
+    let as_statement: Vec<bool> = cutoffs
+        .iter()
+        .map(|c| c.trailing.as_ref().is_none_or(|t| !emissive(t.material)))
+        .collect();
+    let face_cutoff = face_cutoffs(&faces, &materials, &cutoffs, &as_statement);
+    let emissive_faces: Vec<usize> = (0..faces.len())
+        .filter(|&i| emissive(faces[i].material))
+        .collect();
+    for (i, c) in cutoffs.iter().enumerate() {
+        let Some(t) = &c.trailing else { continue };
+        let mut other = as_statement.clone();
+        other[i] = !other[i];
+        let other_cutoff = face_cutoffs(&faces, &materials, &cutoffs, &other);
+        let differ = emissive_faces
+            .iter()
+            .filter(|&&f| face_cutoff[f] != other_cutoff[f])
+            .count();
+        if differ == 0 {
+            continue;
+        }
+        let (line, column) = source.line_col(t.offset);
+        let reading = if as_statement[i] {
+            format!(
+                "material {} does not emit, so it is read as a statement for the emissive faces that follow",
+                t.material
+            )
+        } else {
+            format!(
+                "material {} emits, so it is read as that material's cutoff",
+                t.material
+            )
+        };
+        warnings.push(format!(
+            "{}:{line}:{column}: `c {}` ends the fields of material {}'s block; newlines do not separate statements, so it may be that material's cutoff or a statement: {reading}. The other reading would change {differ} emissive face(s). Write it after `m i` for a statement, or before the block's `emitted` for the material's",
+            source.path.display(),
+            c.value,
+            t.material,
+        ));
+    }
+
     let camera = match camera {
         Some(c) => c,
         None => default_camera(&vertices, &spheres),
@@ -408,16 +523,25 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
             source.path.display()
         ));
     }
-    for face in &faces {
+    // The lamp-face material of each emissive material used by spots.
+    let mut lamp_ids: Vec<Option<u32>> = vec![None; materials.len()];
+    for (face, cutoff) in faces.iter().zip(&face_cutoff) {
         let m = &materials[face.material];
         let c = face.vertices.map(|i| vertices[i]);
         let at = p.tokens[face.token].offset;
         let quad = super::parallelogram(c, one_sided);
         if m.emitted.max_element() > 0.0 {
             let quad = quad.map_err(|e| source.error_at(at, format!("emissive face: {e}")))?;
-            match m.cutoff_deg.or(face.cutoff_deg) {
+            match *cutoff {
                 Some(cutoff) => {
-                    builder.add_shape(Shape::Quad(quad), ids[face.material]);
+                    // The quad is the lamp seen by the camera; the spot
+                    // carries its light into the scene (counted once).
+                    let lamp = *lamp_ids[face.material].get_or_insert_with(|| {
+                        builder.add_material(Material::LampFace {
+                            radiance: m.emitted,
+                        })
+                    });
+                    builder.add_shape(Shape::Quad(quad), lamp);
                     builder.add_light(Light::Spot(SpotLight {
                         position: quad.centroid(),
                         direction: quad.normal,

@@ -113,7 +113,15 @@ impl SceneBuilder {
         (self.materials.len() - 1) as MaterialId
     }
 
+    /// Adds a shape with its material. Thin glass is always two-sided: a
+    /// pane tints light the same whichever way it crosses, so one-sided
+    /// culling (the course code's, for opaque back faces) never applies
+    /// to it — for camera rays, shadow rays and shadow maps alike.
     pub fn add_shape(&mut self, shape: Shape, material: MaterialId) {
+        let shape = match self.materials[material as usize] {
+            Material::Glass(_) => shape.two_sided(),
+            _ => shape,
+        };
         self.primitives.push(Primitive { shape, material });
     }
 
