@@ -176,3 +176,58 @@ fn mirror_reflects_emitter_through_fog() {
         "volpath: {mean} ± {stderr} vs {expected}"
     );
 }
+
+/// An emissive quad shape is an area light (issue 9): it lights the scene
+/// in every integrator exactly as a `[[lights]]` quad of the same corners
+/// and radiance does — the same image, bit for bit. Before, `march` and
+/// `single` got no light from it and `volpath` found it only by chance.
+#[test]
+fn emissive_quad_is_a_quad_light() {
+    let common = r#"
+        [camera]
+        position = [0, 1, 3]
+        look_at = [0, 0.5, 0]
+        fov_y_deg = 50
+        [render]
+        width = 24
+        height = 16
+        spp = 4
+        [fog]
+        sigma_t = 0.2
+        albedo = 0.8
+        [materials.floor]
+        type = "diffuse"
+        reflectance = 0.6
+        [[shapes]]
+        type = "quad"
+        corners = [[-3, 0, -3], [-3, 0, 3], [3, 0, 3], [3, 0, -3]]
+        material = "floor"
+    "#;
+    let light = r#"
+        [[lights]]
+        type = "quad"
+        corners = [[-0.5, 1.5, -0.5], [0.5, 1.5, -0.5], [0.5, 1.5, 0.5], [-0.5, 1.5, 0.5]]
+        radiance = [4, 3, 2]
+    "#;
+    let shape = r#"
+        [materials.lamp]
+        type = "emissive"
+        radiance = [4, 3, 2]
+        [[shapes]]
+        type = "quad"
+        corners = [[-0.5, 1.5, -0.5], [0.5, 1.5, -0.5], [0.5, 1.5, 0.5], [-0.5, 1.5, 0.5]]
+        material = "lamp"
+    "#;
+    let as_light = scene(&format!("{common}{light}"));
+    let as_shape = scene(&format!("{common}{shape}"));
+    for kind in IntegratorKind::ALL {
+        let with_light = common::render(&as_light, |s| s.integrator = kind);
+        let with_shape = common::render(&as_shape, |s| s.integrator = kind);
+        let lit = with_light.pixels().iter().filter(|p| p.y > 0.0).count();
+        assert!(lit > 0, "{kind:?}: the test needs light");
+        assert!(
+            with_light.pixels() == with_shape.pixels(),
+            "{kind:?}: an emissive quad renders differently from a quad light"
+        );
+    }
+}

@@ -577,12 +577,6 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
         }
     }
     for (sphere, material) in &spheres {
-        if materials[*material].emitted.max_element() > 0.0 {
-            warnings.push(format!(
-                "{}: emissive spheres glow but do not light the scene",
-                source.path.display()
-            ));
-        }
         builder.add_shape(Shape::Sphere(*sphere), ids[*material]);
     }
     super::check_lighting(&builder, &mut warnings);

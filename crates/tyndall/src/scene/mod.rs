@@ -91,6 +91,7 @@ pub struct SceneBuilder {
     area_lights: Vec<(u32, u32)>,
     primitives: Vec<Primitive>,
     lights: Vec<Light>,
+    unsampled_emitters: usize,
 }
 
 impl SceneBuilder {
@@ -105,6 +106,7 @@ impl SceneBuilder {
             materials: Vec::new(),
             primitives: Vec::new(),
             lights: Vec::new(),
+            unsampled_emitters: 0,
         }
     }
 
@@ -117,33 +119,57 @@ impl SceneBuilder {
     /// pane tints light the same whichever way it crosses, so one-sided
     /// culling (the course code's, for opaque back faces) never applies
     /// to it — for camera rays, shadow rays and shadow maps alike.
+    ///
+    /// An emissive quad (a box's faces included) is an area light, as in
+    /// Mitsuba, Cycles and pbrt: sampled by every integrator's NEE and
+    /// weighed by MIS where BSDF or phase sampling hits it, exactly like a
+    /// `[[lights]]` quad. Emissive spheres and triangles glow where seen
+    /// but are not sampled yet ([`SceneBuilder::unsampled_emitters`]).
     pub fn add_shape(&mut self, shape: Shape, material: MaterialId) {
         let shape = match self.materials[material as usize] {
             Material::Glass(_) => shape.two_sided(),
             _ => shape,
         };
+        if let Material::Emissive {
+            radiance,
+            two_sided,
+        } = self.materials[material as usize]
+        {
+            match shape {
+                Shape::Quad(quad) => {
+                    self.area_lights
+                        .push((self.primitives.len() as u32, self.lights.len() as u32));
+                    self.lights.push(Light::Quad(QuadLight {
+                        quad,
+                        radiance,
+                        two_sided,
+                    }));
+                }
+                _ => self.unsampled_emitters += 1,
+            }
+        }
         self.primitives.push(Primitive { shape, material });
+    }
+
+    /// How many emissive shapes are not lights (spheres, triangles): they
+    /// glow when seen, and `volpath` finds their light only when a path
+    /// hits them by chance; `march` and `single` not at all.
+    pub fn unsampled_emitters(&self) -> usize {
+        self.unsampled_emitters
     }
 
     pub fn add_light(&mut self, light: Light) {
         self.lights.push(light);
     }
 
-    /// A quad area light: the light for sampling and an emissive quad so
-    /// it is seen and occludes.
+    /// A quad area light: an emissive quad, seen, occluding and sampled
+    /// (see [`SceneBuilder::add_shape`]).
     pub fn add_quad_light(&mut self, quad: Quad, radiance: Rgb, two_sided: bool) {
         let material = self.add_material(Material::Emissive {
             radiance,
             two_sided,
         });
         self.add_shape(Shape::Quad(quad), material);
-        self.area_lights
-            .push(((self.primitives.len() - 1) as u32, self.lights.len() as u32));
-        self.add_light(Light::Quad(QuadLight {
-            quad,
-            radiance,
-            two_sided,
-        }));
     }
 
     pub fn lights(&self) -> &[Light] {
@@ -209,6 +235,14 @@ pub(crate) fn parallelogram(c: [glam::Vec3; 4], one_sided: bool) -> Result<Quad,
 pub(crate) fn check_lighting(builder: &SceneBuilder, warnings: &mut Vec<String>) {
     if builder.lights().is_empty() {
         warnings.push("the scene has no lights: only emissive surfaces will be visible".into());
+    }
+    if builder.unsampled_emitters() > 0 {
+        warnings.push(format!(
+            "{} emissive sphere or triangle shape(s) glow where seen but are not sampled as lights: \
+             `march` and `single` get no light from them, `volpath` only by chance; \
+             emissive quads (and `[[lights]]` quads) are area lights",
+            builder.unsampled_emitters()
+        ));
     }
     let unbounded_fog = builder
         .fog
