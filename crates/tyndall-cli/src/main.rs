@@ -88,7 +88,8 @@ pub struct Overrides {
     #[arg(long)]
     pub max_depth: Option<u32>,
     /// Equiangular samples per light per camera ray, stratified along the ray
-    /// (`single` only; default 8).
+    /// (default 8): `single` towards every light, `volpath` towards point and
+    /// spot lights (towards area lights it takes one).
     #[arg(long)]
     pub volume_samples: Option<u32>,
     /// Visibility towards lights: `rays` (exact shadow rays through the BVH) or

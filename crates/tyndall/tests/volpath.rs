@@ -5,18 +5,24 @@ use common::{
     estimate_ray, estimate_ray_with, mean_and_stderr, pixel_distances, render, repo, scene,
 };
 use glam::Vec3;
+use tyndall::integrators::Strategies;
 use tyndall::ray::Ray;
 use tyndall::scene::native;
 use tyndall::{IntegratorKind, RenderSettings, Rgb, SceneDescription};
 
-/// A closed box of emitters of radiance 2 around fog of the given albedo,
-/// the walls either plain emissive shapes or sampled quad lights facing in.
-fn furnace(albedo: f32, walls_are_lights: bool) -> SceneDescription {
-    furnace_with(albedo, walls_are_lights, "")
+/// A closed box of emitters of radiance 2 around fog of the given albedo.
+/// With `sampled`, the walls are `[[lights]]` quads facing in and volpath
+/// uses every strategy. Without, they are emissive quad shapes (the same
+/// lights) and volpath finds them only by phase and BSDF sampling (no
+/// NEE, equiangular samples or connections): every path then ends on a
+/// wall with MIS weight 1 and throughput exactly 1 at albedo 1, so the
+/// furnace is exact.
+fn furnace(albedo: f32, sampled: bool) -> SceneDescription {
+    furnace_with(albedo, sampled, "")
 }
 
 /// [`furnace`] with more scene text (shapes inside the box).
-fn furnace_with(albedo: f32, walls_are_lights: bool, extra: &str) -> SceneDescription {
+fn furnace_with(albedo: f32, sampled: bool, extra: &str) -> SceneDescription {
     let (lo, hi) = (-2.0f32, 2.0f32);
     // Corners listed so that (c1 − c0) × (c3 − c0) points into the box.
     let faces = [
@@ -35,14 +41,22 @@ fn furnace_with(albedo: f32, walls_are_lights: bool, extra: &str) -> SceneDescri
     );
     for f in faces {
         let corners = format!("{:?}", f.map(|c| c.map(|v| v as f64)));
-        if walls_are_lights {
+        if sampled {
             text += &format!("[[lights]]\ntype = \"quad\"\ncorners = {corners}\nradiance = 2.0\n");
         } else {
             text +=
                 &format!("[[shapes]]\ntype = \"quad\"\ncorners = {corners}\nmaterial = \"wall\"\n");
         }
     }
-    scene(&(text + extra))
+    let mut desc = scene(&(text + extra));
+    if !sampled {
+        desc.settings.strategies = Strategies {
+            surface_hits: true,
+            medium_hits: true,
+            ..Strategies::NONE
+        };
+    }
+    desc
 }
 
 /// Albedo-1 fog inside a uniform emitter: every path keeps throughput 1
@@ -256,8 +270,8 @@ fn area_light_in_fog_depth_one_matches_single() {
 
 /// The furnace filled by the `[[media]]` volume `medium` (TOML) instead
 /// of its fog.
-fn volume_furnace(walls_are_lights: bool, medium: &str) -> SceneDescription {
-    let mut desc = furnace_with(1.0, walls_are_lights, medium);
+fn volume_furnace(sampled: bool, medium: &str) -> SceneDescription {
+    let mut desc = furnace_with(1.0, sampled, medium);
     desc.scene.fog = None;
     desc
 }
