@@ -101,6 +101,17 @@ impl Geometry {
         best
     }
 
+    /// Whether any primitive meets `ray` before `t_max`: an any-hit query
+    /// that stops at the first hit.
+    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        let mut hit = false;
+        self.for_each_hit(ray, t_max, |_, _| {
+            hit = true;
+            ControlFlow::Break(())
+        });
+        hit
+    }
+
     /// Calls `visit(t, primitive_index)` for every intersection with
     /// `t ∈ (0, t_max)`, in no particular order, until it breaks.
     pub fn for_each_hit(

@@ -833,6 +833,9 @@ fn segment_term(segment: &FogSegment, t: f32, samples: u32, light: &Light, y: Ve
     let Light::Quad(q) = light else {
         return 0.0;
     };
+    if samples == 0 {
+        return 0.0;
+    }
     let ray = &segment.medium.ray;
     let Some(eq) = EquiangularSampler::new(ray, y, segment.a, segment.b) else {
         return 0.0;
@@ -1143,11 +1146,16 @@ fn connect_light_vertex(
         origin: y2,
         direction: back,
     };
-    counts.shadow += 1;
-    let t_hit = scene
-        .geometry
-        .intersect(&segment_ray, f32::INFINITY)
-        .map_or(f32::INFINITY, |h| h.t);
+    // The segment's end beyond y₁ matters only to the equiangular term.
+    let t_hit = if strategies.later_equiangular().area > 0 {
+        counts.shadow += 1;
+        scene
+            .geometry
+            .intersect(&segment_ray, f32::INFINITY)
+            .map_or(f32::INFINITY, |h| h.t)
+    } else {
+        f32::INFINITY
+    };
     let connections = Connections {
         first: Some(p_dir_y2),
         second: false,
@@ -1235,13 +1243,25 @@ impl LightVertexOrigin<'_> {
             direction: omega,
         };
         counts.shadow += 1;
-        let t_hit = scene
-            .geometry
-            .intersect(&segment_ray, f32::INFINITY)
-            .map_or(f32::INFINITY, |h| h.t);
-        if t_hit <= t {
-            return None;
-        }
+        let t_hit = if integrator.strategies.later_equiangular().area > 0 {
+            // The equiangular term needs the whole segment: to the next
+            // surface beyond y.
+            let t_hit = scene
+                .geometry
+                .intersect(&segment_ray, f32::INFINITY)
+                .map_or(f32::INFINITY, |h| h.t);
+            if t_hit <= t {
+                return None;
+            }
+            t_hit
+        } else {
+            // The other densities need only where the segment enters the
+            // fog: a visibility test up to y does.
+            if scene.geometry.occluded(&segment_ray, t) {
+                return None;
+            }
+            f32::INFINITY
+        };
         let connections = Connections {
             first: Some(p_dir),
             second: self.twice,
