@@ -11,7 +11,8 @@
 
 use crate::color::Rgb;
 use crate::ray::Ray;
-use crate::shapes::Quad;
+use crate::sampling::{uniform_cone, uniform_cone_pdf};
+use crate::shapes::{Quad, Sphere};
 use glam::{Vec2, Vec3};
 
 /// How a spotlight's intensity falls off from its axis to its cutoff.
@@ -153,6 +154,94 @@ pub struct QuadLight {
     pub two_sided: bool,
 }
 
+/// An emissive sphere: constant radiance `radiance` (W·sr⁻¹·m⁻²) from
+/// its outside (and its inside if `two_sided`). Its geometry is in the
+/// scene, so it is seen and occludes.
+///
+/// From outside, NEE samples the cone the sphere subtends uniformly in
+/// solid angle (pbrt-v4 §6.2.4, "Sampling spheres"): density 1/Ω with
+/// `Ω = 2π(1 − cos θmax)`, `sin θmax = r/d`, so the estimate `L·Ω·cos θ`
+/// stays bounded near the sphere. From inside, it samples the surface
+/// uniformly by area.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SphereLight {
+    pub sphere: Sphere,
+    pub radiance: Rgb,
+    pub two_sided: bool,
+}
+
+impl SphereLight {
+    fn area(&self) -> f32 {
+        4.0 * std::f32::consts::PI * self.sphere.radius * self.sphere.radius
+    }
+
+    /// A point uniform over the surface (density 1/A) from `u ∈ [0,1)²`.
+    fn point(&self, u: Vec2) -> Vec3 {
+        let z = 1.0 - 2.0 * u.x;
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let phi = std::f32::consts::TAU * u.y;
+        self.sphere.center + self.sphere.radius * Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    }
+
+    /// `cos θmax` of the cone the sphere subtends from `x`, if `x` is
+    /// outside it.
+    fn cone(&self, x: Vec3) -> Option<f32> {
+        let d2 = (self.sphere.center - x).length_squared();
+        let r2 = self.sphere.radius * self.sphere.radius;
+        (d2 > r2 * (1.0 + 1e-4)).then(|| (1.0 - r2 / d2).max(0.0).sqrt())
+    }
+
+    /// Light from a point of the sphere chosen for the receiver `x`
+    /// (uniform in the subtended cone from outside, uniform in area from
+    /// inside), divided by the point's density, and that density per unit
+    /// solid angle seen from `x`.
+    pub fn sample_incident(&self, x: Vec3, u: Vec2) -> Option<(Incident, f32)> {
+        let Some(cos_max) = self.cone(x) else {
+            let y = self.point(u);
+            let incident = Light::Sphere(*self).incident(x, Some(y))?;
+            let pdf = self.pdf(x, y, incident.direction);
+            return Some((incident, pdf));
+        };
+        let to_center = self.sphere.center - x;
+        let d = to_center.length();
+        let axis = to_center / d;
+        let direction = uniform_cone(axis, cos_max, u);
+        // The nearer intersection with the sphere along `direction`
+        // (pbrt-v4: from the triangle x, centre, point, not a ray test,
+        // which misses at the silhouette in f32).
+        let cos = direction.dot(axis).min(1.0);
+        let sin2 = (1.0 - cos * cos).max(0.0);
+        let r = self.sphere.radius;
+        let distance = d * cos - (r * r - d * d * sin2).max(0.0).sqrt();
+        let pdf = uniform_cone_pdf(cos_max);
+        Some((
+            Incident {
+                direction,
+                distance,
+                irradiance: self.radiance / pdf,
+            },
+            pdf,
+        ))
+    }
+
+    /// Density per unit solid angle, seen from `x`, with which
+    /// [`SphereLight::sample_incident`] picks the point `y` in direction
+    /// `direction` (unit, from `x`).
+    pub fn pdf(&self, x: Vec3, y: Vec3, direction: Vec3) -> f32 {
+        if let Some(cos_max) = self.cone(x) {
+            return uniform_cone_pdf(cos_max);
+        }
+        let normal = (y - self.sphere.center) / self.sphere.radius;
+        let cos = normal.dot(direction).abs();
+        let d2 = (y - x).length_squared();
+        if cos > 0.0 {
+            d2 / (self.area() * cos)
+        } else {
+            0.0
+        }
+    }
+}
+
 /// The closed set of light kinds.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Light {
@@ -160,6 +249,7 @@ pub enum Light {
     Spot(SpotLight),
     Directional(DirectionalLight),
     Quad(QuadLight),
+    Sphere(SphereLight),
 }
 
 /// Light arriving at a point from one emitting point, before occlusion,
@@ -188,6 +278,7 @@ impl Light {
             Light::Spot(s) => Some(s.position),
             Light::Directional(_) => None,
             Light::Quad(q) => Some(q.quad.point(u.x, u.y)),
+            Light::Sphere(s) => Some(s.point(u)),
         }
     }
 
@@ -230,7 +321,18 @@ impl Light {
                     irradiance: q.radiance * (cos_y * q.quad.area() / d2),
                 })
             }
-            (Light::Quad(_), None) => None,
+            (Light::Sphere(s), Some(y)) => {
+                let (direction, d2) = towards(x, y)?;
+                let normal = (y - s.sphere.center) / s.sphere.radius;
+                let cos_y = -direction.dot(normal);
+                let cos_y = if s.two_sided { cos_y.abs() } else { cos_y };
+                (cos_y > 0.0).then(|| Incident {
+                    direction,
+                    distance: d2.sqrt(),
+                    irradiance: s.radiance * (cos_y * s.area() / d2),
+                })
+            }
+            (Light::Quad(_) | Light::Sphere(_), None) => None,
         }
     }
 

@@ -120,9 +120,53 @@ pub fn cosine_hemisphere(normal: Vec3, u: glam::Vec2) -> Vec3 {
     (t * (r * phi.cos()) + b * (r * phi.sin()) + normal * z).normalize()
 }
 
+/// A direction uniformly distributed in the cone of half-angle θmax about
+/// the unit `axis` (density [`uniform_cone_pdf`] per steradian) from
+/// `u ∈ [0, 1)²`: cos θ uniform on [cos θmax, 1], φ uniform.
+pub fn uniform_cone(axis: Vec3, cos_max: f32, u: glam::Vec2) -> Vec3 {
+    let cos = 1.0 - u.x * (1.0 - cos_max);
+    let sin = (1.0 - cos * cos).max(0.0).sqrt();
+    let phi = std::f32::consts::TAU * u.y;
+    let (a, b) = axis.any_orthonormal_pair();
+    (a * (sin * phi.cos()) + b * (sin * phi.sin()) + axis * cos).normalize()
+}
+
+/// The density of [`uniform_cone`]: one over the cone's solid angle
+/// `2π(1 − cos θmax)`.
+pub fn uniform_cone_pdf(cos_max: f32) -> f32 {
+    1.0 / (std::f32::consts::TAU * (1.0 - cos_max))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Cone samples stay in the cone, and their mean cosine is the
+    /// density's, `∫ cos θ dω / Ω = (1 + cos θmax)/2`.
+    #[test]
+    fn cone_samples_match_their_density() {
+        let axis = Vec3::new(0.3, -0.8, 0.52).normalize();
+        for cos_max in [-1.0f32, 0.0, 0.8, 0.999] {
+            let n = 64;
+            let mut mean = 0.0f64;
+            for i in 0..n {
+                for j in 0..n {
+                    let u =
+                        glam::Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                    let c = uniform_cone(axis, cos_max, u).dot(axis);
+                    assert!(c >= cos_max - 1e-5, "{c} < {cos_max}");
+                    mean += c as f64 / (n * n) as f64;
+                }
+            }
+            assert!(
+                (mean - (1.0 + cos_max as f64) / 2.0).abs() < 1e-3,
+                "{cos_max}: {mean}"
+            );
+            // The density integrates to one over the cone.
+            let omega = std::f64::consts::TAU * (1.0 - cos_max as f64);
+            assert!((uniform_cone_pdf(cos_max) as f64 * omega - 1.0).abs() < 1e-5);
+        }
+    }
 
     /// ∫ pdf dt = 1 over the interval, by the midpoint rule, and samples
     /// fall inside the interval.

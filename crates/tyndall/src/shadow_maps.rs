@@ -207,7 +207,7 @@ impl ShadowMaps {
                     };
                     LightMap::Single(render_face(scene, projection, resolution))
                 }
-                Light::Quad(_) => LightMap::None,
+                Light::Quad(_) | Light::Sphere(_) => LightMap::None,
             })
             .collect();
         Self { resolution, maps }

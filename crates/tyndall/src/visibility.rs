@@ -111,9 +111,18 @@ impl Visibility {
             scene.glass.model,
             origin,
             incident,
+            scene.light_primitive(light),
         )
     }
 }
+
+/// Hits of a light's own geometry past this fraction of a shadow ray
+/// towards it do not block it. A ray that meets a curved emitter (a
+/// sphere) near its silhouette meets it at a distance known only to
+/// about √ε of the radius in f32, which the end margin of
+/// [`shadow_ray_end`] cannot cover; on the way to a point of a convex
+/// emitter's visible side, the emitter itself is met only there.
+const OWN_HIT_FRACTION: f32 = 0.999;
 
 fn shadow_ray(
     geometry: &Geometry,
@@ -121,6 +130,7 @@ fn shadow_ray(
     model: GlassModel,
     origin: Vec3,
     incident: &Incident,
+    own: Option<u32>,
 ) -> Rgb {
     let ray = Ray {
         origin,
@@ -137,6 +147,9 @@ fn shadow_ray(
     let mut count = 0usize;
     let mut blocked = false;
     geometry.for_each_hit(&ray, t_max, |t, index| {
+        if own == Some(index) && t > OWN_HIT_FRACTION * t_max {
+            return ControlFlow::Continue(());
+        }
         match &materials[geometry.primitive(index).material as usize] {
             Material::Glass(glass) => match model {
                 GlassModel::Filter => filter *= glass.filter_transmittance(),

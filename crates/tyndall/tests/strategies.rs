@@ -15,9 +15,9 @@
 //! Seeds are fixed, so the outcome is deterministic.
 mod common;
 
-use common::{render, repo};
+use common::{render, repo, scene};
 use tyndall::integrators::Strategies;
-use tyndall::scene::native;
+use tyndall::scene::{SceneDescription, native};
 use tyndall::{Image, IntegratorKind};
 
 const REGIONS_X: u32 = 4;
@@ -50,9 +50,19 @@ fn region_means(a: &Image, b: &Image) -> Vec<(f64, f64)> {
 
 fn check_scene(file: &str, size: (u32, u32), spp: u32, sets: &[(&str, Strategies)]) {
     let desc = native::load(&repo().join(file)).expect("scene");
+    check(&desc, file, size, spp, sets);
+}
+
+fn check(
+    desc: &SceneDescription,
+    file: &str,
+    size: (u32, u32),
+    spp: u32,
+    sets: &[(&str, Strategies)],
+) {
     let shoot = |strategies: Strategies| {
         let one = |seed: u64| {
-            render(&desc, |s| {
+            render(desc, |s| {
                 s.width = size.0;
                 s.height = size.1;
                 s.spp = spp;
@@ -172,5 +182,56 @@ fn fog_strategies_agree_under_a_spotlight() {
                 },
             ),
         ],
+    );
+}
+
+/// An emissive sphere in fog over a floor (an area light found by
+/// cone-sampled NEE and by phase and BSDF sampling): light sampling alone,
+/// hits alone, and both, at two scattering events.
+#[test]
+fn strategies_agree_under_an_emissive_sphere() {
+    let desc = scene(
+        r#"
+        [camera]
+        position = [0, 1.2, 4]
+        look_at = [0, 0.8, 0]
+        fov_y_deg = 45
+        [fog]
+        sigma_t = 0.3
+        albedo = 0.9
+        g = 0.3
+        [materials.floor]
+        type = "diffuse"
+        reflectance = 0.7
+        [materials.glow]
+        type = "emissive"
+        radiance = [6, 5, 4]
+        [[shapes]]
+        type = "quad"
+        corners = [[-3, 0, -3], [-3, 0, 3], [3, 0, 3], [3, 0, -3]]
+        material = "floor"
+        [[shapes]]
+        type = "sphere"
+        center = [0.3, 1.3, -0.5]
+        radius = 0.35
+        material = "glow"
+        "#,
+    );
+    let nee = Strategies {
+        surface_nee: true,
+        medium_nee: true,
+        ..Strategies::NONE
+    };
+    let hits = Strategies {
+        surface_hits: true,
+        medium_hits: true,
+        ..Strategies::NONE
+    };
+    check(
+        &desc,
+        "emissive sphere in fog",
+        (40, 30),
+        64,
+        &[("light sampling", nee), ("hits", hits)],
     );
 }

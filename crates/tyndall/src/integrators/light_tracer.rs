@@ -32,7 +32,7 @@ use crate::media::tracking::{Collision, VolumeTracker};
 use crate::phase::PhaseFunction;
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
-use crate::sampling::cosine_hemisphere;
+use crate::sampling::{cosine_hemisphere, uniform_cone};
 use crate::scene::Scene;
 use crate::visibility::RayCounts;
 use glam::{DVec3, Vec2, Vec3};
@@ -376,16 +376,6 @@ fn emit(light: &Light, u: Vec2) -> Option<(Ray, Rgb)> {
         }
         _ => None,
     }
-}
-
-/// A direction uniform in the cone of half-angle acos(`cos_max`) around
-/// the unit `axis` (the whole sphere for `cos_max = −1`).
-fn uniform_cone(axis: Vec3, cos_max: f32, u: Vec2) -> Vec3 {
-    let cos = 1.0 - u.x * (1.0 - cos_max);
-    let sin = (1.0 - cos * cos).max(0.0).sqrt();
-    let phi = 2.0 * PI * u.y;
-    let (a, b) = axis.any_orthonormal_pair();
-    (a * (sin * phi.cos()) + b * (sin * phi.sin()) + axis * cos).normalize()
 }
 
 /// What a light path meets in the media before its next surface.

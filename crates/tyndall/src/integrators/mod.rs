@@ -416,7 +416,7 @@ impl MediumQuery<'_> {
 #[inline]
 fn light_point(light: &Light, sampler: &mut PixelSampler) -> Option<Vec3> {
     let u = match light {
-        Light::Quad(_) => sampler.next_2d(),
+        Light::Quad(_) | Light::Sphere(_) => sampler.next_2d(),
         _ => Vec2::ZERO,
     };
     light.sample_point(u)
@@ -435,6 +435,9 @@ pub(crate) fn sample_light(
 ) -> Option<(Incident, Option<f32>)> {
     match light {
         Light::Quad(q) => q
+            .sample_incident(x, sampler.next_2d())
+            .map(|(incident, pdf)| (incident, Some(pdf))),
+        Light::Sphere(s) => s
             .sample_incident(x, sampler.next_2d())
             .map(|(incident, pdf)| (incident, Some(pdf))),
         _ => light

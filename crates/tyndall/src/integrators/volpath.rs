@@ -179,10 +179,13 @@ struct EquiangularCounts {
 }
 
 impl EquiangularCounts {
+    /// Emissive spheres take none: their light is shared by NEE and
+    /// phase or BSDF sampling alone.
     fn of(self, light: &Light) -> u32 {
         match light {
             Light::Quad(_) => self.area,
-            _ => self.delta,
+            Light::Sphere(_) => 0,
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => self.delta,
         }
     }
 }
@@ -253,7 +256,7 @@ pub(crate) fn radiance(
     let max_events = integrator.max_depth.min(MAX_PATH_EVENTS);
     let strategies = integrator.strategies;
     let connections =
-        strategies.connections && scene.volumes.is_empty() && scene.area_light_count() > 0;
+        strategies.connections && scene.volumes.is_empty() && scene.quad_light_count() > 0;
     // What the vertex the ray leaves from connected to.
     let mut connected_from = Connections::default();
     loop {
@@ -611,7 +614,7 @@ impl<'a> FogSegment<'a> {
         }
         let fog = medium.fog;
         let t_light = fog.transmittance_along(y0, to_y / d, d);
-        let lights = medium.scene.area_light_count() as f32;
+        let lights = medium.scene.quad_light_count() as f32;
         let sides = if q.two_sided { 2.0 } else { 1.0 };
         fog.sigma_t * t_light * t * t / (lights * q.quad.area() * PI * sides * p_dir * p_flight)
     }
@@ -661,7 +664,7 @@ impl FogSegment<'_> {
         let t_light = fog.transmittance_along(y0, to_y1 / d, d);
         // Light arrives along to_y1 and turns back along −ray.direction.
         let phase = fog.phase.eval(-(to_y1 / d).dot(medium.ray.direction));
-        let lights = medium.scene.area_light_count() as f32;
+        let lights = medium.scene.quad_light_count() as f32;
         let sides = if q.two_sided { 2.0 } else { 1.0 };
         fog.sigma_t * t_light * phase / (lights * q.quad.area() * PI * sides * reached)
     }
@@ -745,7 +748,7 @@ impl EquiangularNee {
                         let v = sampler.next_2d();
                         q.quad.point(v.x, v.y)
                     }
-                    Light::Directional(_) => return None,
+                    Light::Directional(_) | Light::Sphere(_) => return None,
                 };
                 let (ea, eb) = light.reach(ray, segment.a, segment.b)?;
                 let sampler = EquiangularSampler::new(ray, point, ea, eb)?;
@@ -873,6 +876,7 @@ pub(crate) fn survives_roulette(
 fn light_pdf(light: &Light, from: Vec3, p: Vec3, direction: Vec3) -> f32 {
     match light {
         Light::Quad(q) => q.pdf(from, p, direction),
+        Light::Sphere(s) => s.pdf(from, p, direction),
         _ => 0.0,
     }
 }
@@ -1061,7 +1065,7 @@ fn connect_light_vertex(
     counts: &mut RayCounts,
 ) -> Rgb {
     let strategies = integrator.strategies;
-    let lights = scene.area_light_count();
+    let lights = scene.quad_light_count();
     let choice = sampler.next_1d() * lights as f32;
     let (u_point, u_direction, u_flight) =
         (sampler.next_2d(), sampler.next_2d(), sampler.next_1d());

@@ -16,7 +16,7 @@ use crate::accel::{Geometry, Primitive};
 use crate::camera::CameraSpec;
 use crate::color::Rgb;
 use crate::glass::GlassModel;
-use crate::lights::{Light, QuadLight};
+use crate::lights::{Light, QuadLight, SphereLight};
 use crate::materials::{Material, MaterialId};
 use crate::media::Fog;
 use crate::media::volume::Volume;
@@ -46,13 +46,18 @@ pub struct Scene {
     /// Radiance of rays that leave the scene (linear RGB).
     pub background: Rgb,
     pub glass: GlassSettings,
-    /// (primitive, light) pairs of quad area lights, by primitive: the
-    /// emissive quad a path may hit and the light that samples it.
+    /// (primitive, light) pairs of area lights, by primitive: the
+    /// emissive quad or sphere a path may hit and the light that samples
+    /// it.
     area_lights: Vec<(u32, u32)>,
+    /// How many of the lights are quads.
+    quad_lights: usize,
+    /// The primitive of each light that has geometry, by light.
+    light_primitives: Vec<Option<u32>>,
 }
 
 impl Scene {
-    /// The index of the quad area light whose geometry is `primitive`.
+    /// The index of the area light whose geometry is `primitive`.
     pub fn area_light_at(&self, primitive: u32) -> Option<usize> {
         self.area_lights
             .binary_search_by_key(&primitive, |&(p, _)| p)
@@ -60,9 +65,16 @@ impl Scene {
             .map(|i| self.area_lights[i].1 as usize)
     }
 
-    /// How many quad area lights the scene has.
-    pub fn area_light_count(&self) -> usize {
-        self.area_lights.len()
+    /// The primitive that is light number `light`'s geometry, if it has
+    /// any (area lights).
+    pub fn light_primitive(&self, light: usize) -> Option<u32> {
+        self.light_primitives.get(light).copied().flatten()
+    }
+
+    /// How many quad area lights the scene has (emissive quads included):
+    /// the lights `volpath` starts light subpaths from.
+    pub fn quad_light_count(&self) -> usize {
+        self.quad_lights
     }
 
     pub fn material(&self, primitive: u32) -> &Material {
@@ -120,11 +132,12 @@ impl SceneBuilder {
     /// culling (the course code's, for opaque back faces) never applies
     /// to it — for camera rays, shadow rays and shadow maps alike.
     ///
-    /// An emissive quad (a box's faces included) is an area light, as in
-    /// Mitsuba, Cycles and pbrt: sampled by every integrator's NEE and
-    /// weighed by MIS where BSDF or phase sampling hits it, exactly like a
-    /// `[[lights]]` quad. Emissive spheres and triangles glow where seen
-    /// but are not sampled yet ([`SceneBuilder::unsampled_emitters`]).
+    /// An emissive quad (a box's faces included) or sphere is an area
+    /// light, as in Mitsuba, Cycles and pbrt: sampled by every
+    /// integrator's NEE and weighed by MIS where BSDF or phase sampling
+    /// hits it; an emissive quad exactly like a `[[lights]]` quad.
+    /// Emissive triangles (meshes) glow where seen but are not sampled yet
+    /// ([`SceneBuilder::unsampled_emitters`]).
     pub fn add_shape(&mut self, shape: Shape, material: MaterialId) {
         let shape = match self.materials[material as usize] {
             Material::Glass(_) => shape.two_sided(),
@@ -135,23 +148,32 @@ impl SceneBuilder {
             two_sided,
         } = self.materials[material as usize]
         {
-            match shape {
-                Shape::Quad(quad) => {
+            let light = match shape {
+                Shape::Quad(quad) => Some(Light::Quad(QuadLight {
+                    quad,
+                    radiance,
+                    two_sided,
+                })),
+                Shape::Sphere(sphere) => Some(Light::Sphere(SphereLight {
+                    sphere,
+                    radiance,
+                    two_sided,
+                })),
+                _ => None,
+            };
+            match light {
+                Some(light) => {
                     self.area_lights
                         .push((self.primitives.len() as u32, self.lights.len() as u32));
-                    self.lights.push(Light::Quad(QuadLight {
-                        quad,
-                        radiance,
-                        two_sided,
-                    }));
+                    self.lights.push(light);
                 }
-                _ => self.unsampled_emitters += 1,
+                None => self.unsampled_emitters += 1,
             }
         }
         self.primitives.push(Primitive { shape, material });
     }
 
-    /// How many emissive shapes are not lights (spheres, triangles): they
+    /// How many emissive shapes are not lights (triangles): they
     /// glow when seen, and `volpath` finds their light only when a path
     /// hits them by chance; `march` and `single` not at all.
     pub fn unsampled_emitters(&self) -> usize {
@@ -177,7 +199,17 @@ impl SceneBuilder {
     }
 
     pub fn build(self) -> Scene {
+        let quad_lights = self
+            .lights
+            .iter()
+            .filter(|l| matches!(l, Light::Quad(_)))
+            .count();
+        let mut light_primitives = vec![None; self.lights.len()];
+        for &(primitive, light) in &self.area_lights {
+            light_primitives[light as usize] = Some(primitive);
+        }
         Scene {
+            light_primitives,
             camera: self.camera,
             geometry: Geometry::new(self.primitives),
             materials: self.materials,
@@ -186,6 +218,7 @@ impl SceneBuilder {
             volumes: self.volumes,
             background: self.background,
             glass: self.glass,
+            quad_lights,
             // Pushed in primitive order, so already sorted.
             area_lights: self.area_lights,
         }
@@ -238,9 +271,9 @@ pub(crate) fn check_lighting(builder: &SceneBuilder, warnings: &mut Vec<String>)
     }
     if builder.unsampled_emitters() > 0 {
         warnings.push(format!(
-            "{} emissive sphere or triangle shape(s) glow where seen but are not sampled as lights: \
+            "{} emissive triangle(s) (meshes) glow where seen but are not sampled as lights: \
              `march` and `single` get no light from them, `volpath` only by chance; \
-             emissive quads (and `[[lights]]` quads) are area lights",
+             emissive quads, boxes and spheres are area lights",
             builder.unsampled_emitters()
         ));
     }
