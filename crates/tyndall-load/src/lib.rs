@@ -1,0 +1,42 @@
+//! Scene loaders for Tyndall that need file-format crates the core keeps
+//! out: glTF 2.0 (cargo feature `gltf`, on by default).
+//!
+//! Every loader produces the same [`SceneDescription`] the core's native
+//! TOML and legacy .obj loaders produce; [`load`] picks one by the file
+//! ending.
+
+#[cfg(feature = "gltf")]
+pub mod gltf;
+pub mod photometry;
+
+use std::path::Path;
+use tyndall::scene::legacy::{self, LegacyOptions};
+use tyndall::scene::{SceneDescription, SceneError, native};
+
+/// Loads a scene by its file ending: `.toml` (native), `.obj` (the
+/// paper's legacy format, with `legacy` options), `.gltf`/`.glb` (glTF 2.0).
+pub fn load(path: &Path, legacy: LegacyOptions) -> Result<SceneDescription, SceneError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("toml") => native::load(path),
+        Some("obj") => legacy::load(path, legacy),
+        #[cfg(feature = "gltf")]
+        Some("gltf" | "glb") => gltf::load(path),
+        _ => Err(SceneError {
+            path: path.to_owned(),
+            line: 0,
+            column: 0,
+            message: format!(
+                "unknown scene format: the file name must end in .toml (native), .obj (the paper's legacy format){}",
+                if cfg!(feature = "gltf") {
+                    " or .gltf/.glb (glTF 2.0)"
+                } else {
+                    " (glTF needs the `gltf` feature)"
+                }
+            ),
+        }),
+    }
+}
