@@ -199,7 +199,7 @@ pub fn load_scene(path: Option<&Path>, two_sided: bool) -> Result<SceneDescripti
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     Ok(match ext.as_deref() {
-        Some("toml") => native::load(path)?,
+        Some("toml") => native::load_with(path, &tyndall_load::Formats)?,
         Some("obj") => legacy::load(path, LegacyOptions { two_sided })?,
         Some("gltf" | "glb") => tyndall_load::gltf::load(path)?,
         _ => bail!(

@@ -11,7 +11,39 @@ pub mod photometry;
 
 use std::path::Path;
 use tyndall::scene::legacy::{self, LegacyOptions};
-use tyndall::scene::{SceneDescription, SceneError, native};
+use tyndall::scene::native::IncludeFormats;
+use tyndall::scene::{SceneBuilder, SceneDescription, SceneError, native};
+
+/// The formats a native scene's `[[include]]` may name: glTF (`.gltf`,
+/// `.glb`) with the `gltf` feature.
+pub struct Formats;
+
+impl IncludeFormats for Formats {
+    fn include(
+        &self,
+        path: &Path,
+        placement: glam::Mat4,
+        builder: &mut SceneBuilder,
+    ) -> Result<Vec<String>, SceneError> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            #[cfg(feature = "gltf")]
+            Some("gltf" | "glb") => Ok(gltf::add_to_scene(path, placement, builder)?.warnings),
+            _ => {
+                let _ = (placement, builder);
+                Err(SceneError {
+                    path: path.to_owned(),
+                    line: 0,
+                    column: 0,
+                    message: "only glTF files (.gltf, .glb) can be included".into(),
+                })
+            }
+        }
+    }
+}
 
 /// Loads a scene by its file ending: `.toml` (native), `.obj` (the
 /// paper's legacy format, with `legacy` options), `.gltf`/`.glb` (glTF 2.0).
@@ -21,7 +53,7 @@ pub fn load(path: &Path, legacy: LegacyOptions) -> Result<SceneDescription, Scen
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("toml") => native::load(path),
+        Some("toml") => native::load_with(path, &Formats),
         Some("obj") => legacy::load(path, legacy),
         #[cfg(feature = "gltf")]
         Some("gltf" | "glb") => gltf::load(path),

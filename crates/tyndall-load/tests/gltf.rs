@@ -365,3 +365,68 @@ fn bad_gltf_files_name_file_and_element() {
         "{m}"
     );
 }
+
+/// A native scene's `[[include]]` adds the glTF file's triangles (placed
+/// by the include's scale, then translation, after the file's own
+/// transforms) and lights beside the scene's own fog; a bad included file
+/// is an error naming the TOML line, the glTF file and the element.
+#[test]
+fn toml_includes_gltf() {
+    let dir = test_dir("include");
+    let doc = json!({
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 683.0}]}},
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0, "translation": [0.0, 0.0, 1.0]},
+                  {"extensions": {"KHR_lights_punctual": {"light": 0}}}],
+        "materials": [{}]
+    });
+    write_gltf(&dir, "part", &[triangle(0)], doc);
+    let bad = MeshData {
+        mode: Some(0),
+        ..triangle(0)
+    };
+    write_gltf(
+        &dir,
+        "bad",
+        &[bad],
+        json!({"scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "materials": [{}]}),
+    );
+    let scene = |file: &str| {
+        format!(
+            "[camera]\nposition = [0, 0, 10]\nlook_at = [0, 0, 0]\nfov_y_deg = 30\n\n\
+             [fog]\nsigma_t = 0.05\nalbedo = 1\n\n\
+             [[include]]\nfile = \"{file}\"\nscale = 2\ntranslate = [1, 2, 3]\n"
+        )
+    };
+    let path = dir.join("with-include.toml");
+    std::fs::write(&path, scene("part.gltf")).expect("write");
+    let desc = tyndall_load::load(&path, Default::default()).expect("loads");
+    // (v + (0,0,1))·2 + (1,2,3): (0,0,0) → (1,2,5), (1,0,0) → (3,2,5), (0,1,0) → (1,4,5).
+    let [a, b, c] = corners(&desc.scene, 0);
+    assert!(close(a, Vec3::new(1.0, 2.0, 5.0)), "{a}");
+    assert!(close(b, Vec3::new(3.0, 2.0, 5.0)), "{b}");
+    assert!(close(c, Vec3::new(1.0, 4.0, 5.0)), "{c}");
+    let Light::Point(point) = desc.scene.lights[0] else {
+        panic!("{:?}", desc.scene.lights[0])
+    };
+    assert!(close(point.position, Vec3::new(1.0, 2.0, 3.0)));
+    assert!(desc.scene.fog.is_some());
+
+    // The core alone cannot read glTF: a clear error, not a silent skip.
+    let e = native::load(&path).err().expect("needs tyndall-load");
+    assert!(e.to_string().contains("[[include]]"), "{e}");
+
+    let path = dir.join("bad-include.toml");
+    std::fs::write(&path, scene("bad.gltf")).expect("write");
+    let e = tyndall_load::load(&path, Default::default())
+        .err()
+        .expect("bad include");
+    let m = e.to_string();
+    assert!(
+        m.contains("bad-include.toml:")
+            && m.contains("bad.gltf")
+            && m.contains("meshes[0].primitives[0]"),
+        "{m}"
+    );
+}

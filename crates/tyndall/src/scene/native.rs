@@ -47,6 +47,33 @@ struct SceneFile {
     lights: Vec<Spanned<LightDesc>>,
     #[serde(default)]
     media: Vec<Spanned<MediumDesc>>,
+    #[serde(default)]
+    include: Vec<Spanned<IncludeDesc>>,
+}
+
+/// `[[include]]`: a scene file in another format (glTF), placed like a mesh.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct IncludeDesc {
+    file: String,
+    translate: Option<V3>,
+    scale: Option<ColorValue>,
+    rotate_deg: Option<V3>,
+}
+
+/// Scene files the core cannot read itself because their formats need
+/// heavy crates (glTF); `tyndall-load` provides them to [`load_with`].
+pub trait IncludeFormats {
+    /// Adds the geometry, materials and lights of the file at `path`,
+    /// placed by `placement` (after the file's own transforms), to
+    /// `builder`; returns the loader's warnings. Errors name the included
+    /// file and the element in it.
+    fn include(
+        &self,
+        path: &Path,
+        placement: glam::Mat4,
+        builder: &mut SceneBuilder,
+    ) -> Result<Vec<String>, SceneError>;
 }
 
 #[derive(Deserialize)]
@@ -386,9 +413,27 @@ pub fn load(path: &Path) -> Result<SceneDescription, SceneError> {
     parse(&source)
 }
 
+/// Loads a native scene file whose `[[include]]` tables are read by
+/// `formats` (without it, an `[[include]]` is an error).
+pub fn load_with(
+    path: &Path,
+    formats: &dyn IncludeFormats,
+) -> Result<SceneDescription, SceneError> {
+    let source = SourceText::read(path)?;
+    parse_with(&source, Some(formats))
+}
+
 /// Parses native scene text; relative paths resolve against the
 /// directory of `source.path`.
 pub fn parse(source: &SourceText) -> Result<SceneDescription, SceneError> {
+    parse_with(source, None)
+}
+
+/// [`parse`], with `[[include]]` tables read by `formats`.
+pub fn parse_with(
+    source: &SourceText,
+    formats: Option<&dyn IncludeFormats>,
+) -> Result<SceneDescription, SceneError> {
     let file: SceneFile = toml::from_str(&source.text).map_err(|e| {
         let offset = e.span().map_or(0, |s| s.start);
         locate_parse_error(source, offset, e.message().trim_end())
@@ -396,6 +441,7 @@ pub fn parse(source: &SourceText) -> Result<SceneDescription, SceneError> {
     Loader {
         source,
         warnings: Vec::new(),
+        formats,
     }
     .build(file)
 }
@@ -403,6 +449,7 @@ pub fn parse(source: &SourceText) -> Result<SceneDescription, SceneError> {
 struct Loader<'a> {
     source: &'a SourceText,
     warnings: Vec<String>,
+    formats: Option<&'a dyn IncludeFormats>,
 }
 
 impl Loader<'_> {
@@ -490,6 +537,9 @@ impl Loader<'_> {
         }
         for light in &file.lights {
             self.light(light, &mut builder)?;
+        }
+        for include in &file.include {
+            self.include(include, &mut builder)?;
         }
         for (i, medium) in file.media.iter().enumerate() {
             if i == MAX_VOLUMES {
@@ -881,7 +931,26 @@ impl Loader<'_> {
         file: &str,
         (translate, scale, rotate_deg): (Option<V3>, Option<ColorValue>, Option<V3>),
     ) -> Result<Vec<Triangle>, SceneError> {
-        let transform = MeshTransform {
+        let transform = self.placement(span, (translate, scale, rotate_deg))?;
+        let path = self.relative(file);
+        let triangles = load_obj_mesh(&path, &transform).map_err(|m| self.err(span, key, m))?;
+        if triangles.skipped_degenerate > 0 {
+            self.warnings.push(format!(
+                "{}: skipped {} degenerate triangles",
+                path.display(),
+                triangles.skipped_degenerate
+            ));
+        }
+        Ok(triangles.triangles)
+    }
+
+    /// A placement from optional `translate`, `scale` and `rotate_deg`.
+    fn placement(
+        &self,
+        span: &Range<usize>,
+        (translate, scale, rotate_deg): (Option<V3>, Option<ColorValue>, Option<V3>),
+    ) -> Result<MeshTransform, SceneError> {
+        Ok(MeshTransform {
             translate: self.vec3(span, "translate", translate.unwrap_or([0.0; 3]))?,
             scale: match scale {
                 Some(s) => {
@@ -898,17 +967,31 @@ impl Loader<'_> {
                 None => Vec3::ONE,
             },
             rotate_deg: self.vec3(span, "rotate_deg", rotate_deg.unwrap_or([0.0; 3]))?,
-        };
-        let path = self.relative(file);
-        let triangles = load_obj_mesh(&path, &transform).map_err(|m| self.err(span, key, m))?;
-        if triangles.skipped_degenerate > 0 {
-            self.warnings.push(format!(
-                "{}: skipped {} degenerate triangles",
-                path.display(),
-                triangles.skipped_degenerate
-            ));
-        }
-        Ok(triangles.triangles)
+        })
+    }
+
+    /// An `[[include]]`: the file's geometry, materials and lights.
+    fn include(
+        &mut self,
+        desc: &Spanned<IncludeDesc>,
+        builder: &mut SceneBuilder,
+    ) -> Result<(), SceneError> {
+        let span = desc.span();
+        let d = desc.get_ref();
+        let placement = self.placement(&span, (d.translate, d.scale, d.rotate_deg))?;
+        let formats = self.formats.ok_or_else(|| {
+            self.err(
+                &span,
+                "file",
+                "`[[include]]` needs the glTF loader: load the scene with tyndall-load (the `tyndall` command does)",
+            )
+        })?;
+        let path = self.relative(&d.file);
+        let warnings = formats
+            .include(&path, placement.matrix(), builder)
+            .map_err(|e| self.err(&span, "file", format!("cannot include: {e}")))?;
+        self.warnings.extend(warnings);
+        Ok(())
     }
 
     /// A `[[media]]` volume.
