@@ -1,5 +1,6 @@
 //! Scene loaders for Tyndall that need file-format crates the core keeps
-//! out: glTF 2.0 (cargo feature `gltf`, on by default).
+//! out: glTF 2.0 (cargo feature `gltf`) and OpenVDB grids (cargo feature
+//! `vdb`), both on by default.
 //!
 //! Every loader produces the same [`SceneDescription`] the core's native
 //! TOML and legacy .obj loaders produce; [`load`] picks one by the file
@@ -8,17 +9,31 @@
 #[cfg(feature = "gltf")]
 pub mod gltf;
 pub mod photometry;
+#[cfg(feature = "vdb")]
+pub mod vdb;
 
 use std::path::Path;
+use tyndall::media::sparse::SparseGrid;
 use tyndall::scene::legacy::{self, LegacyOptions};
-use tyndall::scene::native::IncludeFormats;
+use tyndall::scene::native::ExternalFormats;
 use tyndall::scene::{SceneBuilder, SceneDescription, SceneError, native};
 
-/// The formats a native scene's `[[include]]` may name: glTF (`.gltf`,
-/// `.glb`) with the `gltf` feature.
+/// The formats a native scene may name: glTF (`.gltf`, `.glb`) in
+/// `[[include]]` with the `gltf` feature, OpenVDB grids as `[[media]]`
+/// densities with the `vdb` feature.
 pub struct Formats;
 
-impl IncludeFormats for Formats {
+impl ExternalFormats for Formats {
+    fn vdb_grid(&self, path: &Path, grid: &str) -> Result<SparseGrid, String> {
+        #[cfg(feature = "vdb")]
+        return vdb::read_grid(path, grid);
+        #[cfg(not(feature = "vdb"))]
+        return Err(format!(
+            "{}: grid \"{grid}\": OpenVDB needs tyndall-load's `vdb` feature",
+            path.display()
+        ));
+    }
+
     fn include(
         &self,
         path: &Path,
