@@ -46,7 +46,7 @@ pub enum Density {
     /// A voxel grid read from a `.tgrid` file.
     Grid(VoxelGrid),
     /// A sparse voxel grid (an OpenVDB float grid), placed in the box.
-    Sparse(SparseDensity),
+    Sparse(Box<SparseDensity>),
 }
 
 impl Density {

@@ -1181,10 +1181,10 @@ impl Loader<'_> {
                         "the grid's transform (with the medium's placement) cannot be inverted",
                     ));
                 }
-                Density::Sparse(SparseDensity {
+                Density::Sparse(Box::new(SparseDensity {
                     grid,
                     unit_to_index,
-                })
+                }))
             }
             other => {
                 return Err(self.err(
