@@ -3,7 +3,7 @@
 //! files give errors naming the file and the element.
 mod common;
 
-use common::{MeshData, test_dir, write_gltf};
+use common::{MeshData, test_dir, to_glb, write_gltf};
 use glam::Vec3;
 use serde_json::json;
 use std::f32::consts::FRAC_1_SQRT_2;
@@ -176,7 +176,7 @@ fn gltf_loads_into_the_expected_description() {
     assert!(desc.warnings.iter().any(|w| w.contains("EXT_made_up")));
 }
 
-/// The same scene written as glTF (one mesh, a 683 cd point light, a
+/// The same scene written as glTF (and .glb) (one mesh, a 683 cd point light, a
 /// camera; fog from the command line's overrides) and as native TOML (an
 /// .obj mesh, a 1 W/sr point light, `[fog]`) renders the same image with
 /// the same seed: both loaders produce the same triangles, light, camera
@@ -271,6 +271,15 @@ intensity = 1.0
             .expect("renders")
             .image
     };
+    // The same file as binary glTF (.glb) loads into the same scene.
+    let mut from_glb = tyndall_load::load(&to_glb(&dir, "room"), Default::default()).expect("glb");
+    from_glb.override_fog(Some(0.1), Some(0.9)).expect("fog");
+    from_glb.override_fog_asymmetry(0.2).expect("g");
+    assert_eq!(
+        render(&from_glb).pixels(),
+        render(&from_gltf).pixels(),
+        ".glb and .gltf differ"
+    );
     let (a, b) = (render(&from_gltf), render(&from_toml));
     assert!(
         a.pixels().iter().any(|p| p.max_element() > 0.0),
