@@ -3,12 +3,19 @@ hard spot and a 30 W point light, built in Blender (bpy 4.5.15), exported
 with Blender's glTF exporter (default "Standard" lighting mode) and
 rendered by Cycles with direct lighting only:
 
-    /work/bpy-venv/bin/python scenes/blender/cycles_check.py OUT_DIR [SPP]
+    /work/bpy-venv/bin/python scenes/blender/cycles_check.py OUT_DIR [SPP [DENSITY ALBEDO G]]
 
 writes OUT_DIR/spot-floor.gltf (+ .bin) and OUT_DIR/cycles.exr. Then
 
-    tyndall render OUT_DIR/spot-floor.gltf --integrator single --spp SPP -o OUT_DIR/tyndall.exr
+    tyndall render OUT_DIR/spot-floor.gltf --integrator single --spp SPP \
+        --width 160 --height 120 [--density D --albedo A --g G] -o OUT_DIR/tyndall.exr
     tyndall compare OUT_DIR/tyndall.exr OUT_DIR/cycles.exr
+
+With DENSITY, ALBEDO, G the world holds homogeneous fog (Volume Scatter of
+colour ALBEDO and density DENSITY, Henyey-Greenstein G, plus Volume
+Absorption of colour ALBEDO and density DENSITY, so σs = ALBEDO·DENSITY
+and σa = (1 − ALBEDO)·DENSITY), sampled by distance + equiangular MIS;
+max_bounces 0 is then single scattering, as Tyndall's `single`.
 
 Cycles settings (as shared/peers/cycles_render.py): CPU, no denoising, no
 adaptive sampling, no clamping, light threshold 0, light tree off, box
@@ -23,6 +30,7 @@ import bpy
 
 out_dir = sys.argv[1]
 spp = int(sys.argv[2]) if len(sys.argv) > 2 else 64
+fog = [float(v) for v in sys.argv[3:6]] if len(sys.argv) > 5 else None
 bpy.ops.wm.read_factory_settings(use_empty=True)
 sc = bpy.context.scene
 
@@ -66,6 +74,24 @@ world = bpy.data.worlds.new("world")
 sc.world = world
 world.use_nodes = True
 world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+if fog:
+    density, albedo, g = fog
+    nodes, links = world.node_tree.nodes, world.node_tree.links
+    scatter = nodes.new("ShaderNodeVolumeScatter")
+    scatter.inputs["Color"].default_value = (albedo, albedo, albedo, 1.0)
+    scatter.inputs["Density"].default_value = density
+    scatter.inputs["Anisotropy"].default_value = g
+    absorb = nodes.new("ShaderNodeVolumeAbsorption")
+    absorb.inputs["Color"].default_value = (albedo, albedo, albedo, 1.0)
+    absorb.inputs["Density"].default_value = density
+    add = nodes.new("ShaderNodeAddShader")
+    links.new(scatter.outputs[0], add.inputs[0])
+    links.new(absorb.outputs[0], add.inputs[1])
+    links.new(add.outputs[0], nodes["World Output"].inputs["Volume"])
+    world.cycles.volume_sampling = "MULTIPLE_IMPORTANCE"
+    world.cycles.homogeneous_volume = True
+    cam_data.clip_start = 1e-5
+    cam_data.clip_end = 1e5
 
 sc.render.engine = "CYCLES"
 cy = sc.cycles
