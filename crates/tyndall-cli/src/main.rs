@@ -46,7 +46,7 @@ enum Command {
 
 #[derive(Args)]
 struct RenderArgs {
-    /// Scene file: native TOML (.toml) or the paper's legacy format (.obj).
+    /// Scene file: native TOML (.toml), the paper's legacy format (.obj) or glTF 2.0 (.gltf, .glb).
     /// Without one, the built-in demo (a stained-glass window in a dusty room).
     scene: Option<PathBuf>,
     /// Output image; .png (8-bit sRGB, exposure applied) or .exr (linear float).
@@ -112,6 +112,10 @@ pub struct Overrides {
     /// only `march` accepts them, with a warning, as in the paper's figures.
     #[arg(long, allow_negative_numbers = true)]
     pub albedo: Option<f32>,
+    /// Fog phase-function asymmetry g of Henyey–Greenstein (0 isotropic,
+    /// > 0 forward scattering), in [−0.999, 0.999]; needs fog (or --density).
+    #[arg(long, allow_negative_numbers = true)]
+    pub g: Option<f32>,
     /// Worker threads (default: all cores). The image does not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,
@@ -178,7 +182,11 @@ impl Overrides {
             s.exposure = v;
         }
         desc.override_fog(self.density, self.albedo)
-            .map_err(anyhow::Error::msg)
+            .map_err(anyhow::Error::msg)?;
+        if let Some(g) = self.g {
+            desc.override_fog_asymmetry(g).map_err(anyhow::Error::msg)?;
+        }
+        Ok(())
     }
 }
 
@@ -192,10 +200,11 @@ pub fn load_scene(path: Option<&Path>, two_sided: bool) -> Result<SceneDescripti
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     Ok(match ext.as_deref() {
-        Some("toml") => native::load(path)?,
+        Some("toml") => native::load_with(path, &tyndall_load::Formats)?,
         Some("obj") => legacy::load(path, LegacyOptions { two_sided })?,
+        Some("gltf" | "glb") => tyndall_load::gltf::load(path)?,
         _ => bail!(
-            "{}: unknown scene format: the file name must end in .toml (native) or .obj (the paper's legacy format)",
+            "{}: unknown scene format: the file name must end in .toml (native), .obj (the paper's legacy format) or .gltf/.glb (glTF 2.0)",
             path.display()
         ),
     })

@@ -9,12 +9,14 @@
 //!   form, which the equiangular and distance sampling of every integrator
 //!   relies on.
 //! * [`volume::Volume`]: the general medium — RGB extinction, a density
-//!   field (uniform, procedural [`noise`] or a voxel [`grid`]) inside a
+//!   field (uniform, procedural [`noise`], a voxel [`grid`] or a
+//!   [`sparse`] grid from OpenVDB) inside a
 //!   box or a closed mesh; estimated by [`tracking`] (delta and ratio
 //!   tracking against per-cell majorants). `volpath` renders them.
 
 pub mod grid;
 pub mod noise;
+pub mod sparse;
 pub mod tracking;
 pub mod volume;
 

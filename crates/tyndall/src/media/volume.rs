@@ -15,6 +15,7 @@
 
 use super::grid::VoxelGrid;
 use super::noise::SmokeNoise;
+use super::sparse::SparseDensity;
 use crate::accel::{Geometry, Primitive};
 use crate::color::Rgb;
 use crate::phase::PhaseFunction;
@@ -44,6 +45,8 @@ pub enum Density {
     Noise(SmokeNoise),
     /// A voxel grid read from a `.tgrid` file.
     Grid(VoxelGrid),
+    /// A sparse voxel grid (an OpenVDB float grid), placed in the box.
+    Sparse(Box<SparseDensity>),
 }
 
 impl Density {
@@ -54,6 +57,7 @@ impl Density {
             Density::Uniform => 1.0,
             Density::Noise(noise) => noise.eval(u),
             Density::Grid(grid) => grid.eval(u),
+            Density::Sparse(sparse) => sparse.eval(u),
         }
     }
 
@@ -63,6 +67,7 @@ impl Density {
             Density::Uniform => 1.0,
             Density::Noise(noise) => noise.max_in(lo, hi),
             Density::Grid(grid) => grid.max_in(lo, hi),
+            Density::Sparse(sparse) => sparse.max_in(lo, hi),
         }
     }
 
@@ -72,6 +77,7 @@ impl Density {
             Density::Uniform => UVec3::ONE,
             Density::Noise(_) => UVec3::splat(NOISE_MAJORANT_CELLS),
             Density::Grid(grid) => grid.size().map(|n| n.div_ceil(GRID_BRICK)),
+            Density::Sparse(sparse) => sparse.majorant_cells(),
         }
     }
 }

@@ -342,4 +342,20 @@ impl SceneDescription {
         }
         Ok(())
     }
+
+    /// Applies a command-line Henyey–Greenstein asymmetry `--g` to the
+    /// scene's fog (after [`Self::override_fog`], so `--density` may have
+    /// added the fog); `g` in (−1, 1), 0 is isotropic.
+    pub fn override_fog_asymmetry(&mut self, g: f32) -> Result<(), String> {
+        if !(g.is_finite() && g.abs() <= 0.999) {
+            return Err(format!("--g must be in [−0.999, 0.999], got {g}"));
+        }
+        let fog = self
+            .scene
+            .fog
+            .as_mut()
+            .ok_or("--g needs fog: this scene has none, so give --density too")?;
+        fog.phase = crate::phase::PhaseFunction::from_asymmetry(g);
+        Ok(())
+    }
 }

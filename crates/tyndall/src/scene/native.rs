@@ -15,6 +15,7 @@ use crate::materials::{Material, MaterialId, Surface};
 use crate::media::Fog;
 use crate::media::grid::VoxelGrid;
 use crate::media::noise::SmokeNoise;
+use crate::media::sparse::{SparseDensity, SparseGrid};
 use crate::media::tracking::MAX_VOLUMES;
 use crate::media::volume::{Density, MeshRegion, Volume, VolumeRegion};
 use crate::phase::PhaseFunction;
@@ -47,6 +48,38 @@ struct SceneFile {
     lights: Vec<Spanned<LightDesc>>,
     #[serde(default)]
     media: Vec<Spanned<MediumDesc>>,
+    #[serde(default)]
+    include: Vec<Spanned<IncludeDesc>>,
+}
+
+/// `[[include]]`: a scene file in another format (glTF), placed like a mesh.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct IncludeDesc {
+    file: String,
+    translate: Option<V3>,
+    scale: Option<ColorValue>,
+    rotate_deg: Option<V3>,
+}
+
+/// Files the core cannot read itself because their formats need heavy
+/// crates (glTF scenes, OpenVDB grids); `tyndall-load` provides them to
+/// [`load_with`].
+pub trait ExternalFormats {
+    /// The float grid named `grid` of the OpenVDB file at `path`, with
+    /// its index-to-world transform; the error names the file and grid.
+    fn vdb_grid(&self, path: &Path, grid: &str) -> Result<SparseGrid, String>;
+
+    /// Adds the geometry, materials and lights of the file at `path`,
+    /// placed by `placement` (after the file's own transforms), to
+    /// `builder`; returns the loader's warnings. Errors name the included
+    /// file and the element in it.
+    fn include(
+        &self,
+        path: &Path,
+        placement: glam::Mat4,
+        builder: &mut SceneBuilder,
+    ) -> Result<Vec<String>, SceneError>;
 }
 
 #[derive(Deserialize)]
@@ -68,6 +101,7 @@ struct MediumDesc {
     octaves: Option<u32>,
     bias: Option<f32>,
     seed: Option<u32>,
+    grid: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -180,6 +214,23 @@ struct GlassDesc {
 
 fn one() -> f32 {
     1.0
+}
+
+/// World bounds of a sparse grid's active voxels (their cells, half a
+/// voxel around the outermost centres) under `world`; `None` if empty.
+fn vdb_world_bounds(grid: &SparseGrid, world: glam::Mat4) -> Option<Bounds> {
+    let (lo, hi) = grid.active_bounds()?;
+    let (lo, hi) = (lo.as_vec3() - 0.5, hi.as_vec3() + 0.5);
+    let mut b = Bounds::EMPTY;
+    for k in 0..8 {
+        let corner = Vec3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        );
+        b = b.include(world.transform_point3(corner));
+    }
+    Some(b)
 }
 
 #[derive(Deserialize)]
@@ -386,9 +437,27 @@ pub fn load(path: &Path) -> Result<SceneDescription, SceneError> {
     parse(&source)
 }
 
+/// Loads a native scene file whose `[[include]]` tables are read by
+/// `formats` (without it, an `[[include]]` is an error).
+pub fn load_with(
+    path: &Path,
+    formats: &dyn ExternalFormats,
+) -> Result<SceneDescription, SceneError> {
+    let source = SourceText::read(path)?;
+    parse_with(&source, Some(formats))
+}
+
 /// Parses native scene text; relative paths resolve against the
 /// directory of `source.path`.
 pub fn parse(source: &SourceText) -> Result<SceneDescription, SceneError> {
+    parse_with(source, None)
+}
+
+/// [`parse`], with `[[include]]` tables read by `formats`.
+pub fn parse_with(
+    source: &SourceText,
+    formats: Option<&dyn ExternalFormats>,
+) -> Result<SceneDescription, SceneError> {
     let file: SceneFile = toml::from_str(&source.text).map_err(|e| {
         let offset = e.span().map_or(0, |s| s.start);
         locate_parse_error(source, offset, e.message().trim_end())
@@ -396,6 +465,7 @@ pub fn parse(source: &SourceText) -> Result<SceneDescription, SceneError> {
     Loader {
         source,
         warnings: Vec::new(),
+        formats,
     }
     .build(file)
 }
@@ -403,6 +473,7 @@ pub fn parse(source: &SourceText) -> Result<SceneDescription, SceneError> {
 struct Loader<'a> {
     source: &'a SourceText,
     warnings: Vec<String>,
+    formats: Option<&'a dyn ExternalFormats>,
 }
 
 impl Loader<'_> {
@@ -490,6 +561,9 @@ impl Loader<'_> {
         }
         for light in &file.lights {
             self.light(light, &mut builder)?;
+        }
+        for include in &file.include {
+            self.include(include, &mut builder)?;
         }
         for (i, medium) in file.media.iter().enumerate() {
             if i == MAX_VOLUMES {
@@ -881,7 +955,26 @@ impl Loader<'_> {
         file: &str,
         (translate, scale, rotate_deg): (Option<V3>, Option<ColorValue>, Option<V3>),
     ) -> Result<Vec<Triangle>, SceneError> {
-        let transform = MeshTransform {
+        let transform = self.placement(span, (translate, scale, rotate_deg))?;
+        let path = self.relative(file);
+        let triangles = load_obj_mesh(&path, &transform).map_err(|m| self.err(span, key, m))?;
+        if triangles.skipped_degenerate > 0 {
+            self.warnings.push(format!(
+                "{}: skipped {} degenerate triangles",
+                path.display(),
+                triangles.skipped_degenerate
+            ));
+        }
+        Ok(triangles.triangles)
+    }
+
+    /// A placement from optional `translate`, `scale` and `rotate_deg`.
+    fn placement(
+        &self,
+        span: &Range<usize>,
+        (translate, scale, rotate_deg): (Option<V3>, Option<ColorValue>, Option<V3>),
+    ) -> Result<MeshTransform, SceneError> {
+        Ok(MeshTransform {
             translate: self.vec3(span, "translate", translate.unwrap_or([0.0; 3]))?,
             scale: match scale {
                 Some(s) => {
@@ -898,17 +991,31 @@ impl Loader<'_> {
                 None => Vec3::ONE,
             },
             rotate_deg: self.vec3(span, "rotate_deg", rotate_deg.unwrap_or([0.0; 3]))?,
-        };
-        let path = self.relative(file);
-        let triangles = load_obj_mesh(&path, &transform).map_err(|m| self.err(span, key, m))?;
-        if triangles.skipped_degenerate > 0 {
-            self.warnings.push(format!(
-                "{}: skipped {} degenerate triangles",
-                path.display(),
-                triangles.skipped_degenerate
-            ));
-        }
-        Ok(triangles.triangles)
+        })
+    }
+
+    /// An `[[include]]`: the file's geometry, materials and lights.
+    fn include(
+        &mut self,
+        desc: &Spanned<IncludeDesc>,
+        builder: &mut SceneBuilder,
+    ) -> Result<(), SceneError> {
+        let span = desc.span();
+        let d = desc.get_ref();
+        let placement = self.placement(&span, (d.translate, d.scale, d.rotate_deg))?;
+        let formats = self.formats.ok_or_else(|| {
+            self.err(
+                &span,
+                "file",
+                "`[[include]]` needs the glTF loader: load the scene with tyndall-load (the `tyndall` command does)",
+            )
+        })?;
+        let path = self.relative(&d.file);
+        let warnings = formats
+            .include(&path, placement.matrix(), builder)
+            .map_err(|e| self.err(&span, "file", format!("cannot include: {e}")))?;
+        self.warnings.extend(warnings);
+        Ok(())
     }
 
     /// A `[[media]]` volume.
@@ -920,7 +1027,8 @@ impl Loader<'_> {
         let g = self.number(&span, "g", m.g, (-0.999, 0.999), "in (−1, 1)")?;
         let placement = (m.translate, m.scale, m.rotate_deg);
         let placed = m.translate.is_some() || m.scale.is_some() || m.rotate_deg.is_some();
-        if m.mesh.is_none() && placed {
+        let kind = m.density.as_deref().unwrap_or("uniform");
+        if m.mesh.is_none() && placed && kind != "vdb" {
             let key = if m.translate.is_some() {
                 "translate"
             } else if m.scale.is_some() {
@@ -931,8 +1039,33 @@ impl Loader<'_> {
             return Err(self.err(
                 &span,
                 key,
-                format!("`{key}` places a `mesh`; this medium has none"),
+                format!("`{key}` places a `mesh` or a \"vdb\" density; this medium has neither"),
             ));
+        }
+        // An OpenVDB grid, placed: its index-to-world transform, then the
+        // medium's translate/scale/rotate_deg.
+        let vdb = if kind == "vdb" {
+            let file = m.file.as_ref().ok_or_else(|| {
+                self.err(&span, "density", "density \"vdb\" needs `file = \"….vdb\"`")
+            })?;
+            let formats = self.formats.ok_or_else(|| {
+                self.err(
+                    &span,
+                    "density",
+                    "density \"vdb\" needs the OpenVDB reader: load the scene with tyndall-load (the `tyndall` command does)",
+                )
+            })?;
+            let name = m.grid.as_deref().unwrap_or("density");
+            let grid = formats
+                .vdb_grid(&self.relative(file), name)
+                .map_err(|e| self.err(&span, "file", e))?;
+            let world = self.placement(&span, placement)?.matrix() * grid.index_to_world();
+            Some((grid, world))
+        } else {
+            None
+        };
+        if m.grid.is_some() && vdb.is_none() {
+            return Err(self.err(&span, "grid", "`grid` applies to density \"vdb\" only"));
         }
         let region = match (&m.bounds, &m.mesh) {
             (Some(_), Some(_)) => {
@@ -942,9 +1075,19 @@ impl Loader<'_> {
             (None, Some(file)) => {
                 VolumeRegion::Mesh(MeshRegion::new(self.mesh(&span, "mesh", file, placement)?))
             }
-            (None, None) => VolumeRegion::Everywhere,
+            (None, None) => match &vdb {
+                Some((grid, world)) => {
+                    VolumeRegion::Box(vdb_world_bounds(grid, *world).ok_or_else(|| {
+                        self.err(
+                            &span,
+                            "file",
+                            "the grid has no active voxels: nothing to render",
+                        )
+                    })?)
+                }
+                None => VolumeRegion::Everywhere,
+            },
         };
-        let kind = m.density.as_deref().unwrap_or("uniform");
         let misplaced = |key: &str, given: bool| {
             if given {
                 Err(self.err(
@@ -1015,12 +1158,40 @@ impl Loader<'_> {
                     .map_err(|e| self.err(&span, "file", e))?;
                 Density::Grid(grid)
             }
+            "vdb" => {
+                for (key, given) in noise_keys {
+                    misplaced(key, given)?;
+                }
+                let (grid, world) = vdb.expect("read above for density \"vdb\"");
+                let field_box = match &region {
+                    VolumeRegion::Box(b) => *b,
+                    VolumeRegion::Mesh(mesh) => mesh.bounds(),
+                    VolumeRegion::Everywhere => unreachable!("a vdb medium has a box"),
+                };
+                let unit_to_world = glam::Mat4::from_scale_rotation_translation(
+                    field_box.extent(),
+                    glam::Quat::IDENTITY,
+                    field_box.min,
+                );
+                let unit_to_index = world.inverse() * unit_to_world;
+                if !unit_to_index.is_finite() {
+                    return Err(self.err(
+                        &span,
+                        "file",
+                        "the grid's transform (with the medium's placement) cannot be inverted",
+                    ));
+                }
+                Density::Sparse(Box::new(SparseDensity {
+                    grid,
+                    unit_to_index,
+                }))
+            }
             other => {
                 return Err(self.err(
                     &span,
                     "density",
                     format!(
-                        "unknown density \"{other}\": expected \"uniform\", \"noise\" or \"grid\""
+                        "unknown density \"{other}\": expected \"uniform\", \"noise\", \"grid\" or \"vdb\""
                     ),
                 ));
             }

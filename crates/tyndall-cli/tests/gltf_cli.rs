@@ -1,0 +1,162 @@
+//! `tyndall render` on glTF files: a good file renders with fog from the
+//! command line; a bad one exits non-zero naming the file and the
+//! element, and writes no image.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn tyndall(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_tyndall"))
+        .args(args)
+        .output()
+        .expect("run tyndall")
+}
+
+fn temp_dir() -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("tyndall-cli-gltf-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A floor of two triangles under a 683 cd point light, seen by a camera;
+/// `mode` is the primitive mode (4 = triangles).
+fn write_room(dir: &Path, name: &str, mode: u32) -> PathBuf {
+    let positions: [[f32; 3]; 4] = [
+        [-2.0, 0.0, -2.0],
+        [2.0, 0.0, -2.0],
+        [2.0, 0.0, 2.0],
+        [-2.0, 0.0, 2.0],
+    ];
+    let indices: [u16; 6] = [0, 2, 1, 0, 3, 2];
+    let mut bin = Vec::new();
+    for c in positions.iter().flatten() {
+        bin.extend_from_slice(&c.to_le_bytes());
+    }
+    for i in indices {
+        bin.extend_from_slice(&i.to_le_bytes());
+    }
+    std::fs::write(dir.join(format!("{name}.bin")), &bin).expect("write bin");
+    let gltf = format!(
+        r#"{{
+  "asset": {{"version": "2.0"}},
+  "extensionsUsed": ["KHR_lights_punctual"],
+  "extensions": {{"KHR_lights_punctual": {{"lights": [{{"type": "point", "intensity": 683}}]}}}},
+  "scenes": [{{"nodes": [0, 1, 2]}}],
+  "nodes": [
+    {{"mesh": 0}},
+    {{"translation": [0, 2, 0], "extensions": {{"KHR_lights_punctual": {{"light": 0}}}}}},
+    {{"translation": [0, 1, 5], "camera": 0}}
+  ],
+  "cameras": [{{"type": "perspective", "perspective": {{"yfov": 0.8, "znear": 0.1}}}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1, "mode": {mode}}}]}}],
+  "buffers": [{{"uri": "{name}.bin", "byteLength": {len}}}],
+  "bufferViews": [
+    {{"buffer": 0, "byteOffset": 0, "byteLength": 48}},
+    {{"buffer": 0, "byteOffset": 48, "byteLength": 12}}
+  ],
+  "accessors": [
+    {{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+      "min": [-2, 0, -2], "max": [2, 0, 2]}},
+    {{"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}}
+  ]
+}}"#,
+        len = bin.len()
+    );
+    let path = dir.join(format!("{name}.gltf"));
+    std::fs::write(&path, gltf).expect("write gltf");
+    path
+}
+
+#[test]
+fn renders_gltf_with_fog_from_the_command_line() {
+    let dir = temp_dir();
+    let scene = write_room(&dir, "room", 4);
+    let out = dir.join("room.exr");
+    let _ = std::fs::remove_file(&out);
+    let o = tyndall(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--density",
+        "0.1",
+        "--albedo",
+        "0.9",
+        "--g",
+        "0.2",
+        "--width",
+        "24",
+        "--height",
+        "16",
+        "--spp",
+        "1",
+        "-q",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let image = tyndall::Image::read_exr(&out).expect("readable EXR");
+    assert!(image.pixels().iter().any(|p| p.max_element() > 0.0));
+}
+
+#[test]
+fn bad_gltf_exits_non_zero_naming_file_and_element_without_image() {
+    let dir = temp_dir();
+    let scene = write_room(&dir, "strips", 5);
+    let out = dir.join("strips.png");
+    let _ = std::fs::remove_file(&out);
+    let o = tyndall(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-q",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let message = stderr(&o);
+    assert!(!o.status.success());
+    assert!(
+        message.contains("strips.gltf") && message.contains("meshes[0].primitives[0]"),
+        "{message}"
+    );
+    assert!(!out.exists(), "no image is written");
+}
+
+#[test]
+fn g_needs_fog_and_a_valid_value() {
+    let dir = temp_dir();
+    let scene = write_room(&dir, "nofog", 4);
+    let out = dir.join("nofog.png");
+    let _ = std::fs::remove_file(&out);
+    let args = |g: &'static str, density: Option<&'static str>| {
+        let mut a = vec![
+            "render",
+            scene.to_str().unwrap(),
+            "-q",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--spp",
+            "1",
+            "-o",
+            out.to_str().unwrap(),
+            "--g",
+            g,
+        ];
+        if let Some(d) = density {
+            a.extend(["--density", d]);
+        }
+        a.into_iter().map(String::from).collect::<Vec<_>>()
+    };
+    let run = |a: Vec<String>| {
+        let refs: Vec<&str> = a.iter().map(String::as_str).collect();
+        tyndall(&refs)
+    };
+    let o = run(args("0.2", None));
+    assert!(!o.status.success() && stderr(&o).contains("--g needs fog"));
+    let o = run(args("1.5", Some("0.1")));
+    assert!(!o.status.success() && stderr(&o).contains("--g must be"));
+    assert!(!out.exists());
+}

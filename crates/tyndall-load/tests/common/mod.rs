@@ -1,0 +1,118 @@
+//! Writes small glTF files for the tests: the test gives the JSON of
+//! nodes, cameras, materials and extensions; [`write_gltf`] adds the
+//! meshes' buffers, views and accessors and writes `.gltf` + `.bin`.
+#![allow(dead_code)]
+
+use serde_json::{Value, json};
+use std::path::{Path, PathBuf};
+
+/// One triangle-list primitive (its own mesh).
+pub struct MeshData {
+    pub positions: Vec<[f32; 3]>,
+    pub indices: Option<Vec<u32>>,
+    /// glTF primitive mode; 4 (triangles) when `None`.
+    pub mode: Option<u32>,
+    pub material: Option<usize>,
+}
+
+/// A fresh directory for one test's files.
+pub fn test_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("tyndall-load-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+/// Writes `dir/name.gltf` and `dir/name.bin`: `doc` with `meshes`,
+/// `buffers`, `bufferViews` and `accessors` filled from `meshes` (mesh i
+/// is `meshes[i]`).
+pub fn write_gltf(dir: &Path, name: &str, meshes: &[MeshData], mut doc: Value) -> PathBuf {
+    let mut bin: Vec<u8> = Vec::new();
+    let mut views = Vec::new();
+    let mut accessors = Vec::new();
+    let mut gltf_meshes = Vec::new();
+    for mesh in meshes {
+        let offset = bin.len();
+        for p in &mesh.positions {
+            for c in p {
+                bin.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        let (mut min, mut max) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        for p in &mesh.positions {
+            for k in 0..3 {
+                min[k] = min[k].min(p[k]);
+                max[k] = max[k].max(p[k]);
+            }
+        }
+        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bin.len() - offset}));
+        accessors.push(json!({
+            "bufferView": views.len() - 1, "componentType": 5126,
+            "count": mesh.positions.len(), "type": "VEC3", "min": min, "max": max
+        }));
+        let mut attributes = json!({"attributes": {"POSITION": accessors.len() - 1}});
+        if let Some(indices) = &mesh.indices {
+            let offset = bin.len();
+            for i in indices {
+                bin.extend_from_slice(&i.to_le_bytes());
+            }
+            views
+                .push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bin.len() - offset}));
+            accessors.push(json!({
+                "bufferView": views.len() - 1, "componentType": 5125,
+                "count": indices.len(), "type": "SCALAR"
+            }));
+            attributes["indices"] = json!(accessors.len() - 1);
+        }
+        if let Some(mode) = mesh.mode {
+            attributes["mode"] = json!(mode);
+        }
+        if let Some(material) = mesh.material {
+            attributes["material"] = json!(material);
+        }
+        gltf_meshes.push(json!({"primitives": [attributes]}));
+    }
+    let bin_name = format!("{name}.bin");
+    std::fs::write(dir.join(&bin_name), &bin).expect("write .bin");
+    doc["asset"] = json!({"version": "2.0"});
+    doc["buffers"] = json!([{"uri": bin_name, "byteLength": bin.len()}]);
+    doc["bufferViews"] = Value::Array(views);
+    doc["accessors"] = Value::Array(accessors);
+    doc["meshes"] = Value::Array(gltf_meshes);
+    let path = dir.join(format!("{name}.gltf"));
+    std::fs::write(&path, serde_json::to_string_pretty(&doc).expect("json")).expect("write .gltf");
+    path
+}
+
+/// Rewrites `dir/name.gltf` + `.bin` (from [`write_gltf`]) as one binary
+/// `dir/name.glb`: header, JSON chunk, BIN chunk (glTF §4.4).
+pub fn to_glb(dir: &Path, name: &str) -> PathBuf {
+    let mut doc: Value =
+        serde_json::from_slice(&std::fs::read(dir.join(format!("{name}.gltf"))).expect("gltf"))
+            .expect("json");
+    let mut bin = std::fs::read(dir.join(format!("{name}.bin"))).expect("bin");
+    doc["buffers"][0]
+        .as_object_mut()
+        .expect("buffer")
+        .remove("uri");
+    let mut json = serde_json::to_vec(&doc).expect("json");
+    while json.len() % 4 != 0 {
+        json.push(b' ');
+    }
+    while bin.len() % 4 != 0 {
+        bin.push(0);
+    }
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut glb = Vec::with_capacity(total);
+    glb.extend_from_slice(b"glTF");
+    glb.extend_from_slice(&2u32.to_le_bytes());
+    glb.extend_from_slice(&(total as u32).to_le_bytes());
+    glb.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    glb.extend_from_slice(b"JSON");
+    glb.extend_from_slice(&json);
+    glb.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    glb.extend_from_slice(b"BIN\0");
+    glb.extend_from_slice(&bin);
+    let path = dir.join(format!("{name}.glb"));
+    std::fs::write(&path, glb).expect("write glb");
+    path
+}
