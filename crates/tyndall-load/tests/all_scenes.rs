@@ -24,13 +24,10 @@
 //!   highlight of an emitter is a rare, very bright sample. Scenes with
 //!   reflective surfaces are excluded from the `volpath` comparison
 //!   anyway (below).
-mod common;
-
 use std::path::{Path, PathBuf};
 use tyndall::camera::Camera;
 use tyndall::lights::Light;
 use tyndall::scene::legacy::{self, LegacyOptions};
-use tyndall::scene::native;
 use tyndall::{Image, IntegratorKind, RenderSettings, SceneDescription};
 
 const WIDTH: u32 = 24;
@@ -94,6 +91,11 @@ fn scene_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// The repository's root directory.
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
 fn file_name(path: &Path) -> &str {
     path.file_name().and_then(|n| n.to_str()).expect("name")
 }
@@ -106,7 +108,9 @@ fn load(path: &Path) -> SceneDescription {
             desc
         })
     } else {
-        native::load(path)
+        // Native scenes through tyndall-load, which also reads what they
+        // include (OpenVDB densities, glTF files).
+        tyndall_load::load(path, LegacyOptions::default())
     };
     loaded.unwrap_or_else(|e| panic!("{e}"))
 }
@@ -254,7 +258,7 @@ fn assert_agree(a: &[BlockEstimate], b: &[BlockEstimate], what: &str, failures: 
 #[test]
 fn every_scene_agrees_across_integrators() {
     let mut files = Vec::new();
-    scene_files(&common::repo().join("scenes"), &mut files);
+    scene_files(&repo().join("scenes"), &mut files);
     let names: Vec<&str> = files.iter().map(|f| file_name(f)).collect();
     for (name, _) in VOLPATH_DIFFERS {
         assert!(names.contains(name), "excluded scene {name} does not exist");
