@@ -31,6 +31,7 @@ use crate::media::free_flight;
 use crate::media::tracking::{Collision, VolumeTracker};
 use crate::phase::PhaseFunction;
 use crate::ray::{Ray, offset_origin};
+use crate::region::PixelRect;
 use crate::sampler::PixelSampler;
 use crate::sampling::cosine_hemisphere;
 use crate::scene::Scene;
@@ -38,7 +39,7 @@ use crate::visibility::RayCounts;
 use glam::{DVec3, Vec2, Vec3};
 use rayon::prelude::*;
 use std::f32::consts::{FRAC_1_PI, PI};
-use std::ops::ControlFlow;
+use std::ops::{ControlFlow, Range};
 
 /// Which light paths to trace.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -49,9 +50,19 @@ pub enum LightPaths {
     All,
 }
 
-/// Paths are split into this many chunks, each with its own film, summed
-/// in order: the image does not depend on the thread count.
-const CHUNKS: usize = 16;
+/// Paths are traced in blocks of this many, in parallel; each block's
+/// splats are kept in path order and added to the film block by block,
+/// so every pixel sums its splats in global path order whatever the
+/// thread count or scheduling.
+const BLOCK: u64 = 1024;
+
+/// Blocks traced in parallel before their splats are added to the film
+/// (bounds the splats held in memory).
+const BLOCKS_PER_BATCH: u64 = 64;
+
+/// Seed offset of the light paths' Sobol sequence (distinct from the
+/// camera samples' pixel sequences).
+const LIGHT_SEED: u64 = 0x5eed_1197;
 
 /// Whether the scene has light that only light tracing delivers: a point
 /// or spot light and a dielectric.
@@ -78,54 +89,104 @@ pub fn trace(
     max_depth: u32,
     which: LightPaths,
 ) -> (Vec<Rgb>, RayCounts) {
+    let rect = PixelRect::full(width, height);
+    let mut sums = vec![DVec3::ZERO; rect.area()];
+    let counts = trace_paths(
+        scene,
+        camera,
+        rect,
+        0..paths,
+        seed,
+        max_depth,
+        which,
+        &mut sums,
+    );
+    let scale = 1.0 / paths.max(1) as f64;
+    (
+        sums.iter().map(|s| (*s * scale).as_vec3()).collect(),
+        counts,
+    )
+}
+
+/// Traces the light paths with global indices `paths` and adds their
+/// camera connections that land in `rect` to `sums` (`rect`'s pixels,
+/// row-major; unnormalised: divide by the number of paths). Path `i` is
+/// the `i`-th point of one Sobol sequence over all paths, so disjoint
+/// index ranges are disjoint parts of one stratified set, and each pixel
+/// adds its splats in increasing path index: tracing `a..b` then `b..c`
+/// gives the same sums, bit for bit, as tracing `a..c`.
+#[allow(clippy::too_many_arguments)]
+pub fn trace_paths(
+    scene: &Scene,
+    camera: &Camera,
+    rect: PixelRect,
+    paths: Range<u64>,
+    seed: u64,
+    max_depth: u32,
+    which: LightPaths,
+    sums: &mut [DVec3],
+) -> RayCounts {
+    assert_eq!(sums.len(), rect.area());
     let emitters: Vec<usize> = (0..scene.lights.len())
         .filter(|&i| matches!(scene.lights[i], Light::Point(_) | Light::Spot(_)))
         .collect();
-    let size = (width * height) as usize;
-    if emitters.is_empty() || paths == 0 {
-        return (vec![Rgb::ZERO; size], RayCounts::default());
+    let mut counts = RayCounts::default();
+    if emitters.is_empty() || paths.is_empty() {
+        return counts;
     }
     let tracer = Tracer {
         scene,
         camera,
-        width,
+        rect,
         emitters: &emitters,
         // The same guard as `volpath`'s against endless albedo-1 walks.
         max_depth: max_depth.min(MAX_PATH_EVENTS),
         which,
     };
-    let per_chunk = paths.div_ceil(CHUNKS as u64);
-    let chunks: Vec<(Vec<Rgb>, RayCounts)> = (0..CHUNKS as u64)
-        .into_par_iter()
-        .map(|chunk| {
-            let mut film = vec![Rgb::ZERO; size];
-            let mut counts = RayCounts::default();
-            let first = chunk * per_chunk;
-            for index in first..(first + per_chunk).min(paths) {
-                // One Sobol sequence over all paths: stratified emission.
-                let mut sampler = PixelSampler::new(seed ^ 0x5eed_1197, 0, index as u32);
-                tracer.trace_path(&mut sampler, &mut film, &mut counts);
+    let batch = BLOCK * BLOCKS_PER_BATCH;
+    let mut batch_start = paths.start;
+    while batch_start < paths.end {
+        let batch_end = paths.end.min(batch_start.saturating_add(batch));
+        let blocks: Vec<(Vec<Splat>, RayCounts)> = (batch_start..batch_end)
+            .step_by(BLOCK as usize)
+            .collect::<Vec<u64>>()
+            .into_par_iter()
+            .map(|first| {
+                let mut splats = Vec::new();
+                let mut counts = RayCounts::default();
+                for index in first..batch_end.min(first + BLOCK) {
+                    // One Sobol sequence over all paths: stratified
+                    // emission. Indices past 2³² continue in further
+                    // scrambled sequences.
+                    let mut sampler =
+                        PixelSampler::new(seed ^ LIGHT_SEED, index >> 32, index as u32);
+                    tracer.trace_path(&mut sampler, &mut splats, &mut counts);
+                }
+                (splats, counts)
+            })
+            .collect();
+        for (splats, c) in blocks {
+            for (pixel, value) in splats {
+                if value.is_finite() {
+                    sums[pixel as usize] += value.as_dvec3();
+                }
             }
-            (film, counts)
-        })
-        .collect();
-    let mut sum = vec![DVec3::ZERO; size];
-    let mut counts = RayCounts::default();
-    for (film, c) in &chunks {
-        for (s, p) in sum.iter_mut().zip(film) {
-            *s += p.as_dvec3();
+            counts.camera += c.camera;
+            counts.shadow += c.shadow;
         }
-        counts.camera += c.camera;
-        counts.shadow += c.shadow;
+        batch_start = batch_end;
     }
-    let scale = 1.0 / paths as f64;
-    (sum.iter().map(|s| (*s * scale).as_vec3()).collect(), counts)
+    counts
 }
+
+/// A camera connection: the index of its pixel in the traced rectangle
+/// and its contribution.
+type Splat = (u32, Rgb);
 
 struct Tracer<'a> {
     scene: &'a Scene,
     camera: &'a Camera,
-    width: u32,
+    rect: PixelRect,
     emitters: &'a [usize],
     max_depth: u32,
     which: LightPaths,
@@ -143,7 +204,12 @@ enum Scatterer<'a> {
 }
 
 impl Tracer<'_> {
-    fn trace_path(&self, sampler: &mut PixelSampler, film: &mut [Rgb], counts: &mut RayCounts) {
+    fn trace_path(
+        &self,
+        sampler: &mut PixelSampler,
+        film: &mut Vec<Splat>,
+        counts: &mut RayCounts,
+    ) {
         let scene = self.scene;
         let n = self.emitters.len();
         let pick = ((sampler.next_1d() * n as f32) as usize).min(n - 1);
@@ -280,10 +346,14 @@ impl Tracer<'_> {
         scatterer: &Scatterer,
         beta: Rgb,
         tracker: &mut VolumeTracker,
-        film: &mut [Rgb],
+        film: &mut Vec<Splat>,
         counts: &mut RayCounts,
     ) {
         let Some(projection) = self.camera.project(x) else {
+            return;
+        };
+        let pixel = projection.film.floor().as_uvec2();
+        let Some(index) = self.rect.index(pixel.x, pixel.y) else {
             return;
         };
         let to_camera = projection.to_camera;
@@ -319,8 +389,7 @@ impl Tracer<'_> {
         let volumes_t = tracker.transmittance(&scene.volumes, &ray, 0.0, distance);
         let value =
             beta * f * glass * volumes_t * (fog_t * projection.importance / (distance * distance));
-        let pixel = projection.film.floor().as_uvec2();
-        film[(pixel.y * self.width + pixel.x) as usize] += value;
+        film.push((index as u32, value));
     }
 
     /// Transmittance of thin glass between `origin` and the camera; zero
