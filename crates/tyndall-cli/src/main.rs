@@ -146,7 +146,7 @@ fn parse_duration(s: &str) -> Result<Duration, String> {
         .parse()
         .map_err(|_| format!("`{s}` is not a duration such as 30s or 5m"))?;
     let secs = value * scale;
-    if !(secs.is_finite() && secs >= 0.0 && secs < 1e9) {
+    if !(0.0..1e9).contains(&secs) {
         return Err(format!(
             "`{s}`: a duration must be between 0 and 10⁹ seconds"
         ));
@@ -383,7 +383,13 @@ fn render(args: RenderArgs) -> Result<()> {
         resume,
         &|_| bar.inc(1),
         &mut after_pass,
-    )?;
+    )
+    .map_err(|e| match (&e, &args.checkpoint) {
+        (tyndall::render::RenderError::Resume(_), Some(path)) => {
+            anyhow::anyhow!("{}: {e}", path.display())
+        }
+        _ => e.into(),
+    })?;
     bar.finish_and_clear();
     if let Some(e) = save_error {
         return Err(e).context("the checkpoint could not be saved; the render stopped");

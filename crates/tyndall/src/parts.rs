@@ -176,8 +176,10 @@ pub fn write_part(
             ..EXR_ENCODING
         },
     };
-    let mut attributes = LayerAttributes::default();
-    attributes.layer_position = Vec2(rect.x0 as i32, rect.y0 as i32);
+    let mut attributes = LayerAttributes {
+        layer_position: Vec2(rect.x0 as i32, rect.y0 as i32),
+        ..LayerAttributes::default()
+    };
     let text = describe(part);
     attributes.other.insert(
         Text::from(ATTRIBUTE),
@@ -253,7 +255,7 @@ pub fn read_part(path: &Path) -> std::result::Result<Part, PartError> {
             .channel_data
             .list
             .iter()
-            .find(|c| c.name == Text::from(name))
+            .find(|c| c.name == *name)
             .and_then(|c| match &c.sample_data {
                 FlatSamples::U32(v) => Some(v.as_slice()),
                 _ => None,
@@ -318,15 +320,12 @@ fn parse_description(text: &str) -> Result<Description, String> {
             "the `{ATTRIBUTE}` attribute does not start with `{FORMAT}`"
         ));
     }
-    fn numbers<T: std::str::FromStr>(
+    fn numbers<T: TryFrom<u64>>(
         fields: &BTreeMap<&str, Vec<&str>>,
         key: &str,
         n: usize,
         radix16: bool,
-    ) -> Result<Vec<T>, String>
-    where
-        T: TryFrom<u64>,
-    {
+    ) -> Result<Vec<T>, String> {
         let words = fields
             .get(key)
             .filter(|w| w.len() == n)
