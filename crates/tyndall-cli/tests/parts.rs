@@ -302,3 +302,21 @@ fn bad_splits_fail_without_writing_anything() {
     );
     assert!(!out.exists());
 }
+
+#[test]
+fn help_explains_the_splitting_flags_and_merge() {
+    let o = tyndall(&["render", "--help"]);
+    let help = String::from_utf8_lossy(&o.stdout);
+    for flag in [
+        "--tile",
+        "--samples",
+        "--checkpoint",
+        "--checkpoint-every",
+        "--time-limit",
+    ] {
+        assert!(help.contains(flag), "{flag} missing from render --help");
+    }
+    let o = tyndall(&["merge", "--help"]);
+    assert!(o.status.success());
+    assert!(String::from_utf8_lossy(&o.stdout).contains("--output"));
+}

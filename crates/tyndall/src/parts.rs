@@ -369,8 +369,8 @@ fn parse_description(text: &str) -> Result<Description, String> {
 /// hash, seed, image size, light paths); parts of the same rectangle must
 /// hold consecutive sample ranges (no gap, no overlap), added in order;
 /// the rectangles must not overlap, must cover the whole image, and must
-/// all end up with the same sample range. `names` name the parts in
-/// errors.
+/// all end up with the same sample range. Each part comes with its path,
+/// which errors name. Parts of one rectangle are summed in sample order.
 pub fn merge(parts: Vec<(PathBuf, Part)>) -> Result<Part, PartError> {
     let mismatch = PartError::Mismatch;
     let Some((first_path, first)) = parts.first() else {

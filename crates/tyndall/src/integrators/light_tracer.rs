@@ -207,7 +207,7 @@ impl Tracer<'_> {
     fn trace_path(
         &self,
         sampler: &mut PixelSampler,
-        film: &mut Vec<Splat>,
+        splats: &mut Vec<Splat>,
         counts: &mut RayCounts,
     ) {
         let scene = self.scene;
@@ -247,7 +247,7 @@ impl Tracer<'_> {
                     &Scatterer::Medium(phase),
                     beta,
                     &mut tracker,
-                    film,
+                    splats,
                     counts,
                 );
                 let (direction, _) = phase.sample(ray.direction, sampler.next_2d());
@@ -296,7 +296,15 @@ impl Tracer<'_> {
                             rho: surface.diffuse,
                             normal,
                         };
-                        self.connect(p, ray.direction, &diffuse, beta, &mut tracker, film, counts);
+                        self.connect(
+                            p,
+                            ray.direction,
+                            &diffuse,
+                            beta,
+                            &mut tracker,
+                            splats,
+                            counts,
+                        );
                     }
                     // Continue by the lobes, as `volpath` does.
                     let (d, s) = (luminance(surface.diffuse), luminance(surface.specular));
@@ -346,7 +354,7 @@ impl Tracer<'_> {
         scatterer: &Scatterer,
         beta: Rgb,
         tracker: &mut VolumeTracker,
-        film: &mut Vec<Splat>,
+        splats: &mut Vec<Splat>,
         counts: &mut RayCounts,
     ) {
         let Some(projection) = self.camera.project(x) else {
@@ -389,7 +397,7 @@ impl Tracer<'_> {
         let volumes_t = tracker.transmittance(&scene.volumes, &ray, 0.0, distance);
         let value =
             beta * f * glass * volumes_t * (fog_t * projection.importance / (distance * distance));
-        film.push((index as u32, value));
+        splats.push((index as u32, value));
     }
 
     /// Transmittance of thin glass between `origin` and the camera; zero
