@@ -17,6 +17,7 @@
 pub mod accel;
 pub mod camera;
 pub mod color;
+pub mod exact_sum;
 pub mod film;
 pub mod glass;
 pub mod integrators;

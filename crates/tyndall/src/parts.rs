@@ -1,29 +1,32 @@
 //! Render parts on disk: OpenEXR files holding a tile, a sample range or a
 //! checkpoint of a render, and merging them into the whole.
 //!
-//! A part file is an OpenEXR image of the part's pixel rectangle (its data
-//! window placed at the rectangle's origin inside the full image's display
-//! window) with:
-//! - `R`, `G`, `B` (f32): the part's own image, the mean of the samples it
-//!   holds — viewable like any render;
-//! - `sum.camera.{R,G,B}.{hi,lo}` (u32) and, when the render traces light
-//!   paths, `sum.light.{R,G,B}.{hi,lo}`: the f64 per-pixel sums of
-//!   [`Accumulation`], each stored exactly as the high and low 32 bits of
-//!   its IEEE-754 bit pattern (OpenEXR has no f64 channels; two f32s would
+//! A part file is an OpenEXR image in the full image's display window with
+//! two layers:
+//! - `part`, the part's pixel rectangle (its data window placed at the
+//!   rectangle's origin): `R`, `G`, `B` (f32), the part's own image (the
+//!   mean of the samples it holds; see [`Accumulation::resolve`]), and
+//!   `sum.camera.{R,G,B}.{hi,lo}` (u32), the f64 per-pixel sums of the
+//!   camera samples, each stored exactly as the high and low 32 bits of its
+//!   IEEE-754 bit pattern (OpenEXR has no f64 channels; two f32s would
 //!   round). Merging adds these exact sums, so merged sample ranges differ
 //!   from the single render only by the f64 rounding of the additions,
-//!   and merged tiles not at all;
-//! - a text attribute `tyndall` recording what the part holds, one
-//!   `key value` per line: `tyndall-part 1` (the format), `scene-hash` (see
-//!   [`scene_hash`]), `image W H`, `rect x0 y0 x1 y1` (pixels
-//!   `[x0, x1) × [y0, y1)`), `samples A B` (sample indices `A..B`),
-//!   `seed`, `light-paths 0|1`.
+//!   and merged tiles not at all. Its text attribute `tyndall` records what
+//!   the part holds, one `key value` per line: `tyndall-part 1` (the
+//!   format), `scene-hash` (see [`scene_hash`]), `image W H`,
+//!   `rect x0 y0 x1 y1` (pixels `[x0, x1) × [y0, y1)`), `samples A B`
+//!   (sample indices `A..B`), `seed`, `light-paths 0|1`;
+//! - `light`, only for renders that trace light paths: the whole image,
+//!   `sum.light.{R,G,B}.{0,1,2,3}` (u32), the exact fixed-point sums
+//!   ([`ExactRgb`]) of the splats of the part's share of the light paths,
+//!   each i128 as four 32-bit words, least significant first.
 //!
 //! Files are written atomically: to a temporary file in the same folder,
 //! synced, then renamed over the target, so a reader (or a render killed
 //! mid-write) never sees a partial file.
 
 use crate::camera::CameraSpec;
+use crate::exact_sum::ExactRgb;
 use crate::film::EXR_ENCODING;
 use crate::region::{PixelRect, RenderRegion};
 use crate::render::{Accumulation, RenderSettings};
@@ -33,6 +36,10 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+/// Name of the layer of the part's pixels (data window: its rectangle).
+const PART_LAYER: &str = "part";
+/// Name of the layer of the light-path sums (data window: the image).
+const LIGHT_LAYER: &str = "light";
 /// Name of the header attribute that records what a part holds.
 const ATTRIBUTE: &str = "tyndall";
 /// First line of the attribute: the format and its version.
@@ -150,24 +157,18 @@ pub fn write_part(
         let values = image.pixels().iter().map(|p| p[c]).collect();
         channels.push(AnyChannel::new(*name, FlatSamples::F32(values)));
     }
-    let mut sums = |kind: &str, sums: &[DVec3]| {
-        for (c, name) in ["R", "G", "B"].iter().enumerate() {
-            let bits = || sums.iter().map(move |s| s[c].to_bits());
-            let hi = bits().map(|b| (b >> 32) as u32).collect();
-            let lo = bits().map(|b| b as u32).collect();
-            channels.push(AnyChannel::new(
-                format!("sum.{kind}.{name}.hi").as_str(),
-                FlatSamples::U32(hi),
-            ));
-            channels.push(AnyChannel::new(
-                format!("sum.{kind}.{name}.lo").as_str(),
-                FlatSamples::U32(lo),
-            ));
-        }
-    };
-    sums("camera", &a.camera);
-    if let Some(light) = &a.light {
-        sums("light", light);
+    for (c, name) in ["R", "G", "B"].iter().enumerate() {
+        let bits = || a.camera.iter().map(move |s| s[c].to_bits());
+        let hi = bits().map(|b| (b >> 32) as u32).collect();
+        let lo = bits().map(|b| b as u32).collect();
+        channels.push(AnyChannel::new(
+            format!("sum.camera.{name}.hi").as_str(),
+            FlatSamples::U32(hi),
+        ));
+        channels.push(AnyChannel::new(
+            format!("sum.camera.{name}.lo").as_str(),
+            FlatSamples::U32(lo),
+        ));
     }
     let encoding = match compression {
         PartCompression::Zip => EXR_ENCODING,
@@ -178,21 +179,45 @@ pub fn write_part(
     };
     let mut attributes = LayerAttributes {
         layer_position: Vec2(rect.x0 as i32, rect.y0 as i32),
-        ..LayerAttributes::default()
+        ..LayerAttributes::named(PART_LAYER)
     };
     let text = describe(part);
     attributes.other.insert(
         Text::from(ATTRIBUTE),
         AttributeValue::Text(Text::new_or_none(&text).expect("ASCII")),
     );
-    let layer = Layer::new(
+    let mut layers: SmallVec<[Layer<AnyChannels<FlatSamples>>; 2]> = SmallVec::new();
+    layers.push(Layer::new(
         (rect.width() as usize, rect.height() as usize),
         attributes,
         encoding,
         AnyChannels::sort(channels),
-    );
+    ));
+    if let Some(light) = &a.light {
+        // Each i128 fixed-point channel as four u32 words, least
+        // significant first.
+        let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::new();
+        for (c, name) in ["R", "G", "B"].iter().enumerate() {
+            for word in 0..4 {
+                let values = light
+                    .iter()
+                    .map(|s| (s.0[c] as u128 >> (32 * word)) as u32)
+                    .collect();
+                channels.push(AnyChannel::new(
+                    format!("sum.light.{name}.{word}").as_str(),
+                    FlatSamples::U32(values),
+                ));
+            }
+        }
+        layers.push(Layer::new(
+            (a.width as usize, a.height as usize),
+            LayerAttributes::named(LIGHT_LAYER),
+            encoding,
+            AnyChannels::sort(channels),
+        ));
+    }
     let display = IntegerBounds::from_dimensions((a.width as usize, a.height as usize));
-    let exr_image = Image::new(ImageAttributes::new(display), layer);
+    let exr_image = Image::from_layers(ImageAttributes::new(display), layers);
     write_atomically(path, |tmp| {
         exr_image.write().to_file(tmp).map_err(|e| e.to_string())
     })
@@ -225,11 +250,18 @@ pub fn read_part(path: &Path) -> std::result::Result<Part, PartError> {
         path: path.to_owned(),
         message,
     };
-    let image = read_first_flat_layer_from_file(path).map_err(|e| PartError::Io {
+    let image = read_all_flat_layers_from_file(path).map_err(|e| PartError::Io {
         path: path.to_owned(),
         message: e.to_string(),
     })?;
-    let layer = &image.layer_data;
+    let layer_named = |name: &str| {
+        image
+            .layer_data
+            .iter()
+            .find(|l| l.attributes.layer_name.as_ref() == Some(&Text::from(name)))
+    };
+    let layer =
+        layer_named(PART_LAYER).ok_or_else(|| format(format!("no `{PART_LAYER}` layer")))?;
     let text = match layer.attributes.other.get(&Text::from(ATTRIBUTE)) {
         Some(AttributeValue::Text(t)) => t.to_string(),
         _ => return Err(format(format!("no `{ATTRIBUTE}` header attribute"))),
@@ -250,7 +282,10 @@ pub fn read_part(path: &Path) -> std::result::Result<Part, PartError> {
             layer.size.height()
         )));
     }
-    let channel = |name: &str| -> std::result::Result<&[u32], PartError> {
+    fn u32_channel<'l>(
+        layer: &'l Layer<AnyChannels<FlatSamples>>,
+        name: &str,
+    ) -> std::result::Result<&'l [u32], String> {
         layer
             .channel_data
             .list
@@ -260,22 +295,32 @@ pub fn read_part(path: &Path) -> std::result::Result<Part, PartError> {
                 FlatSamples::U32(v) => Some(v.as_slice()),
                 _ => None,
             })
-            .ok_or_else(|| format(format!("no u32 channel `{name}`")))
-    };
-    let sums = |kind: &str| -> std::result::Result<Vec<DVec3>, PartError> {
-        let mut out = vec![DVec3::ZERO; rect.area()];
+            .ok_or_else(|| format!("no u32 channel `{name}`"))
+    }
+    let channel = |layer, name: &str| u32_channel(layer, name).map_err(format);
+    let mut camera = vec![DVec3::ZERO; rect.area()];
+    for (c, name) in ["R", "G", "B"].iter().enumerate() {
+        let hi = channel(layer, &format!("sum.camera.{name}.hi"))?;
+        let lo = channel(layer, &format!("sum.camera.{name}.lo"))?;
+        for ((o, h), l) in camera.iter_mut().zip(hi).zip(lo) {
+            o[c] = f64::from_bits((*h as u64) << 32 | *l as u64);
+        }
+    }
+    let light = if header.light {
+        let full = header.width as usize * header.height as usize;
+        let layer = layer_named(LIGHT_LAYER)
+            .filter(|l| l.size.width() * l.size.height() == full)
+            .ok_or_else(|| format(format!("no full-image `{LIGHT_LAYER}` layer")))?;
+        let mut light = vec![ExactRgb::ZERO; full];
         for (c, name) in ["R", "G", "B"].iter().enumerate() {
-            let hi = channel(&format!("sum.{kind}.{name}.hi"))?;
-            let lo = channel(&format!("sum.{kind}.{name}.lo"))?;
-            for ((o, h), l) in out.iter_mut().zip(hi).zip(lo) {
-                o[c] = f64::from_bits((*h as u64) << 32 | *l as u64);
+            for word in 0..4 {
+                let values = channel(layer, &format!("sum.light.{name}.{word}"))?;
+                for (o, v) in light.iter_mut().zip(values) {
+                    o.0[c] = (o.0[c] as u128 | (*v as u128) << (32 * word)) as i128;
+                }
             }
         }
-        Ok(out)
-    };
-    let camera = sums("camera")?;
-    let light = if header.light {
-        Some(sums("light")?)
+        Some(light)
     } else {
         None
     };
@@ -473,6 +518,16 @@ pub fn merge(parts: Vec<(PathBuf, Part)>) -> Result<Part, PartError> {
             )));
         }
     }
+    if light
+        && let Some((path, _)) = pieces
+            .iter()
+            .find(|(_, a)| (a.region.rect.x0, a.region.rect.x1) != (0, width))
+    {
+        return Err(mismatch(format!(
+            "{} is not a band of whole rows, which parts with light paths must be",
+            path.display()
+        )));
+    }
     let covered: usize = pieces.iter().map(|(_, a)| a.region.rect.area()).sum();
     let full = PixelRect::full(width, height);
     if pieces.len() == 1 {
@@ -499,8 +554,11 @@ pub fn merge(parts: Vec<(PathBuf, Part)>) -> Result<Part, PartError> {
             let to = full.index(r.x0, y).expect("inside");
             let n = r.width() as usize;
             whole.camera[to..to + n].copy_from_slice(&piece.camera[from..from + n]);
-            if let (Some(w), Some(p)) = (&mut whole.light, &piece.light) {
-                w[to..to + n].copy_from_slice(&p[from..from + n]);
+        }
+        // The bands' light-path shares partition each pass's paths.
+        if let (Some(w), Some(p)) = (&mut whole.light, &piece.light) {
+            for (w, p) in w.iter_mut().zip(p) {
+                w.add_exact(p);
             }
         }
     }

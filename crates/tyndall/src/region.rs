@@ -30,6 +30,10 @@ pub enum RegionError {
     EmptySamples { start: u32, end: u32 },
     #[error("pixel rectangle {0} is empty or outside the {1}×{2} image")]
     Rect(PixelRect, u32, u32),
+    #[error(
+        "pixel rectangle {0} is not a band of whole rows, which renders that trace light paths need"
+    )]
+    NotBand(PixelRect),
 }
 
 impl PixelRect {

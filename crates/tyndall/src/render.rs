@@ -5,12 +5,18 @@
 //! for `volpath` in a scene with caustics, the light paths
 //! `s·W·H .. (s+1)·W·H` of [`light_tracer`]. Each pixel's sample `s` comes
 //! from its own sequence ([`crate::sampler`]) keyed by (seed, pixel, `s`)
-//! alone, and every pixel adds its samples (and its light-path splats) to
-//! f64 sums in increasing order. Hence:
+//! alone, and every pixel adds its samples to f64 sums in increasing
+//! order; light-path splats, which land anywhere in the image, add to exact
+//! fixed-point sums ([`ExactRgb`]) that no order or grouping changes. Hence:
 //! - the image is the same, bit for bit, for any thread count and
 //!   scheduling;
-//! - a tile ([`RenderRegion::rect`]) computes exactly the single render's
-//!   sums for its pixels, so merged tiles are bit-identical to it;
+//! - a tile ([`RenderRegion::rect`], a band of rows `y0..y1`) computes
+//!   exactly the single render's camera sums for its pixels, and traces
+//!   its share of each pass's light paths — in-pass indices `y0·W .. y1·W`,
+//!   as many as it has pixels — whose splats it keeps for the whole image;
+//!   the tiles' shares partition the paths, so merged tiles (camera sums
+//!   placed, light sums added exactly) are bit-identical to the single
+//!   render;
 //! - a sample range ([`RenderRegion::samples`]) computes the sums of its
 //!   indices; adding the sums of consecutive ranges differs from the single
 //!   render only by f64 rounding;
@@ -20,6 +26,7 @@
 
 use crate::camera::Camera;
 use crate::color::Rgb;
+use crate::exact_sum::ExactRgb;
 use crate::film::Image;
 use crate::integrators::light_tracer::{self, LightPaths};
 use crate::integrators::{Integrator, IntegratorKind, PixelPosition};
@@ -254,10 +261,11 @@ pub struct Accumulation {
     /// radiance estimates of samples `region.samples` (non-finite
     /// estimates count as zero and are reported in [`RenderStats`]).
     pub camera: Vec<DVec3>,
-    /// Per pixel, the sum of the light-path splats (W·sr⁻¹·m⁻² times the
-    /// number of paths) of the passes' light paths, for renders that trace
-    /// them (`volpath` with caustics); `None` otherwise.
-    pub light: Option<Vec<DVec3>>,
+    /// Per pixel of the *full* image (row-major), the exact sum of the
+    /// light-path splats (radiance times the number of paths) of this
+    /// part's share of each pass's light paths (see the module docs), for
+    /// renders that trace them (`volpath` with caustics); `None` otherwise.
+    pub light: Option<Vec<ExactRgb>>,
 }
 
 impl Accumulation {
@@ -276,7 +284,7 @@ impl Accumulation {
                 samples: first_sample..first_sample,
             },
             camera: vec![DVec3::ZERO; rect.area()],
-            light: light.then(|| vec![DVec3::ZERO; rect.area()]),
+            light: light.then(|| vec![ExactRgb::ZERO; width as usize * height as usize]),
         }
     }
 
@@ -285,21 +293,24 @@ impl Accumulation {
         self.region.samples.len() as u32
     }
 
-    /// Light paths traced per pass: one per pixel of the full image.
-    pub fn paths_per_pass(&self) -> u64 {
-        self.width as u64 * self.height as u64
+    /// This part's light paths per pass: one per pixel of its rows.
+    pub fn light_paths_per_pass(&self) -> u64 {
+        let share = light_share(self.width, self.region.rect);
+        share.end - share.start
     }
 
     /// The image of the rectangle: each pixel the mean of its camera
-    /// samples plus its light splats over all paths traced; black before
-    /// the first pass.
+    /// samples plus its light splats over the light paths this part traced
+    /// (for a tile, an estimate from its share of the paths; for the whole
+    /// image, the render); black before the first pass.
     pub fn resolve(&self) -> Image {
         let n = self.passes();
         let rect = self.region.rect;
         if n == 0 {
             return Image::from_pixels(rect.width(), rect.height(), vec![Rgb::ZERO; rect.area()]);
         }
-        let light_scale = 1.0 / (self.paths_per_pass() as f64 * n as f64);
+        let light_scale = 1.0 / (self.light_paths_per_pass() as f64 * n as f64);
+        let width = rect.width() as usize;
         let pixels = self
             .camera
             .iter()
@@ -307,7 +318,9 @@ impl Accumulation {
             .map(|(i, c)| {
                 let mut p = (*c / n as f64).as_vec3();
                 if let Some(light) = &self.light {
-                    p += (light[i] * light_scale).as_vec3();
+                    let (x, y) = (rect.x0 as usize + i % width, rect.y0 as usize + i / width);
+                    let full = y * self.width as usize + x;
+                    p += (light[full].to_dvec3() * light_scale).as_vec3();
                 }
                 p
             })
@@ -335,12 +348,19 @@ impl Accumulation {
         }
         if let (Some(a), Some(b)) = (&mut self.light, &next.light) {
             for (a, b) in a.iter_mut().zip(b) {
-                *a += *b;
+                a.add_exact(b);
             }
         }
         self.region.samples.end = next.region.samples.end;
         Ok(())
     }
+}
+
+/// The in-pass indices of the light paths that a band of whole rows
+/// (`rect`, in an image `width` wide) traces: one per pixel of its rows,
+/// `y0·W .. y1·W`. Bands that partition the image partition the paths.
+pub fn light_share(width: u32, rect: PixelRect) -> std::ops::Range<u64> {
+    rect.y0 as u64 * width as u64..rect.y1 as u64 * width as u64
 }
 
 /// Renders `scene`. `progress` is called with the number of rows finished
@@ -387,6 +407,9 @@ pub fn render_region(
     region.check(settings.width, settings.height)?;
     let size = (settings.width, settings.height);
     let light = traces_light_paths(scene, settings);
+    if light && (region.rect.x0, region.rect.x1) != (0, settings.width) {
+        return Err(RenderError::Region(RegionError::NotBand(region.rect)));
+    }
     let mut accumulation = match resume {
         None => Accumulation::new(size, region.rect, region.samples.start, light),
         Some(a) => {
@@ -398,7 +421,7 @@ pub fn render_region(
                 && a.camera.len() == region.rect.area()
                 && a.light
                     .as_ref()
-                    .is_none_or(|l| l.len() == region.rect.area());
+                    .is_none_or(|l| l.len() == size.0 as usize * size.1 as usize);
             if !fits {
                 return Err(RenderError::Resume(format!(
                     "the saved progress holds samples {:?} of pixels {} of a {}×{} image{}, which is not a start of samples {:?} of pixels {} of this {}×{} render{}",
@@ -479,15 +502,16 @@ pub fn render_region(
         });
         if let Some(sums) = &mut accumulation.light {
             // Light focused by dielectrics from point and spot lights:
-            // one light path per pixel of the full image per pass (see
-            // `light_tracer`); a tile keeps the splats in its pixels.
-            let per_pass = full_width * settings.height as u64;
+            // one light path per pixel per pass (see `light_tracer`); a
+            // tile traces its share.
+            let first = s as u64 * full_width * settings.height as u64;
+            let share = light_share(settings.width, rect);
             let counts = pool.install(|| {
                 light_tracer::trace_paths(
                     scene,
                     &camera,
-                    rect,
-                    s as u64 * per_pass..(s as u64 + 1) * per_pass,
+                    settings.width,
+                    first + share.start..first + share.end,
                     settings.seed,
                     settings.max_depth,
                     LightPaths::Caustic,

@@ -304,3 +304,35 @@ fn scene_hash_follows_what_changes_the_samples() {
     let (focus, _) = focus();
     assert_ne!(parts::scene_hash(&focus.scene, &settings), base);
 }
+
+/// Tiles divide the light-tracing work, not just its output: their rays
+/// add up to the single render's exactly (tracing every light path in
+/// every tile would count the light paths' rays once per tile).
+#[test]
+fn tiles_share_the_light_paths() {
+    let (desc, settings) = focus();
+    let region = |rect| RenderRegion {
+        rect,
+        samples: 0..settings.spp,
+    };
+    let rays = |rect| {
+        let (_, stats) = render_region(
+            &desc.scene,
+            &settings,
+            &region(rect),
+            None,
+            &|_| {},
+            &mut |_, _| ControlFlow::Continue(()),
+        )
+        .expect("render");
+        stats.rays
+    };
+    let full = rays(PixelRect::full(settings.width, settings.height));
+    let tiles: Vec<_> = (0..4)
+        .map(|i| rays(PixelRect::tile(i, 4, settings.width, settings.height).expect("tile")))
+        .collect();
+    assert_eq!(tiles.iter().map(|r| r.camera).sum::<u64>(), full.camera);
+    assert_eq!(tiles.iter().map(|r| r.shadow).sum::<u64>(), full.shadow);
+    // Light paths were traced at all: more rays than camera samples.
+    assert!(full.camera > (settings.width * settings.height * settings.spp) as u64);
+}

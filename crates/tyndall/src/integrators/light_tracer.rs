@@ -25,18 +25,18 @@ use super::volpath::{MAX_PATH_EVENTS, survives_roulette};
 use super::{MAX_GLASS_CROSSINGS, SolidDepth, TRACKING_STREAM, refract_or_reflect};
 use crate::camera::Camera;
 use crate::color::{Rgb, luminance};
+use crate::exact_sum::ExactRgb;
 use crate::lights::Light;
 use crate::materials::Material;
 use crate::media::free_flight;
 use crate::media::tracking::{Collision, VolumeTracker};
 use crate::phase::PhaseFunction;
 use crate::ray::{Ray, offset_origin};
-use crate::region::PixelRect;
 use crate::sampler::PixelSampler;
 use crate::sampling::cosine_hemisphere;
 use crate::scene::Scene;
 use crate::visibility::RayCounts;
-use glam::{DVec3, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use std::f32::consts::{FRAC_1_PI, PI};
 use std::ops::{ControlFlow, Range};
@@ -50,10 +50,11 @@ pub enum LightPaths {
     All,
 }
 
-/// Paths are traced in blocks of this many, in parallel; each block's
-/// splats are kept in path order and added to the film block by block,
-/// so every pixel sums its splats in global path order whatever the
-/// thread count or scheduling.
+/// Paths are traced in blocks of this many, in parallel; each block
+/// returns its splats, added to the film in exact fixed point
+/// ([`ExactRgb`]), so the film depends on nothing but the set of paths
+/// traced: not on the thread count, the scheduling, or how the paths were
+/// divided among tiles, passes and machines.
 const BLOCK: u64 = 1024;
 
 /// Blocks traced in parallel before their splats are added to the film
@@ -89,12 +90,11 @@ pub fn trace(
     max_depth: u32,
     which: LightPaths,
 ) -> (Vec<Rgb>, RayCounts) {
-    let rect = PixelRect::full(width, height);
-    let mut sums = vec![DVec3::ZERO; rect.area()];
+    let mut sums = vec![ExactRgb::ZERO; (width * height) as usize];
     let counts = trace_paths(
         scene,
         camera,
-        rect,
+        width,
         0..paths,
         seed,
         max_depth,
@@ -103,30 +103,30 @@ pub fn trace(
     );
     let scale = 1.0 / paths.max(1) as f64;
     (
-        sums.iter().map(|s| (*s * scale).as_vec3()).collect(),
+        sums.iter()
+            .map(|s| (s.to_dvec3() * scale).as_vec3())
+            .collect(),
         counts,
     )
 }
 
 /// Traces the light paths with global indices `paths` and adds their
-/// camera connections that land in `rect` to `sums` (`rect`'s pixels,
-/// row-major; unnormalised: divide by the number of paths). Path `i` is
-/// the `i`-th point of one Sobol sequence over all paths, so disjoint
-/// index ranges are disjoint parts of one stratified set, and each pixel
-/// adds its splats in increasing path index: tracing `a..b` then `b..c`
-/// gives the same sums, bit for bit, as tracing `a..c`.
+/// camera connections to `sums` (the full image's pixels, row-major,
+/// `width` wide; unnormalised: divide by the number of paths). Path `i`
+/// is the `i`-th point of one Sobol sequence over all paths, so disjoint
+/// index ranges are disjoint parts of one stratified set, and the sums of
+/// any division of a range into sub-ranges add up exactly to the range's.
 #[allow(clippy::too_many_arguments)]
 pub fn trace_paths(
     scene: &Scene,
     camera: &Camera,
-    rect: PixelRect,
+    width: u32,
     paths: Range<u64>,
     seed: u64,
     max_depth: u32,
     which: LightPaths,
-    sums: &mut [DVec3],
+    sums: &mut [ExactRgb],
 ) -> RayCounts {
-    assert_eq!(sums.len(), rect.area());
     let emitters: Vec<usize> = (0..scene.lights.len())
         .filter(|&i| matches!(scene.lights[i], Light::Point(_) | Light::Spot(_)))
         .collect();
@@ -137,7 +137,7 @@ pub fn trace_paths(
     let tracer = Tracer {
         scene,
         camera,
-        rect,
+        width,
         emitters: &emitters,
         // The same guard as `volpath`'s against endless albedo-1 walks.
         max_depth: max_depth.min(MAX_PATH_EVENTS),
@@ -168,7 +168,7 @@ pub fn trace_paths(
         for (splats, c) in blocks {
             for (pixel, value) in splats {
                 if value.is_finite() {
-                    sums[pixel as usize] += value.as_dvec3();
+                    sums[pixel as usize].add(value);
                 }
             }
             counts.camera += c.camera;
@@ -179,14 +179,13 @@ pub fn trace_paths(
     counts
 }
 
-/// A camera connection: the index of its pixel in the traced rectangle
-/// and its contribution.
+/// A camera connection: the index of its pixel and its contribution.
 type Splat = (u32, Rgb);
 
 struct Tracer<'a> {
     scene: &'a Scene,
     camera: &'a Camera,
-    rect: PixelRect,
+    width: u32,
     emitters: &'a [usize],
     max_depth: u32,
     which: LightPaths,
@@ -360,10 +359,6 @@ impl Tracer<'_> {
         let Some(projection) = self.camera.project(x) else {
             return;
         };
-        let pixel = projection.film.floor().as_uvec2();
-        let Some(index) = self.rect.index(pixel.x, pixel.y) else {
-            return;
-        };
         let to_camera = projection.to_camera;
         let (f, origin) = match scatterer {
             // Light travelling along `arriving` turns towards the camera.
@@ -397,7 +392,8 @@ impl Tracer<'_> {
         let volumes_t = tracker.transmittance(&scene.volumes, &ray, 0.0, distance);
         let value =
             beta * f * glass * volumes_t * (fog_t * projection.importance / (distance * distance));
-        splats.push((index as u32, value));
+        let pixel = projection.film.floor().as_uvec2();
+        splats.push((pixel.y * self.width + pixel.x, value));
     }
 
     /// Transmittance of thin glass between `origin` and the camera; zero
