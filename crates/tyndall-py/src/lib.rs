@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use tyndall::IntegratorKind;
 use tyndall::region::{PixelRect, RenderRegion};
 use tyndall::scene::legacy::LegacyOptions;
-use tyndall::scene::{SceneDescription, legacy, native};
+use tyndall::scene::{SceneDescription, SourceText, legacy, native};
 
 /// A loaded scene with the render settings its file gives.
 #[pyclass(frozen, module = "tyndall._tyndall")]
@@ -42,6 +42,14 @@ fn load(path: PathBuf, two_sided: bool) -> PyResult<NativeScene> {
             )));
         }
     };
+    Ok(NativeScene { desc })
+}
+
+/// Parses a native scene from TOML text; `path` names it in errors and
+/// anchors relative paths (its folder).
+#[pyfunction]
+fn parse_toml(text: String, path: PathBuf) -> PyResult<NativeScene> {
+    let desc = native::parse(&SourceText::new(path, text)).map_err(value_error)?;
     Ok(NativeScene { desc })
 }
 
@@ -193,6 +201,7 @@ fn _tyndall(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<NativeScene>()?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(demo, m)?)?;
+    m.add_function(wrap_pyfunction!(parse_toml, m)?)?;
     m.add_function(wrap_pyfunction!(write_image, m)?)?;
     Ok(())
 }

@@ -42,8 +42,8 @@ def test_same_image_for_any_thread_count():
 
 
 def test_tiles_stack_into_the_full_image_and_sample_ranges_average_to_it():
-    scene = tyndall.load(FOCUS)
-    opts = dict(width=24, height=20, spp=3)
+    scene = tyndall.demo()  # no light paths: a tile is exactly its rows
+    opts = dict(width=24, height=20, spp=3, integrator="volpath")
     full = scene.render(**opts)
     tiles = [scene.render(**opts, tile=(i, 3)) for i in range(3)]
     assert [t.shape[0] for t in tiles] == [6, 7, 7]  # rows ⌊i·20/3⌋
@@ -53,6 +53,17 @@ def test_tiles_stack_into_the_full_image_and_sample_ranges_average_to_it():
     # float32 means of 1 and 2 samples: equal to the mean of 3 to f32 rounding.
     np.testing.assert_allclose((a + 2 * b) / 3, full, rtol=1e-5, atol=1e-7)
     assert not np.array_equal(a.astype(np.float32), full)
+
+
+def test_a_tile_of_a_caustic_scene_estimates_its_light_paths_from_its_share():
+    scene = tyndall.load(FOCUS)  # volpath with light paths
+    opts = dict(width=24, height=20, spp=2)
+    full = scene.render(**opts)
+    tile = scene.render(**opts, tile=(1, 2))
+    assert tile.shape == (10, 24, 3)
+    assert np.isfinite(tile).all()
+    # Same camera paths, a different (half) set of light paths.
+    assert tile.tobytes() != full[10:].tobytes()
 
 
 def test_write_exr_and_png(tmp_path):
@@ -142,3 +153,32 @@ def test_ctrl_c_stops_a_render_cleanly():
         raise AssertionError("Ctrl-C did not stop the render")
     assert child.returncode != 0
     assert "KeyboardInterrupt" in err
+
+
+def test_from_dict_reads_as_the_toml_file_does():
+    tomllib = pytest.importorskip("tomllib")
+    description = tomllib.loads(FOCUS.read_text())
+    from_file = tyndall.load(FOCUS).render(width=20, height=16, spp=2)
+    from_dict = tyndall.Scene.from_dict(description).render(width=20, height=16, spp=2)
+    assert from_dict.tobytes() == from_file.tobytes()
+
+
+def test_from_dict_errors_name_the_key_path():
+    camera = {"position": [0, 1, 5], "look_at": [0, 1, 0], "fov_y_deg": 40.0}
+    spot = {
+        "type": "spot",
+        "position": [0, 3, 0],
+        "direction": [0, -1, 0],
+        "cutoff_deg": 120.0,
+        "intensity": 5.0,
+    }
+    with pytest.raises(ValueError, match=r"lights\[1\]"):
+        tyndall.Scene.from_dict({"camera": camera, "lights": [dict(spot, cutoff_deg=20.0), spot]})
+    with pytest.raises(ValueError, match=r"camera"):
+        tyndall.Scene.from_dict({"camera": {"position": [0, 1, 5]}})
+    with pytest.raises(ValueError, match=r"fog.sigma_t: NoneType is not a scene value"):
+        tyndall.Scene.from_dict({"camera": camera, "fog": {"sigma_t": None}})
+    scene = tyndall.Scene.from_dict(
+        {"camera": camera, "lights": [dict(spot, cutoff_deg=20.0)], "fog": {"sigma_t": 0.1, "albedo": 0.8}}
+    )
+    assert scene.render(width=8, height=8, spp=1).max() > 0

@@ -1,5 +1,5 @@
 import os
-from typing import Callable, Optional, Tuple, Union
+from typing import Any, Callable, Mapping, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -8,6 +8,13 @@ PathLike = Union[str, os.PathLike[str]]
 
 class Scene:
     """A loaded scene and the render settings its file gives."""
+
+    @classmethod
+    def from_dict(
+        cls, description: Mapping[str, Any], base_dir: Optional[PathLike] = None
+    ) -> "Scene":
+        """A scene from a dict with the structure of a native TOML file."""
+        ...
 
     @property
     def width(self) -> int: ...
