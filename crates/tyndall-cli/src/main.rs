@@ -400,7 +400,7 @@ fn render(args: RenderArgs) -> Result<()> {
     };
     let reached = part.accumulation.passes();
     if is_part {
-        parts::write_part(&output, &part, PartCompression::Zip)
+        parts::write_part(&output, &part, PartCompression::Rle)
             .with_context(|| "the part was not written")?;
     } else {
         part.accumulation
@@ -442,7 +442,7 @@ fn merge(paths: &[PathBuf], output: &Path) -> Result<()> {
     let merged = parts::merge(read)?;
     match format {
         tyndall::film::ImageFormat::Exr => {
-            parts::write_part(output, &merged, PartCompression::Zip)?;
+            parts::write_part(output, &merged, PartCompression::Rle)?;
         }
         tyndall::film::ImageFormat::Png => merged.accumulation.resolve().write(output, 0.0)?,
     }

@@ -29,7 +29,7 @@ use crate::camera::CameraSpec;
 use crate::exact_sum::ExactRgb;
 use crate::film::EXR_ENCODING;
 use crate::region::{PixelRect, RenderRegion};
-use crate::render::{Accumulation, RenderSettings};
+use crate::render::{Accumulation, MAX_IMAGE_SIDE, RenderSettings};
 use crate::scene::Scene;
 use glam::DVec3;
 use std::collections::BTreeMap;
@@ -134,11 +134,11 @@ impl std::fmt::Write for Fnv1a {
     }
 }
 
-/// How a part file is compressed: ZIP for parts sent over a network,
-/// none for checkpoints written often.
+/// How a part file is compressed: run-length encoded (as every EXR Tyndall
+/// writes, [`EXR_ENCODING`]) for parts, none for checkpoints written often.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PartCompression {
-    Zip,
+    Rle,
     None,
 }
 
@@ -171,7 +171,7 @@ pub fn write_part(
         ));
     }
     let encoding = match compression {
-        PartCompression::Zip => EXR_ENCODING,
+        PartCompression::Rle => EXR_ENCODING,
         PartCompression::None => Encoding {
             compression: Compression::Uncompressed,
             ..EXR_ENCODING
@@ -269,7 +269,10 @@ pub fn read_part(path: &Path) -> std::result::Result<Part, PartError> {
     let header = parse_description(&text).map_err(format)?;
     let rect = header.rect;
     let size = (rect.width() as usize, rect.height() as usize);
-    if header.rect.check(header.width, header.height).is_err()
+    let side_ok = |s: u32| (1..=MAX_IMAGE_SIDE).contains(&s);
+    if !side_ok(header.width)
+        || !side_ok(header.height)
+        || header.rect.check(header.width, header.height).is_err()
         || (layer.size.width(), layer.size.height()) != size
         || header.samples.start > header.samples.end
     {
@@ -594,4 +597,45 @@ pub fn write_atomically(
         let _ = std::fs::remove_file(&tmp);
     }
     result.map_err(io)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = "tyndall-part 1\nscene-hash 00ff\nimage 8 6\nrect 0 2 8 4\nsamples 3 5\nseed 7\nlight-paths 1\n";
+
+    #[test]
+    fn descriptions_parse_and_bad_ones_say_what_is_wrong() {
+        let d = parse_description(GOOD).expect("good");
+        assert_eq!((d.scene_hash, d.width, d.height, d.seed), (0xff, 8, 6, 7));
+        assert_eq!(
+            d.rect,
+            PixelRect {
+                x0: 0,
+                y0: 2,
+                x1: 8,
+                y1: 4
+            }
+        );
+        assert_eq!((d.samples, d.light), (3..5, true));
+        for (bad, says) in [
+            (
+                GOOD.replace("tyndall-part 1", "tyndall-part 2"),
+                "does not start",
+            ),
+            (GOOD.replace("image 8 6", "image 8"), "`image` with 2"),
+            (GOOD.replace("seed 7", "seed -7"), "`seed`: `-7`"),
+            (GOOD.replace("samples 3 5\n", ""), "`samples`"),
+            (
+                GOOD.replace("light-paths 1", "light-paths 300"),
+                "`light-paths`",
+            ),
+        ] {
+            match parse_description(&bad) {
+                Err(e) => assert!(e.contains(says), "{e} should say {says}"),
+                Ok(_) => panic!("accepted {bad:?}"),
+            }
+        }
+    }
 }
