@@ -347,7 +347,7 @@ fn render(args: RenderArgs) -> Result<()> {
         _ => None,
     };
     let done = resume.as_ref().map_or(0, |a| a.passes());
-    let passes = region.samples.len() as u64 - done as u64;
+    let passes = (region.samples.len() as u64).saturating_sub(done as u64);
     let bar = progress_bar(rect.height() as u64 * passes, args.quiet);
     let start = Instant::now();
     let mut last_save = Instant::now();
