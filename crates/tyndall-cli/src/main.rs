@@ -9,8 +9,13 @@ mod bench;
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::{Duration, Instant};
+use tyndall::parts::{self, Part, PartCompression, PartIdentity};
+use tyndall::region::{PixelRect, RenderRegion};
+use tyndall::render::Accumulation;
 use tyndall::scene::legacy::LegacyOptions;
 use tyndall::scene::{SceneDescription, demo, legacy, native};
 use tyndall::visibility::{DEFAULT_MAP_RESOLUTION, VisibilityMode};
@@ -42,6 +47,17 @@ enum Command {
     },
     /// Measure time to equal error for `march` and `single` (see docs/benchmarks.md).
     Bench(bench::BenchArgs),
+    /// Assemble render parts (`render --tile`/`--samples` outputs) into one image,
+    /// after checking that they fit together: same scene and settings, tiles
+    /// without gaps or overlaps, consecutive sample ranges.
+    Merge {
+        /// Part files (OpenEXR, as written by `render --tile` or `--samples`).
+        #[arg(required = true)]
+        parts: Vec<PathBuf>,
+        /// Output: .exr (a part holding the merged sums, mergeable again) or .png.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
 }
 
 #[derive(Args)]
@@ -61,6 +77,81 @@ struct RenderArgs {
     /// No progress bar and no statistics (errors and warnings still go to stderr).
     #[arg(short, long)]
     quiet: bool,
+    /// Render tile I of N (0 ≤ I < N): horizontal bands of whole rows, tile I
+    /// holding rows ⌊I·H/N⌋ to ⌊(I+1)·H/N⌋. Writes a part (.exr) for `tyndall merge`.
+    #[arg(long, value_parser = parse_tile)]
+    tile: Option<(u32, u32)>,
+    /// Render only sample indices A..B (A included, B excluded) of each pixel.
+    /// Writes a part (.exr) for `tyndall merge`.
+    #[arg(long, value_parser = parse_samples)]
+    samples: Option<(u32, u32)>,
+    /// Save progress (per-pixel sums) to this file and resume from it if it
+    /// exists; removed once the output is written.
+    #[arg(long)]
+    checkpoint: Option<PathBuf>,
+    /// How often to save the checkpoint: after the first whole pass that ends
+    /// this long after the last save (e.g. 60s, 5m; default 60s).
+    #[arg(long, value_parser = parse_duration, default_value = "60s")]
+    checkpoint_every: Duration,
+    /// Stop after the last whole pass (one sample per pixel) that fits in this
+    /// time (e.g. 30s, 2m); at least one pass. Reports the samples per pixel reached.
+    #[arg(long, value_parser = parse_duration)]
+    time_limit: Option<Duration>,
+}
+
+fn parse_tile(s: &str) -> Result<(u32, u32), String> {
+    let err = || format!("`{s}` is not a tile: expected I/N, e.g. 0/4");
+    let (i, n) = s.split_once('/').ok_or_else(err)?;
+    let (i, n) = (
+        i.trim().parse().map_err(|_| err())?,
+        n.trim().parse().map_err(|_| err())?,
+    );
+    if n == 0 || i >= n {
+        return Err(format!(
+            "tile {i}/{n}: N must be at least 1 and I below N (tiles are numbered from 0)"
+        ));
+    }
+    Ok((i, n))
+}
+
+fn parse_samples(s: &str) -> Result<(u32, u32), String> {
+    let err = || format!("`{s}` is not a sample range: expected A..B, e.g. 0..16");
+    let (a, b) = s.split_once("..").ok_or_else(err)?;
+    let (a, b): (u32, u32) = (
+        a.trim().parse().map_err(|_| err())?,
+        b.trim().parse().map_err(|_| err())?,
+    );
+    if a >= b {
+        return Err(format!("sample range {a}..{b} is empty: B must be above A"));
+    }
+    Ok((a, b))
+}
+
+/// A duration: a number with `ms`, `s`, `m` or `h` (seconds without one).
+fn parse_duration(s: &str) -> Result<Duration, String> {
+    let t = s.trim();
+    let (number, unit) = match t.find(|c: char| c.is_ascii_alphabetic()) {
+        Some(i) => t.split_at(i),
+        None => (t, "s"),
+    };
+    let scale = match unit {
+        "ms" => 1e-3,
+        "s" => 1.0,
+        "m" | "min" => 60.0,
+        "h" => 3600.0,
+        _ => return Err(format!("`{s}`: unknown unit `{unit}` (use ms, s, m or h)")),
+    };
+    let value: f64 = number
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a duration such as 30s or 5m"))?;
+    let secs = value * scale;
+    if !(0.0..1e9).contains(&secs) {
+        return Err(format!(
+            "`{s}`: a duration must be between 0 and 10⁹ seconds"
+        ));
+    }
+    Ok(Duration::from_secs_f64(secs))
 }
 
 /// Settings that override the scene file's.
@@ -218,7 +309,14 @@ fn render(args: RenderArgs) -> Result<()> {
         .or(desc.output.clone())
         .unwrap_or_else(|| PathBuf::from("tyndall.png"));
     // Fail on a bad output name before spending time on the render.
-    tyndall::film::ImageFormat::from_path(&output)?;
+    let format = tyndall::film::ImageFormat::from_path(&output)?;
+    let is_part = args.tile.is_some() || args.samples.is_some();
+    if is_part && format != tyndall::film::ImageFormat::Exr {
+        bail!(
+            "{}: --tile and --samples write a render part for `tyndall merge`, which must be an .exr file",
+            output.display()
+        );
+    }
     settings_checked(&desc)?;
     let warnings = desc
         .warnings
@@ -229,16 +327,146 @@ fn render(args: RenderArgs) -> Result<()> {
         eprintln!("warning: {w}");
     }
     let settings = desc.settings;
-    let bar = progress_bar(settings.height as u64, args.quiet);
-    let render = tyndall::render(&desc.scene, &settings, &|_| bar.inc(1))?;
+    let rect = match args.tile {
+        Some((i, n)) => PixelRect::tile(i, n, settings.width, settings.height)?,
+        None => PixelRect::full(settings.width, settings.height),
+    };
+    let samples = args.samples.map_or(0..settings.spp, |(a, b)| a..b);
+    let region = RenderRegion { rect, samples };
+    region.check(settings.width, settings.height)?;
+    let identity = PartIdentity::new(&desc.scene, &settings);
+    let resume = match &args.checkpoint {
+        Some(path) if path.exists() => {
+            let part = parts::read_part(path)?;
+            if part.identity != identity {
+                bail!(
+                    "{}: this checkpoint is of another scene, settings or seed; delete it to start again",
+                    path.display()
+                );
+            }
+            if !args.quiet {
+                eprintln!(
+                    "resuming from {}: samples {}..{} done",
+                    path.display(),
+                    part.accumulation.region.samples.start,
+                    part.accumulation.region.samples.end
+                );
+            }
+            Some(part.accumulation)
+        }
+        _ => None,
+    };
+    let done = resume.as_ref().map_or(0, |a| a.passes());
+    let passes = (region.samples.len() as u64).saturating_sub(done as u64);
+    let bar = progress_bar(rect.height() as u64 * passes, args.quiet);
+    let start = Instant::now();
+    let mut last_save = Instant::now();
+    let mut save_error = None;
+    let mut stopped_by_limit = false;
+    let mut after_pass = |a: &Accumulation, pass_time: Duration| {
+        if let Some(path) = &args.checkpoint
+            && a.region.samples.end < region.samples.end
+            && last_save.elapsed() >= args.checkpoint_every
+        {
+            let part = Part {
+                identity,
+                accumulation: a.clone(),
+            };
+            if let Err(e) = parts::write_part(path, &part, PartCompression::None) {
+                save_error = Some(e);
+                return ControlFlow::Break(());
+            }
+            last_save = Instant::now();
+        }
+        match args.time_limit {
+            Some(limit) if start.elapsed() + pass_time > limit => {
+                stopped_by_limit = a.region.samples.end < region.samples.end;
+                ControlFlow::Break(())
+            }
+            _ => ControlFlow::Continue(()),
+        }
+    };
+    let (accumulation, stats) = tyndall::render::render_region(
+        &desc.scene,
+        &settings,
+        &region,
+        resume,
+        &|_| bar.inc(1),
+        &mut after_pass,
+    )
+    .map_err(|e| match (&e, &args.checkpoint) {
+        (tyndall::render::RenderError::Resume(_), Some(path)) => {
+            anyhow::anyhow!("{}: {e}", path.display())
+        }
+        _ => e.into(),
+    })?;
     bar.finish_and_clear();
-    render
-        .image
-        .write(&output, settings.exposure)
-        .with_context(|| "the image was not written")?;
-    if !args.quiet {
-        report(&settings, &render.stats, &output);
+    if let Some(e) = save_error {
+        return Err(e).context("the checkpoint could not be saved; the render stopped");
     }
+    let part = Part {
+        identity,
+        accumulation,
+    };
+    let reached = part.accumulation.passes();
+    if is_part {
+        parts::write_part(&output, &part, PartCompression::Rle)
+            .with_context(|| "the part was not written")?;
+    } else {
+        part.accumulation
+            .resolve()
+            .write(&output, settings.exposure)
+            .with_context(|| "the image was not written")?;
+    }
+    if !args.quiet {
+        report(&settings, &part.accumulation, &stats, &output);
+    }
+    if stopped_by_limit {
+        // Said even with --quiet: the image holds fewer samples than asked.
+        eprintln!(
+            "time limit reached: {reached} samples per pixel (samples {}..{}) of the {} asked for",
+            region.samples.start,
+            region.samples.start + reached,
+            region.samples.len()
+        );
+    }
+    if let Some(path) = &args.checkpoint {
+        if stopped_by_limit {
+            // Keep the progress: running again continues the render.
+            parts::write_part(path, &part, PartCompression::None)
+                .context("the checkpoint could not be saved")?;
+        } else if path.exists() {
+            std::fs::remove_file(path)
+                .with_context(|| format!("{}: could not remove the checkpoint", path.display()))?;
+        }
+    }
+    Ok(())
+}
+
+fn merge(paths: &[PathBuf], output: &Path) -> Result<()> {
+    let format = tyndall::film::ImageFormat::from_path(output)?;
+    let mut read = Vec::with_capacity(paths.len());
+    for path in paths {
+        read.push((path.clone(), parts::read_part(path)?));
+    }
+    let merged = parts::merge(read)?;
+    match format {
+        tyndall::film::ImageFormat::Exr => {
+            parts::write_part(output, &merged, PartCompression::Rle)?;
+        }
+        tyndall::film::ImageFormat::Png => merged.accumulation.resolve().write(output, 0.0)?,
+    }
+    let a = &merged.accumulation;
+    eprintln!(
+        "merged {} parts into {} (pixels {} of {}×{}, samples {}..{})",
+        paths.len(),
+        output.display(),
+        a.region.rect,
+        a.width,
+        a.height,
+        a.region.samples.start,
+        a.region.samples.end
+    );
     Ok(())
 }
 
@@ -262,14 +490,31 @@ fn progress_bar(rows: u64, quiet: bool) -> ProgressBar {
     bar
 }
 
-fn report(settings: &tyndall::RenderSettings, stats: &RenderStats, output: &Path) {
+fn report(
+    settings: &tyndall::RenderSettings,
+    accumulation: &Accumulation,
+    stats: &RenderStats,
+    output: &Path,
+) {
     let secs = stats.elapsed.as_secs_f64();
+    let rect = accumulation.region.rect;
+    let part = if rect == PixelRect::full(settings.width, settings.height) {
+        String::new()
+    } else {
+        format!(", pixels {rect}")
+    };
+    let samples = &accumulation.region.samples;
+    let range = if samples.start == 0 {
+        String::new()
+    } else {
+        format!(", samples {}..{}", samples.start, samples.end)
+    };
     eprintln!(
-        "wrote {} ({}×{}, {} spp, {}, visibility {}) in {:.2} s: {:.2} M samples, {:.2} M rays ({:.2} M camera, {:.2} M shadow), {:.2} M rays/s",
+        "wrote {} ({}×{}{part}, {} spp{range}, {}, visibility {}) in {:.2} s: {:.2} M samples, {:.2} M rays ({:.2} M camera, {:.2} M shadow), {:.2} M rays/s",
         output.display(),
         settings.width,
         settings.height,
-        settings.spp,
+        accumulation.passes(),
         settings.integrator.name(),
         settings.visibility.name(),
         secs,
@@ -343,6 +588,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render(args),
         Command::Bench(args) => bench::run(args),
+        Command::Merge { parts, output } => merge(&parts, &output),
         Command::Compare {
             candidate,
             reference,

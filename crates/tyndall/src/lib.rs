@@ -17,6 +17,7 @@
 pub mod accel;
 pub mod camera;
 pub mod color;
+pub mod exact_sum;
 pub mod film;
 pub mod glass;
 pub mod integrators;
@@ -24,8 +25,10 @@ pub mod lights;
 pub mod materials;
 pub mod media;
 pub mod metrics;
+pub mod parts;
 pub mod phase;
 pub mod ray;
+pub mod region;
 pub mod render;
 pub mod sampler;
 pub mod sampling;

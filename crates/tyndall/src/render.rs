@@ -1,20 +1,43 @@
-//! The render loop: pixels in parallel, samples per pixel in order.
+//! The render loop: whole passes of samples, pixels in parallel.
 //!
-//! Rows are distributed over a rayon pool of the requested size; each
-//! pixel's samples come from its own sequence ([`crate::sampler`]) and are
-//! accumulated in f64, so the image is the same for any thread count.
+//! A render is a sequence of passes; pass `s` computes sample `s` of every
+//! pixel (rows distributed over a rayon pool of the requested size) and,
+//! for `volpath` in a scene with caustics, the light paths
+//! `s·W·H .. (s+1)·W·H` of [`light_tracer`]. Each pixel's sample `s` comes
+//! from its own sequence ([`crate::sampler`]) keyed by (seed, pixel, `s`)
+//! alone, and every pixel adds its samples to f64 sums in increasing
+//! order; light-path splats, which land anywhere in the image, add to exact
+//! fixed-point sums ([`ExactRgb`]) that no order or grouping changes. Hence:
+//! - the image is the same, bit for bit, for any thread count and
+//!   scheduling;
+//! - a tile ([`RenderRegion::rect`], a band of rows `y0..y1`) computes
+//!   exactly the single render's camera sums for its pixels, and traces
+//!   its share of each pass's light paths — in-pass indices `y0·W .. y1·W`,
+//!   as many as it has pixels — whose splats it keeps for the whole image;
+//!   the tiles' shares partition the paths, so merged tiles (camera sums
+//!   placed, light sums added exactly) are bit-identical to the single
+//!   render;
+//! - a sample range ([`RenderRegion::samples`]) computes the sums of its
+//!   indices; adding the sums of consecutive ranges differs from the single
+//!   render only by f64 rounding;
+//! - a render stopped after any pass and resumed from its sums
+//!   ([`Accumulation`], a checkpoint) continues the same additions, so the
+//!   final image is bit-identical to an uninterrupted render's.
 
 use crate::camera::Camera;
 use crate::color::Rgb;
+use crate::exact_sum::ExactRgb;
 use crate::film::Image;
 use crate::integrators::light_tracer::{self, LightPaths};
 use crate::integrators::{Integrator, IntegratorKind, PixelPosition, Strategies};
 use crate::media::tracking::MAX_VOLUMES;
+use crate::region::{PixelRect, RegionError, RenderRegion};
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
 use crate::visibility::{RayCounts, Visibility, VisibilityMode};
 use glam::{DVec3, Vec2};
 use rayon::prelude::*;
+use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
@@ -117,6 +140,10 @@ pub enum RenderError {
     TooManyVolumes(usize),
     #[error("could not start the worker threads: {0}")]
     ThreadPool(String),
+    #[error(transparent)]
+    Region(#[from] RegionError),
+    #[error("cannot resume: {0}")]
+    Resume(String),
 }
 
 impl RenderSettings {
@@ -223,14 +250,204 @@ pub struct Render {
     pub stats: RenderStats,
 }
 
+/// The unnormalised per-pixel sums of a part of a render: what a tile, a
+/// sample range or a checkpoint holds. [`Accumulation::resolve`] turns it
+/// into an image.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Accumulation {
+    /// Width of the full image, in pixels.
+    pub width: u32,
+    /// Height of the full image, in pixels.
+    pub height: u32,
+    /// The pixels held, and the sample indices summed so far.
+    pub region: RenderRegion,
+    /// Per pixel of `region.rect` (row-major), the sum of the camera-path
+    /// radiance estimates of samples `region.samples` (non-finite
+    /// estimates count as zero and are reported in [`RenderStats`]).
+    pub camera: Vec<DVec3>,
+    /// Per pixel of the *full* image (row-major), the exact sum of the
+    /// light-path splats (radiance times the number of paths) of this
+    /// part's share of each pass's light paths (see the module docs), for
+    /// renders that trace them (`volpath` with caustics); `None` otherwise.
+    pub light: Option<Vec<ExactRgb>>,
+}
+
+impl Accumulation {
+    /// No samples yet of `rect`, starting at sample index `first_sample`.
+    pub fn new(
+        (width, height): (u32, u32),
+        rect: PixelRect,
+        first_sample: u32,
+        light: bool,
+    ) -> Self {
+        Self {
+            width,
+            height,
+            region: RenderRegion {
+                rect,
+                samples: first_sample..first_sample,
+            },
+            camera: vec![DVec3::ZERO; rect.area()],
+            light: light.then(|| vec![ExactRgb::ZERO; width as usize * height as usize]),
+        }
+    }
+
+    /// Samples per pixel summed.
+    pub fn passes(&self) -> u32 {
+        self.region.samples.len() as u32
+    }
+
+    /// This part's light paths per pass: one per pixel of its rows.
+    pub fn light_paths_per_pass(&self) -> u64 {
+        let share = light_share(self.width, self.region.rect);
+        share.end - share.start
+    }
+
+    /// The image of the rectangle: each pixel the mean of its camera
+    /// samples plus its light splats over the light paths this part traced
+    /// (for a tile, an estimate from its share of the paths; for the whole
+    /// image, the render); black before the first pass.
+    pub fn resolve(&self) -> Image {
+        let n = self.passes();
+        let rect = self.region.rect;
+        if n == 0 {
+            return Image::from_pixels(rect.width(), rect.height(), vec![Rgb::ZERO; rect.area()]);
+        }
+        let light_scale = 1.0 / (self.light_paths_per_pass() as f64 * n as f64);
+        let width = rect.width() as usize;
+        let pixels = self
+            .camera
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                let mut p = (*c / n as f64).as_vec3();
+                if let Some(light) = &self.light {
+                    let (x, y) = (rect.x0 as usize + i % width, rect.y0 as usize + i / width);
+                    let full = y * self.width as usize + x;
+                    p += (light[full].to_dvec3() * light_scale).as_vec3();
+                }
+                p
+            })
+            .collect();
+        Image::from_pixels(rect.width(), rect.height(), pixels)
+    }
+
+    /// Adds the sums of `next`, the same pixels for the sample indices
+    /// that follow this one's.
+    pub fn append(&mut self, next: &Accumulation) -> Result<(), String> {
+        if (self.width, self.height) != (next.width, next.height)
+            || self.region.rect != next.region.rect
+            || self.light.is_some() != next.light.is_some()
+        {
+            return Err("the parts hold different images or pixels".into());
+        }
+        if next.region.samples.start != self.region.samples.end {
+            return Err(format!(
+                "samples {:?} do not follow samples {:?}",
+                next.region.samples, self.region.samples
+            ));
+        }
+        for (a, b) in self.camera.iter_mut().zip(&next.camera) {
+            *a += *b;
+        }
+        if let (Some(a), Some(b)) = (&mut self.light, &next.light) {
+            for (a, b) in a.iter_mut().zip(b) {
+                a.add_exact(b);
+            }
+        }
+        self.region.samples.end = next.region.samples.end;
+        Ok(())
+    }
+}
+
+/// The in-pass indices of the light paths that a band of whole rows
+/// (`rect`, in an image `width` wide) traces: one per pixel of its rows,
+/// `y0·W .. y1·W`. Bands that partition the image partition the paths.
+pub fn light_share(width: u32, rect: PixelRect) -> std::ops::Range<u64> {
+    rect.y0 as u64 * width as u64..rect.y1 as u64 * width as u64
+}
+
 /// Renders `scene`. `progress` is called with the number of rows finished
-/// so far (from worker threads, in no particular order).
+/// so far, counting each row once per pass (from worker threads, in no
+/// particular order; `height·spp` in all).
 pub fn render(
     scene: &Scene,
     settings: &RenderSettings,
-    progress: &(dyn Fn(u32) + Sync),
+    progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Render, RenderError> {
+    let region = RenderRegion::full(settings.width, settings.height, settings.spp);
+    let (accumulation, stats) =
+        render_region(scene, settings, &region, None, progress, &mut |_, _| {
+            ControlFlow::Continue(())
+        })?;
+    Ok(Render {
+        image: accumulation.resolve(),
+        stats,
+    })
+}
+
+/// Whether a render of `scene` with `settings` traces light paths (and so
+/// has [`Accumulation::light`] sums).
+pub fn traces_light_paths(scene: &Scene, settings: &RenderSettings) -> bool {
+    settings.integrator == IntegratorKind::Volpath && light_tracer::has_caustics(scene)
+}
+
+/// Renders the passes `region.samples` of the pixels `region.rect` (its
+/// `settings.spp` is not used), continuing `resume` if given (the sums of
+/// the passes `region.samples.start .. resume.region.samples.end`, from a
+/// checkpoint). After each pass, `after_pass` gets the sums so far and the
+/// pass's wall time; it may write a checkpoint, or stop the render after
+/// that pass by returning `Break` (a time limit). `progress` counts rows
+/// finished, each once per pass, this run's passes only.
+pub fn render_region(
+    scene: &Scene,
+    settings: &RenderSettings,
+    region: &RenderRegion,
+    resume: Option<Accumulation>,
+    progress: &(dyn Fn(u64) + Sync),
+    after_pass: &mut dyn FnMut(&Accumulation, Duration) -> ControlFlow<()>,
+) -> Result<(Accumulation, RenderStats), RenderError> {
     settings.validate(scene)?;
+    region.check(settings.width, settings.height)?;
+    let size = (settings.width, settings.height);
+    let light = traces_light_paths(scene, settings);
+    if light && (region.rect.x0, region.rect.x1) != (0, settings.width) {
+        return Err(RenderError::Region(RegionError::NotBand(region.rect)));
+    }
+    let mut accumulation = match resume {
+        None => Accumulation::new(size, region.rect, region.samples.start, light),
+        Some(a) => {
+            let fits = (a.width, a.height) == size
+                && a.region.rect == region.rect
+                && a.region.samples.start == region.samples.start
+                && a.region.samples.end <= region.samples.end
+                && a.light.is_some() == light
+                && a.camera.len() == region.rect.area()
+                && a.light
+                    .as_ref()
+                    .is_none_or(|l| l.len() == size.0 as usize * size.1 as usize);
+            if !fits {
+                return Err(RenderError::Resume(format!(
+                    "the saved progress holds samples {:?} of pixels {} of a {}×{} image{}, which is not a start of samples {:?} of pixels {} of this {}×{} render{}",
+                    a.region.samples,
+                    a.region.rect,
+                    a.width,
+                    a.height,
+                    if a.light.is_some() {
+                        " with light paths"
+                    } else {
+                        ""
+                    },
+                    region.samples,
+                    region.rect,
+                    size.0,
+                    size.1,
+                    if light { " with light paths" } else { "" },
+                )));
+            }
+            a
+        }
+    };
     let pool = {
         let mut builder = rayon::ThreadPoolBuilder::new();
         if let Some(n) = settings.threads {
@@ -245,8 +462,8 @@ pub fn render(
     let maps = start.elapsed();
     let camera = Camera::new(&scene.camera, settings.width, settings.height);
     let integrator = Integrator::new(settings, &visibility);
-    let width = settings.width as usize;
-    let mut pixels = vec![Rgb::ZERO; width * settings.height as usize];
+    let rect = region.rect;
+    let full_width = settings.width as u64;
     let rows_done = AtomicU64::new(0);
     let (camera_rays, shadow_rays, lookups, invalid) = (
         AtomicU64::new(0),
@@ -254,68 +471,70 @@ pub fn render(
         AtomicU64::new(0),
         AtomicU64::new(0),
     );
-    pool.install(|| {
-        pixels
-            .par_chunks_mut(width)
-            .enumerate()
-            .for_each(|(y, row)| {
-                let mut counts = RayCounts::default();
-                let mut bad = 0u64;
-                for (x, pixel) in row.iter_mut().enumerate() {
-                    let index = (y * width + x) as u64;
-                    let mut sum = DVec3::ZERO;
-                    for s in 0..settings.spp {
+    let mut passes = 0u64;
+    for s in accumulation.region.samples.end..region.samples.end {
+        let pass_start = Instant::now();
+        pool.install(|| {
+            accumulation
+                .camera
+                .par_chunks_mut(rect.width() as usize)
+                .enumerate()
+                .for_each(|(row, sums)| {
+                    let y = rect.y0 + row as u32;
+                    let mut counts = RayCounts::default();
+                    let mut bad = 0u64;
+                    for (i, sum) in sums.iter_mut().enumerate() {
+                        let x = rect.x0 + i as u32;
+                        let index = y as u64 * full_width + x as u64;
                         let mut sampler = PixelSampler::new(settings.seed, index, s);
                         let film = Vec2::new(x as f32, y as f32) + sampler.next_2d();
                         let ray = camera.ray(film);
-                        let pixel = PixelPosition {
-                            x: x as u32,
-                            y: y as u32,
-                        };
+                        let pixel = PixelPosition { x, y };
                         let l = integrator.radiance(scene, ray, pixel, &mut sampler, &mut counts);
                         if l.is_finite() {
-                            sum += l.as_dvec3();
+                            *sum += l.as_dvec3();
                         } else {
                             bad += 1;
                         }
                     }
-                    *pixel = (sum / settings.spp as f64).as_vec3();
-                }
-                camera_rays.fetch_add(counts.camera, Ordering::Relaxed);
-                shadow_rays.fetch_add(counts.shadow, Ordering::Relaxed);
-                lookups.fetch_add(counts.map_lookups, Ordering::Relaxed);
-                invalid.fetch_add(bad, Ordering::Relaxed);
-                let done = rows_done.fetch_add(1, Ordering::Relaxed) + 1;
-                progress(done as u32);
-            });
-    });
-    if settings.integrator == IntegratorKind::Volpath && light_tracer::has_caustics(scene) {
-        // Light focused by dielectrics from point and spot lights: one
-        // light path per camera sample (see `light_tracer`).
-        let paths = width as u64 * settings.height as u64 * settings.spp as u64;
-        let (caustics, counts) = pool.install(|| {
-            light_tracer::trace(
-                scene,
-                &camera,
-                (settings.width, settings.height),
-                paths,
-                settings.seed,
-                settings.max_depth,
-                LightPaths::Caustic,
-            )
+                    camera_rays.fetch_add(counts.camera, Ordering::Relaxed);
+                    shadow_rays.fetch_add(counts.shadow, Ordering::Relaxed);
+                    lookups.fetch_add(counts.map_lookups, Ordering::Relaxed);
+                    invalid.fetch_add(bad, Ordering::Relaxed);
+                    progress(rows_done.fetch_add(1, Ordering::Relaxed) + 1);
+                });
         });
-        for (pixel, c) in pixels.iter_mut().zip(&caustics) {
-            if c.is_finite() {
-                *pixel += *c;
-            }
+        if let Some(sums) = &mut accumulation.light {
+            // Light focused by dielectrics from point and spot lights:
+            // one light path per pixel per pass (see `light_tracer`); a
+            // tile traces its share.
+            let first = s as u64 * full_width * settings.height as u64;
+            let share = light_share(settings.width, rect);
+            let counts = pool.install(|| {
+                light_tracer::trace_paths(
+                    scene,
+                    &camera,
+                    settings.width,
+                    first + share.start..first + share.end,
+                    settings.seed,
+                    settings.max_depth,
+                    LightPaths::Caustic,
+                    sums,
+                )
+            });
+            camera_rays.fetch_add(counts.camera, Ordering::Relaxed);
+            shadow_rays.fetch_add(counts.shadow, Ordering::Relaxed);
         }
-        camera_rays.fetch_add(counts.camera, Ordering::Relaxed);
-        shadow_rays.fetch_add(counts.shadow, Ordering::Relaxed);
+        accumulation.region.samples.end = s + 1;
+        passes += 1;
+        if after_pass(&accumulation, pass_start.elapsed()).is_break() {
+            break;
+        }
     }
     let stats = RenderStats {
         elapsed: start.elapsed(),
         maps,
-        samples: width as u64 * settings.height as u64 * settings.spp as u64,
+        samples: rect.area() as u64 * passes,
         rays: RayCounts {
             camera: camera_rays.into_inner(),
             shadow: shadow_rays.into_inner(),
@@ -323,8 +542,5 @@ pub fn render(
         },
         invalid_samples: invalid.into_inner(),
     };
-    Ok(Render {
-        image: Image::from_pixels(settings.width, settings.height, pixels),
-        stats,
-    })
+    Ok((accumulation, stats))
 }

@@ -25,6 +25,7 @@ use super::volpath::{MAX_PATH_EVENTS, survives_roulette};
 use super::{MAX_GLASS_CROSSINGS, SolidDepth, TRACKING_STREAM, refract_or_reflect};
 use crate::camera::Camera;
 use crate::color::{Rgb, luminance};
+use crate::exact_sum::ExactRgb;
 use crate::lights::Light;
 use crate::materials::Material;
 use crate::media::free_flight;
@@ -35,10 +36,10 @@ use crate::sampler::PixelSampler;
 use crate::sampling::{cosine_hemisphere, uniform_cone};
 use crate::scene::Scene;
 use crate::visibility::RayCounts;
-use glam::{DVec3, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use std::f32::consts::{FRAC_1_PI, PI};
-use std::ops::ControlFlow;
+use std::ops::{ControlFlow, Range};
 
 /// Which light paths to trace.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -49,9 +50,20 @@ pub enum LightPaths {
     All,
 }
 
-/// Paths are split into this many chunks, each with its own film, summed
-/// in order: the image does not depend on the thread count.
-const CHUNKS: usize = 16;
+/// Paths are traced in blocks of this many, in parallel; each block
+/// returns its splats, added to the film in exact fixed point
+/// ([`ExactRgb`]), so the film depends on nothing but the set of paths
+/// traced: not on the thread count, the scheduling, or how the paths were
+/// divided among tiles, passes and machines.
+const BLOCK: u64 = 1024;
+
+/// Blocks traced in parallel before their splats are added to the film
+/// (bounds the splats held in memory).
+const BLOCKS_PER_BATCH: u64 = 64;
+
+/// Seed offset of the light paths' Sobol sequence (distinct from the
+/// camera samples' pixel sequences).
+const LIGHT_SEED: u64 = 0x5eed_1197;
 
 /// Whether the scene has light that only light tracing delivers: a point
 /// or spot light and a dielectric.
@@ -78,12 +90,49 @@ pub fn trace(
     max_depth: u32,
     which: LightPaths,
 ) -> (Vec<Rgb>, RayCounts) {
+    let mut sums = vec![ExactRgb::ZERO; (width * height) as usize];
+    let counts = trace_paths(
+        scene,
+        camera,
+        width,
+        0..paths,
+        seed,
+        max_depth,
+        which,
+        &mut sums,
+    );
+    let scale = 1.0 / paths.max(1) as f64;
+    (
+        sums.iter()
+            .map(|s| (s.to_dvec3() * scale).as_vec3())
+            .collect(),
+        counts,
+    )
+}
+
+/// Traces the light paths with global indices `paths` and adds their
+/// camera connections to `sums` (the full image's pixels, row-major,
+/// `width` wide; unnormalised: divide by the number of paths). Path `i`
+/// is the `i`-th point of one Sobol sequence over all paths, so disjoint
+/// index ranges are disjoint parts of one stratified set, and the sums of
+/// any division of a range into sub-ranges add up exactly to the range's.
+#[allow(clippy::too_many_arguments)]
+pub fn trace_paths(
+    scene: &Scene,
+    camera: &Camera,
+    width: u32,
+    paths: Range<u64>,
+    seed: u64,
+    max_depth: u32,
+    which: LightPaths,
+    sums: &mut [ExactRgb],
+) -> RayCounts {
     let emitters: Vec<usize> = (0..scene.lights.len())
         .filter(|&i| matches!(scene.lights[i], Light::Point(_) | Light::Spot(_)))
         .collect();
-    let size = (width * height) as usize;
-    if emitters.is_empty() || paths == 0 {
-        return (vec![Rgb::ZERO; size], RayCounts::default());
+    let mut counts = RayCounts::default();
+    if emitters.is_empty() || paths.is_empty() {
+        return counts;
     }
     let tracer = Tracer {
         scene,
@@ -94,33 +143,44 @@ pub fn trace(
         max_depth: max_depth.min(MAX_PATH_EVENTS),
         which,
     };
-    let per_chunk = paths.div_ceil(CHUNKS as u64);
-    let chunks: Vec<(Vec<Rgb>, RayCounts)> = (0..CHUNKS as u64)
-        .into_par_iter()
-        .map(|chunk| {
-            let mut film = vec![Rgb::ZERO; size];
-            let mut counts = RayCounts::default();
-            let first = chunk * per_chunk;
-            for index in first..(first + per_chunk).min(paths) {
-                // One Sobol sequence over all paths: stratified emission.
-                let mut sampler = PixelSampler::new(seed ^ 0x5eed_1197, 0, index as u32);
-                tracer.trace_path(&mut sampler, &mut film, &mut counts);
+    let batch = BLOCK * BLOCKS_PER_BATCH;
+    let mut batch_start = paths.start;
+    while batch_start < paths.end {
+        let batch_end = paths.end.min(batch_start.saturating_add(batch));
+        let blocks: Vec<(Vec<Splat>, RayCounts)> = (batch_start..batch_end)
+            .step_by(BLOCK as usize)
+            .collect::<Vec<u64>>()
+            .into_par_iter()
+            .map(|first| {
+                let mut splats = Vec::new();
+                let mut counts = RayCounts::default();
+                for index in first..batch_end.min(first + BLOCK) {
+                    // One Sobol sequence over all paths: stratified
+                    // emission. Indices past 2³² continue in further
+                    // scrambled sequences.
+                    let mut sampler =
+                        PixelSampler::new(seed ^ LIGHT_SEED, index >> 32, index as u32);
+                    tracer.trace_path(&mut sampler, &mut splats, &mut counts);
+                }
+                (splats, counts)
+            })
+            .collect();
+        for (splats, c) in blocks {
+            for (pixel, value) in splats {
+                if value.is_finite() {
+                    sums[pixel as usize].add(value);
+                }
             }
-            (film, counts)
-        })
-        .collect();
-    let mut sum = vec![DVec3::ZERO; size];
-    let mut counts = RayCounts::default();
-    for (film, c) in &chunks {
-        for (s, p) in sum.iter_mut().zip(film) {
-            *s += p.as_dvec3();
+            counts.camera += c.camera;
+            counts.shadow += c.shadow;
         }
-        counts.camera += c.camera;
-        counts.shadow += c.shadow;
+        batch_start = batch_end;
     }
-    let scale = 1.0 / paths as f64;
-    (sum.iter().map(|s| (*s * scale).as_vec3()).collect(), counts)
+    counts
 }
+
+/// A camera connection: the index of its pixel and its contribution.
+type Splat = (u32, Rgb);
 
 struct Tracer<'a> {
     scene: &'a Scene,
@@ -143,7 +203,12 @@ enum Scatterer<'a> {
 }
 
 impl Tracer<'_> {
-    fn trace_path(&self, sampler: &mut PixelSampler, film: &mut [Rgb], counts: &mut RayCounts) {
+    fn trace_path(
+        &self,
+        sampler: &mut PixelSampler,
+        splats: &mut Vec<Splat>,
+        counts: &mut RayCounts,
+    ) {
         let scene = self.scene;
         let n = self.emitters.len();
         let pick = ((sampler.next_1d() * n as f32) as usize).min(n - 1);
@@ -181,7 +246,7 @@ impl Tracer<'_> {
                     &Scatterer::Medium(phase),
                     beta,
                     &mut tracker,
-                    film,
+                    splats,
                     counts,
                 );
                 let (direction, _) = phase.sample(ray.direction, sampler.next_2d());
@@ -230,7 +295,15 @@ impl Tracer<'_> {
                             rho: surface.diffuse,
                             normal,
                         };
-                        self.connect(p, ray.direction, &diffuse, beta, &mut tracker, film, counts);
+                        self.connect(
+                            p,
+                            ray.direction,
+                            &diffuse,
+                            beta,
+                            &mut tracker,
+                            splats,
+                            counts,
+                        );
                     }
                     // Continue by the lobes, as `volpath` does.
                     let (d, s) = (luminance(surface.diffuse), luminance(surface.specular));
@@ -280,7 +353,7 @@ impl Tracer<'_> {
         scatterer: &Scatterer,
         beta: Rgb,
         tracker: &mut VolumeTracker,
-        film: &mut [Rgb],
+        splats: &mut Vec<Splat>,
         counts: &mut RayCounts,
     ) {
         let Some(projection) = self.camera.project(x) else {
@@ -320,7 +393,7 @@ impl Tracer<'_> {
         let value =
             beta * f * glass * volumes_t * (fog_t * projection.importance / (distance * distance));
         let pixel = projection.film.floor().as_uvec2();
-        film[(pixel.y * self.width + pixel.x) as usize] += value;
+        splats.push((pixel.y * self.width + pixel.x, value));
     }
 
     /// Transmittance of thin glass between `origin` and the camera; zero

@@ -1,0 +1,231 @@
+"""Tyndall: light in participating media, from Python.
+
+Load a scene, render it to a NumPy array, write EXR or PNG::
+
+    import tyndall
+    scene = tyndall.load("scenes/fig07-spot-sphere.toml")
+    image = scene.render(spp=16, width=320, height=240)   # float32, H×W×3
+    tyndall.write_exr("fig7.exr", image)
+
+Renders are deterministic: the same scene, seed and settings give the same
+array whatever ``threads`` is. ``tile=(i, n)`` renders tile ``i`` of ``n``
+(horizontal bands of rows, as ``tyndall render --tile``) and
+``samples=(a, b)`` the sample indices ``a..b`` of each pixel, as the
+command line does. The GIL is released while rendering; Ctrl-C stops a
+render after the pass in progress and raises ``KeyboardInterrupt``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+from typing import Any, Callable, Dict, List, Mapping, Optional, Tuple, Union
+
+import numpy as np
+
+from . import _tyndall
+
+__all__ = ["Scene", "load", "demo", "write_exr", "write_png"]
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+class Scene:
+    """A loaded scene and the render settings its file gives."""
+
+    def __init__(self, native: "_tyndall.NativeScene") -> None:
+        self._native = native
+
+    @classmethod
+    def from_dict(cls, description: Mapping[str, Any], base_dir: Optional[PathLike] = None) -> "Scene":
+        """Build a scene from a dict with the same structure as a native TOML file.
+
+        ``{"camera": {...}, "lights": [{...}], "materials": {"glass": {...}}}``
+        reads exactly as the TOML file with those tables would (see
+        docs/scene-format.md). Relative paths (mesh files, grids) are relative
+        to ``base_dir`` (default: the current folder). Errors raise
+        ``ValueError`` naming the key path, e.g. ``lights[0].cutoff_deg``.
+        """
+        text, paths = _to_toml(description)
+        folder = os.fspath(base_dir) if base_dir is not None else os.getcwd()
+        name = os.path.join(folder, "<dict>")
+        try:
+            return cls(_tyndall.parse_toml(text, name))
+        except ValueError as e:
+            raise ValueError(_name_key_path(str(e), name, paths)) from None
+
+    @property
+    def width(self) -> int:
+        """Image width in pixels from the scene file."""
+        return self._native.settings()[0]
+
+    @property
+    def height(self) -> int:
+        """Image height in pixels from the scene file."""
+        return self._native.settings()[1]
+
+    @property
+    def spp(self) -> int:
+        """Samples per pixel from the scene file."""
+        return self._native.settings()[2]
+
+    @property
+    def integrator(self) -> str:
+        """Integrator named by the scene file: ``march``, ``single`` or ``volpath``."""
+        return self._native.settings()[3]
+
+    def render(
+        self,
+        spp: Optional[int] = None,
+        integrator: Optional[str] = None,
+        width: Optional[int] = None,
+        height: Optional[int] = None,
+        seed: Optional[int] = None,
+        threads: Optional[int] = None,
+        tile: Optional[Tuple[int, int]] = None,
+        samples: Optional[Tuple[int, int]] = None,
+        progress: Optional[Callable[[int, int], None]] = None,
+    ) -> np.ndarray:
+        """Render the scene; returns linear radiance, ``float32``, shape H×W×3.
+
+        Arguments left ``None`` keep the scene file's settings. ``tile=(i, n)``
+        returns only tile ``i``'s rows; ``samples=(a, b)`` averages sample
+        indices ``a`` to ``b - 1`` only. When the render traces light paths
+        (``volpath`` with a dielectric and a point or spot light), a tile
+        traces only its share of them, so its caustic light is an estimate
+        from fewer paths; the exact whole image comes from merging parts
+        (``tyndall render --tile`` then ``tyndall merge``). ``progress(done, total)`` is called
+        after each whole pass (one sample per pixel); an exception it raises
+        stops the render and propagates. Raises ``ValueError`` for invalid
+        settings.
+        """
+        data, h, w = self._native.render(
+            spp,
+            integrator,
+            width,
+            height,
+            seed,
+            threads,
+            None if tile is None else (int(tile[0]), int(tile[1])),
+            None if samples is None else (int(samples[0]), int(samples[1])),
+            progress,
+        )
+        return np.frombuffer(data, dtype="<f4").reshape(h, w, 3).astype(np.float32)
+
+
+def load(path: PathLike, two_sided: bool = False) -> Scene:
+    """Load a native (``.toml``) or legacy (``.obj``) scene file.
+
+    ``two_sided`` loads legacy quads as two-sided. Raises ``ValueError``
+    naming the file, line and column of any error.
+    """
+    return Scene(_tyndall.load(os.fspath(path), two_sided))
+
+
+def demo() -> Scene:
+    """The built-in demo: a stained-glass window in a dusty room."""
+    return Scene(_tyndall.demo())
+
+
+def _image_bytes(image: np.ndarray) -> Tuple[bytes, int, int]:
+    a = np.asarray(image)
+    if a.ndim != 3 or a.shape[2] != 3:
+        raise ValueError(f"expected an H×W×3 image, got shape {a.shape}")
+    return np.ascontiguousarray(a, dtype="<f4").tobytes(), a.shape[0], a.shape[1]
+
+
+def write_exr(path: PathLike, image: np.ndarray) -> None:
+    """Write an H×W×3 linear-radiance image to an OpenEXR file (float32)."""
+    if not os.fspath(path).lower().endswith(".exr"):
+        raise ValueError(f"{os.fspath(path)}: write_exr needs a file name ending in .exr")
+    data, h, w = _image_bytes(image)
+    _tyndall.write_image(os.fspath(path), data, h, w, 0.0)
+
+
+def write_png(path: PathLike, image: np.ndarray, exposure: float = 0.0) -> None:
+    """Write an H×W×3 image to an 8-bit sRGB PNG after scaling by ``2**exposure``."""
+    if not os.fspath(path).lower().endswith(".png"):
+        raise ValueError(f"{os.fspath(path)}: write_png needs a file name ending in .png")
+    data, h, w = _image_bytes(image)
+    _tyndall.write_image(os.fspath(path), data, h, w, float(exposure))
+
+
+_BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
+
+
+def _key(k: Any, path: str) -> str:
+    if not isinstance(k, str):
+        raise ValueError(f"Scene.from_dict: {path or 'the scene'}: key {k!r} is not a string")
+    return k if _BARE_KEY.match(k) else json.dumps(k)
+
+
+def _value(v: Any, path: str) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        if math.isnan(v):
+            return "nan"
+        if math.isinf(v):
+            return "inf" if v > 0 else "-inf"
+        return repr(v)
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, Mapping):
+        items = ", ".join(f"{_key(k, path)} = {_value(x, f'{path}.{k}')}" for k, x in v.items())
+        return "{" + items + "}"
+    if isinstance(v, (list, tuple)) or (hasattr(v, "tolist") and hasattr(v, "ndim")):
+        seq = v.tolist() if hasattr(v, "tolist") else v
+        return "[" + ", ".join(_value(x, f"{path}[{i}]") for i, x in enumerate(seq)) + "]"
+    if hasattr(v, "item"):  # NumPy scalars
+        return _value(v.item(), path)
+    raise ValueError(f"Scene.from_dict: {path}: {type(v).__name__} is not a scene value")
+
+
+def _is_table_list(v: Any) -> bool:
+    return isinstance(v, (list, tuple)) and len(v) > 0 and all(isinstance(x, Mapping) for x in v)
+
+
+def _to_toml(description: Mapping[str, Any]) -> Tuple[str, List[str]]:
+    """TOML text for a scene dict, and the key path of each of its lines."""
+    if not isinstance(description, Mapping):
+        raise ValueError("Scene.from_dict: the description must be a dict")
+    lines: List[str] = []
+    paths: List[str] = []
+
+    def emit(line: str, path: str) -> None:
+        lines.append(line)
+        paths.append(path)
+
+    def table(d: Mapping[str, Any], header: str, path: str) -> None:
+        # Scalars and inline values first, then sub-tables, as TOML needs.
+        for k, v in d.items():
+            if not isinstance(v, Mapping) and not _is_table_list(v):
+                p = f"{path}.{k}" if path else str(k)
+                emit(f"{_key(k, path)} = {_value(v, p)}", p)
+        for k, v in d.items():
+            p = f"{path}.{k}" if path else str(k)
+            h = f"{header}.{_key(k, path)}" if header else _key(k, path)
+            if isinstance(v, Mapping):
+                emit(f"[{h}]", p)
+                table(v, h, p)
+            elif _is_table_list(v):
+                for i, item in enumerate(v):
+                    emit(f"[[{h}]]", f"{p}[{i}]")
+                    table(item, h, f"{p}[{i}]")
+
+    table(description, "", "")
+    return "\n".join(lines) + "\n", paths
+
+
+def _name_key_path(message: str, name: str, paths: List[str]) -> str:
+    """Replaces `<dict>:LINE:COL:` in an error with the key path of LINE."""
+    m = re.match(re.escape(name) + r":(\d+):(\d+):\s*(.*)", message, re.S)
+    if not m:
+        return f"Scene.from_dict: {message.replace(name, 'the scene')}"
+    line = int(m.group(1))
+    path = paths[line - 1] if 1 <= line <= len(paths) else "the scene"
+    return f"Scene.from_dict: {path or 'the scene'}: {m.group(3)}"

@@ -1,0 +1,184 @@
+"""Tests of the tyndall Python package (run by .ci/run in a fresh venv)."""
+
+import os
+import signal
+import subprocess
+import sys
+import threading
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import tyndall
+
+REPO = Path(__file__).resolve().parents[3]
+FOCUS = REPO / "scenes" / "glass-sphere-focus.toml"
+SMALL = dict(width=24, height=16, spp=2)
+
+
+def test_demo_renders_a_float32_image():
+    image = tyndall.demo().render(**SMALL, integrator="single")
+    assert image.dtype == np.float32
+    assert image.shape == (16, 24, 3)
+    assert np.isfinite(image).all()
+    assert image.max() > 0.0
+
+
+def test_scene_file_settings_and_overrides():
+    scene = tyndall.load(FOCUS)
+    assert (scene.width, scene.height, scene.integrator) == (480, 480, "volpath")
+    image = scene.render(width=20, height=10, spp=1)
+    assert image.shape == (10, 20, 3)
+
+
+def test_same_image_for_any_thread_count():
+    scene = tyndall.load(FOCUS)  # volpath with caustic light paths
+    one = scene.render(width=24, height=20, spp=2, threads=1)
+    two = scene.render(width=24, height=20, spp=2, threads=2)
+    assert one.tobytes() == two.tobytes()
+    other_seed = scene.render(width=24, height=20, spp=2, threads=2, seed=5)
+    assert other_seed.tobytes() != one.tobytes()
+
+
+def test_tiles_stack_into_the_full_image_and_sample_ranges_average_to_it():
+    scene = tyndall.demo()  # no light paths: a tile is exactly its rows
+    opts = dict(width=24, height=20, spp=3, integrator="volpath")
+    full = scene.render(**opts)
+    tiles = [scene.render(**opts, tile=(i, 3)) for i in range(3)]
+    assert [t.shape[0] for t in tiles] == [6, 7, 7]  # rows ⌊i·20/3⌋
+    assert np.vstack(tiles).tobytes() == full.tobytes()
+    a = scene.render(**opts, samples=(0, 1)).astype(np.float64)
+    b = scene.render(**opts, samples=(1, 3)).astype(np.float64)
+    # float32 means of 1 and 2 samples: equal to the mean of 3 to f32 rounding.
+    np.testing.assert_allclose((a + 2 * b) / 3, full, rtol=1e-5, atol=1e-7)
+    assert not np.array_equal(a.astype(np.float32), full)
+
+
+def test_a_tile_of_a_caustic_scene_estimates_its_light_paths_from_its_share():
+    scene = tyndall.load(FOCUS)  # volpath with light paths
+    opts = dict(width=24, height=20, spp=2)
+    full = scene.render(**opts)
+    tile = scene.render(**opts, tile=(1, 2))
+    assert tile.shape == (10, 24, 3)
+    assert np.isfinite(tile).all()
+    # Same camera paths, a different (half) set of light paths.
+    assert tile.tobytes() != full[10:].tobytes()
+
+
+def test_write_exr_and_png(tmp_path):
+    image = tyndall.demo().render(**SMALL)
+    exr, png = tmp_path / "a.exr", tmp_path / "a.png"
+    tyndall.write_exr(exr, image)
+    tyndall.write_png(png, image, exposure=1.0)
+    assert exr.read_bytes()[:4] == bytes([0x76, 0x2F, 0x31, 0x01])
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    with pytest.raises(ValueError, match="H×W×3"):
+        tyndall.write_exr(tmp_path / "b.exr", np.zeros((4, 4)))
+    with pytest.raises(ValueError, match=".png"):
+        tyndall.write_png(tmp_path / "b.exr", image)
+
+
+def test_bad_input_raises_clear_errors(tmp_path):
+    with pytest.raises(ValueError, match="missing.toml"):
+        tyndall.load(tmp_path / "missing.toml")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[camera]\nposition = [0, 0\n")
+    with pytest.raises(ValueError, match=r"bad.toml:2:"):
+        tyndall.load(bad)
+    scene = tyndall.demo()
+    with pytest.raises(ValueError, match="unknown integrator"):
+        scene.render(**SMALL, integrator="magic")
+    with pytest.raises(ValueError, match="numbered from 0"):
+        scene.render(**SMALL, tile=(3, 3))
+    with pytest.raises(ValueError, match="samples per pixel"):
+        scene.render(width=8, height=8, spp=0)
+
+
+def test_progress_is_reported_per_pass_and_can_stop_a_render():
+    calls = []
+    tyndall.demo().render(**SMALL, progress=lambda done, total: calls.append((done, total)))
+    assert calls == [(1, 2), (2, 2)]
+
+    def stop(done, total):
+        raise RuntimeError(f"stop at {done}")
+
+    with pytest.raises(RuntimeError, match="stop at 1"):
+        tyndall.demo().render(width=8, height=8, spp=50, progress=stop)
+
+
+def test_the_gil_is_released_while_rendering():
+    ticks = 0
+    done = threading.Event()
+
+    def count():
+        nonlocal ticks
+        while not done.is_set():
+            ticks += 1
+
+    counter = threading.Thread(target=count)
+    counter.start()
+    before = ticks
+    try:
+        tyndall.demo().render(width=64, height=36, spp=8, integrator="volpath", threads=1)
+        during = ticks - before
+    finally:
+        done.set()
+        counter.join()
+    # With the GIL held for the whole render the counter would stand still
+    # (at most one switch interval of counting).
+    assert during > 10_000
+
+
+def test_ctrl_c_stops_a_render_cleanly():
+    script = (
+        "import tyndall\n"
+        "def progress(done, total):\n"
+        "    if done == 1:\n"
+        "        print('rendering', flush=True)\n"
+        "tyndall.demo().render(width=16, height=8, spp=1_000_000, progress=progress)\n"
+    )
+    child = subprocess.Popen(
+        [sys.executable, "-c", script],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert child.stdout.readline().strip() == "rendering"
+    child.send_signal(signal.SIGINT)
+    try:
+        _, err = child.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        child.kill()
+        raise AssertionError("Ctrl-C did not stop the render")
+    assert child.returncode != 0
+    assert "KeyboardInterrupt" in err
+
+
+def test_from_dict_reads_as_the_toml_file_does():
+    tomllib = pytest.importorskip("tomllib")
+    description = tomllib.loads(FOCUS.read_text())
+    from_file = tyndall.load(FOCUS).render(width=20, height=16, spp=2)
+    from_dict = tyndall.Scene.from_dict(description).render(width=20, height=16, spp=2)
+    assert from_dict.tobytes() == from_file.tobytes()
+
+
+def test_from_dict_errors_name_the_key_path():
+    camera = {"position": [0, 1, 5], "look_at": [0, 1, 0], "fov_y_deg": 40.0}
+    spot = {
+        "type": "spot",
+        "position": [0, 3, 0],
+        "direction": [0, -1, 0],
+        "cutoff_deg": 120.0,
+        "intensity": 5.0,
+    }
+    with pytest.raises(ValueError, match=r"lights\[1\]"):
+        tyndall.Scene.from_dict({"camera": camera, "lights": [dict(spot, cutoff_deg=20.0), spot]})
+    with pytest.raises(ValueError, match=r"camera"):
+        tyndall.Scene.from_dict({"camera": {"position": [0, 1, 5]}})
+    with pytest.raises(ValueError, match=r"fog.sigma_t: NoneType is not a scene value"):
+        tyndall.Scene.from_dict({"camera": camera, "fog": {"sigma_t": None}})
+    scene = tyndall.Scene.from_dict(
+        {"camera": camera, "lights": [dict(spot, cutoff_deg=20.0)], "fog": {"sigma_t": 0.1, "albedo": 0.8}}
+    )
+    assert scene.render(width=8, height=8, spp=1).max() > 0
