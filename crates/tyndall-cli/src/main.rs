@@ -207,9 +207,11 @@ fn render(args: RenderArgs) -> Result<()> {
         .output
         .or(desc.output.clone())
         .unwrap_or_else(|| PathBuf::from("tyndall.png"));
-    // Fail on a bad output name before spending time on the render.
-    tyndall::film::ImageFormat::from_path(&output)?;
     settings_checked(&desc)?;
+    // Fail on a bad output name or an unwritable destination before
+    // spending time on the render: the temporary file beside the target
+    // is created now and renamed onto it once the image is complete.
+    let output_file = tyndall::film::OutputFile::create(&output)?;
     let warnings = desc
         .warnings
         .iter()
@@ -222,12 +224,18 @@ fn render(args: RenderArgs) -> Result<()> {
     let bar = progress_bar(settings.height as u64, args.quiet);
     let render = tyndall::render(&desc.scene, &settings, &|_| bar.inc(1))?;
     bar.finish_and_clear();
-    render
-        .image
-        .write(&output, settings.exposure)
+    output_file
+        .finish(&render.image, settings.exposure)
         .with_context(|| "the image was not written")?;
     if !args.quiet {
         report(&settings, &render.stats, &output);
+    }
+    if render.stats.invalid_samples > 0 {
+        // Even with --quiet: the image is missing these samples.
+        eprintln!(
+            "warning: {} of {} samples were NaN or infinite and were dropped (the image averages the rest)",
+            render.stats.invalid_samples, render.stats.samples
+        );
     }
     Ok(())
 }
@@ -276,12 +284,7 @@ fn report(settings: &tyndall::RenderSettings, stats: &RenderStats, output: &Path
             stats.rays.map_lookups as f64 * 1e-6
         );
     }
-    if stats.invalid_samples > 0 {
-        eprintln!(
-            "warning: {} samples were NaN or infinite and were dropped",
-            stats.invalid_samples
-        );
-    }
+    eprintln!("non-finite samples dropped: {}", stats.invalid_samples);
 }
 
 fn compare(candidate: &Path, reference: &Path, worst: usize) -> Result<()> {

@@ -51,7 +51,7 @@ pub enum LightPaths {
 
 /// Paths are split into this many chunks, each with its own film, summed
 /// in order: the image does not depend on the thread count.
-const CHUNKS: usize = 16;
+pub(crate) const CHUNKS: usize = 16;
 
 /// Whether the scene has light that only light tracing delivers: a point
 /// or spot light and a dielectric.

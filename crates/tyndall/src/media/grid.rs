@@ -21,7 +21,7 @@ const VERSION: u32 = 1;
 
 /// Most voxels a grid may hold (1 GiB of f32), so a corrupt header cannot
 /// ask for absurd memory.
-const MAX_VOXELS: u64 = 1 << 28;
+pub const MAX_VOXELS: u64 = 1 << 28;
 
 /// A dense grid of densities over the unit cube.
 #[derive(Clone, Debug, PartialEq)]
@@ -34,9 +34,8 @@ impl VoxelGrid {
     /// A grid of `size` voxels from values in x-fastest order; `None`
     /// unless the count matches and every value is finite and ≥ 0.
     pub fn new(size: UVec3, values: Vec<f32>) -> Option<Self> {
-        let count = size.as_u64vec3().element_product();
         let ok = size.min_element() > 0
-            && count == values.len() as u64
+            && voxel_count(size) == Some(values.len() as u64)
             && values.iter().all(|v| v.is_finite() && *v >= 0.0);
         ok.then_some(Self { size, values })
     }
@@ -150,12 +149,15 @@ impl VoxelGrid {
             })?;
         }
         let size = UVec3::from_array(size);
-        let count = size.as_u64vec3().element_product();
-        if count > MAX_VOXELS {
-            return Err(format!(
-                "line 1: {count} voxels is more than the {MAX_VOXELS} this reader accepts"
-            ));
-        }
+        let count = match voxel_count(size) {
+            Some(count) if count <= MAX_VOXELS => count,
+            _ => {
+                return Err(format!(
+                    "line 1: {}×{}×{} voxels is more than the {MAX_VOXELS} this reader accepts",
+                    size.x, size.y, size.z
+                ));
+            }
+        };
         let data = &bytes[header_end + 1..];
         if data.len() as u64 != count * 4 {
             return Err(format!(
@@ -180,10 +182,18 @@ impl VoxelGrid {
 
     /// Reads a `.tgrid` file; errors name the file.
     pub fn read(path: &Path) -> Result<Self, String> {
-        let bytes = std::fs::read(path)
-            .map_err(|e| format!("cannot read grid file `{}`: {e}", path.display()))?;
+        let bytes =
+            crate::scene::limits::read_capped(path, crate::scene::limits::MAX_GRID_FILE_BYTES)
+                .map_err(|e| format!("cannot read grid file `{}`: {e}", path.display()))?;
         Self::from_bytes(&bytes).map_err(|e| format!("grid file `{}`: {e}", path.display()))
     }
+}
+
+/// `nx·ny·nz` in checked arithmetic (`None` on overflow).
+fn voxel_count(size: UVec3) -> Option<u64> {
+    (size.x as u64)
+        .checked_mul(size.y as u64)?
+        .checked_mul(size.z as u64)
 }
 
 #[cfg(test)]
@@ -251,5 +261,16 @@ mod tests {
                 .contains("voxel 23")
         );
         assert!(VoxelGrid::from_bytes(b"vdb").is_err());
+    }
+
+    /// Regression (issue 11): 2³¹·2³¹·4 wrapped to 0 voxels in u64, passed
+    /// the size and length checks, and panicked indexing an empty grid.
+    #[test]
+    fn header_sizes_that_overflow_are_refused() {
+        let header = b"tyndall-grid 1 2147483648 2147483648 4\n";
+        let e = VoxelGrid::from_bytes(header).unwrap_err();
+        assert!(e.contains("more than"), "{e}");
+        let size = UVec3::new(1 << 31, 1 << 31, 4);
+        assert!(VoxelGrid::new(size, Vec::new()).is_none());
     }
 }

@@ -8,7 +8,7 @@
 //! belongs to the material, elsewhere it applies to the emissive faces
 //! that follow.
 
-use super::{SceneBuilder, SceneDescription, SceneError, SourceText};
+use super::{SceneBuilder, SceneDescription, SceneError, SourceText, limits};
 use crate::camera::{CameraSpec, FieldOfView};
 use crate::color::{Rgb, srgb_to_linear};
 use crate::glass::{Glass, GlassModel};
@@ -149,6 +149,14 @@ impl<'a> Parser<'a> {
         ))
     }
 
+    /// A position: three numbers within [`limits::MAX_COORDINATE`].
+    fn position(&mut self, what: &str) -> Result<Vec3, SceneError> {
+        let at = self.peek();
+        let v = self.vec3(what)?;
+        limits::check_coordinates(what, v).map_err(|m| self.error(at, m))?;
+        Ok(v)
+    }
+
     fn color(&mut self, what: &str) -> Result<Rgb, SceneError> {
         let at = self.peek();
         let c = self.vec3(what)?;
@@ -190,7 +198,12 @@ impl<'a> Parser<'a> {
             .map(|p| p.parse::<f32>().ok().filter(|v| v.is_finite()))
             .collect();
         match values.as_slice() {
-            [Some(x), Some(y), Some(z)] => Ok(Vec3::new(*x, *y, *z)),
+            [Some(x), Some(y), Some(z)] => {
+                let v = Vec3::new(*x, *y, *z);
+                limits::check_coordinates(what, v)
+                    .map_err(|m| self.source.error_at(start.offset, m))?;
+                Ok(v)
+            }
             _ => Err(self.source.error_at(
                 start.offset,
                 format!(
@@ -263,7 +276,12 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                     }
                     materials.last_mut().expect("open block").roughness = r;
                 }
-                "emitted" => m.emitted = p.color("`emitted`")?,
+                "emitted" => {
+                    let at = p.peek();
+                    let c = p.color("`emitted`")?;
+                    limits::check_emission("`emitted`", c).map_err(|e| p.error(at, e))?;
+                    materials.last_mut().expect("open block").emitted = c;
+                }
                 "alpha" => {
                     let at = p.peek();
                     let a = p.number("`alpha`")?;
@@ -290,7 +308,7 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                 });
                 open_block = true;
             }
-            "v" => vertices.push(p.vec3("a vertex `v x y z`")?),
+            "v" => vertices.push(p.position("a vertex `v x y z`")?),
             "vt" => {
                 p.number("texture coordinate s")?;
                 p.number("texture coordinate t")?;
@@ -333,13 +351,17 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                         "a sphere needs an active material: use `m i` first",
                     )
                 })?;
-                let center = p.vec3("the sphere centre")?;
+                let center = p.position("the sphere centre")?;
                 let at = p.peek();
                 let radius = p.number("the sphere radius")?;
-                if radius <= 0.0 {
-                    return Err(
-                        p.error(at, format!("sphere radius must be positive, got {radius}"))
-                    );
+                if !(radius > 0.0 && radius <= limits::MAX_COORDINATE) {
+                    return Err(p.error(
+                        at,
+                        format!(
+                            "sphere radius must be positive and at most {:e}, got {radius}",
+                            limits::MAX_COORDINATE
+                        ),
+                    ));
                 }
                 spheres.push((Sphere { center, radius }, material));
             }
@@ -374,7 +396,17 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
 
     let camera = match camera {
         Some(c) => c,
-        None => default_camera(&vertices, &spheres),
+        None => {
+            let camera = default_camera(&vertices, &spheres);
+            // Far from the origin a small scene's offset camera can round
+            // onto its target (issue 11: every ray NaN, a black image).
+            super::check_camera(&camera).map_err(|m| {
+                source.error(format!(
+                    "the default camera (the file has no `PerspectiveCamera`) cannot be placed: {m}; give a `PerspectiveCamera`"
+                ))
+            })?;
+            camera
+        }
     };
     let mut builder = SceneBuilder::new(camera);
     builder.background = background;
@@ -417,13 +449,20 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
             let quad = quad.map_err(|e| source.error_at(at, format!("emissive face: {e}")))?;
             match m.cutoff_deg.or(face.cutoff_deg) {
                 Some(cutoff) => {
+                    // The spot's intensity is radiance × area (W/sr).
+                    let intensity = m.emitted * quad.area();
+                    limits::check_emission(
+                        "the spotlight's intensity (`emitted` × face area)",
+                        intensity,
+                    )
+                    .map_err(|e| source.error_at(at, format!("emissive face: {e}")))?;
                     builder.add_shape(Shape::Quad(quad), ids[face.material]);
                     builder.add_light(Light::Spot(SpotLight {
                         position: quad.centroid(),
                         direction: quad.normal,
                         cos_cutoff: cutoff.to_radians().cos(),
                         profile: SpotProfile::Linear,
-                        intensity: m.emitted * quad.area(),
+                        intensity,
                     }));
                 }
                 None => builder.add_quad_light(quad, m.emitted, !one_sided),

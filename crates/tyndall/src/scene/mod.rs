@@ -6,6 +6,7 @@
 
 pub mod demo;
 pub mod legacy;
+pub mod limits;
 pub mod mesh;
 pub mod native;
 mod source;
