@@ -535,5 +535,5 @@ fn main() -> std::process::ExitCode {
 
 /// Legacy scenes have `v` statements and no TOML tables.
 fn looks_legacy(input: &[u8]) -> bool {
-    input.iter().any(|&b| b == b'v') && !input.contains(&b'[')
+    input.contains(&b'v') && !input.contains(&b'[')
 }

@@ -77,10 +77,22 @@ fn far_legacy_vertex_is_refused_at_its_place() {
 #[test]
 fn bvh_agrees_with_a_linear_scan_up_to_the_coordinate_limit() {
     let limit = tyndall::scene::limits::MAX_COORDINATE;
-    let mut spheres = vec![Sphere {
-        center: Vec3::new(0.0, 0.0, -limit * 0.5),
-        radius: limit * 0.4,
-    }];
+    // The widest scene the loaders accept: largest radii at the largest
+    // coordinates, 4·limit across.
+    let mut spheres = vec![
+        Sphere {
+            center: Vec3::new(0.0, 0.0, -limit),
+            radius: limit * 0.999,
+        },
+        Sphere {
+            center: Vec3::splat(limit),
+            radius: limit,
+        },
+        Sphere {
+            center: Vec3::splat(-limit),
+            radius: limit,
+        },
+    ];
     for i in 0..40 {
         let x = (i as f32 - 20.0) * 0.1;
         spheres.push(Sphere {
@@ -96,7 +108,7 @@ fn bvh_agrees_with_a_linear_scan_up_to_the_coordinate_limit() {
         })
         .collect();
     let geometry = Geometry::new(primitives.clone());
-    for (k, target) in spheres.iter().enumerate().skip(1) {
+    for (k, target) in spheres.iter().enumerate().skip(3) {
         for origin in [Vec3::new(0.0, 0.0, 10.0), Vec3::new(3.0, 2.0, 8.0)] {
             let ray = Ray::new(origin, (target.center - origin).normalize());
             let scan = primitives
@@ -112,6 +124,34 @@ fn bvh_agrees_with_a_linear_scan_up_to_the_coordinate_limit() {
             );
         }
     }
+}
+
+/// Geometry built past the limit by other means than the loaders (a
+/// sphere of radius 1e20 beside small ones panicked in obvhs) falls back
+/// to a linear scan and still intersects correctly.
+#[test]
+fn geometry_past_the_limit_does_not_panic() {
+    let mut primitives = vec![Primitive {
+        shape: Shape::Sphere(Sphere {
+            center: Vec3::new(0.0, 0.0, -2e20),
+            radius: 1e20,
+        }),
+        material: 0,
+    }];
+    for i in 0..8 {
+        primitives.push(Primitive {
+            shape: Shape::Sphere(Sphere {
+                center: Vec3::new(i as f32, 0.0, 0.0),
+                radius: 0.25,
+            }),
+            material: 0,
+        });
+    }
+    let geometry = Geometry::new(primitives);
+    let ray = Ray::new(Vec3::new(3.0, 0.0, 10.0), Vec3::NEG_Z);
+    let hit = geometry.intersect(&ray, f32::INFINITY).expect("a hit");
+    assert_eq!(hit.primitive, 4);
+    assert!((hit.t - 9.75).abs() < 1e-4, "{}", hit.t);
 }
 
 // --- Files -------------------------------------------------------------
@@ -381,5 +421,17 @@ fn statistics_count_dropped_samples() {
         let render = tyndall::render(&desc.scene, &s, &|_| {}).unwrap();
         assert_eq!(render.stats.invalid_samples, 0);
         assert_eq!(render.stats.samples, 64);
+    }
+}
+
+/// Found by the fuzzer: legacy reflectances far above 1 (`diffuse 1e15
+/// 0.54 0.54`, `reflective 3e37 0.8 0.8`) overflowed paths to infinity and
+/// dropped samples as NaN; now refused where written.
+#[test]
+fn legacy_reflectance_above_one_is_refused() {
+    for field in ["diffuse 1e15 0.5 0.5", "reflective 3e37 0.8 0.8"] {
+        let e = legacy_error(&format!("material\n{field}\n"));
+        assert!(e.starts_with("scene.obj:2:"), "{e}");
+        assert!(e.contains("at most 1"), "{e}");
     }
 }

@@ -128,7 +128,7 @@ pub fn check_emission(what: &str, c: crate::color::Rgb) -> Result<(), String> {
 /// Checks a medium's RGB extinction against [`MAX_CHANNEL_RATIO`].
 pub fn check_extinction_channels(sigma_t: crate::color::Rgb) -> Result<(), String> {
     let (lo, hi) = (sigma_t.min_element(), sigma_t.max_element());
-    if hi > 0.0 && !(hi <= lo * MAX_CHANNEL_RATIO) {
+    if hi > 0.0 && hi > lo * MAX_CHANNEL_RATIO {
         return Err(format!(
             "`sigma_t` {:?} has channels more than {MAX_CHANNEL_RATIO} times apart: tracking draws collisions at the largest channel's rate, so the weakest would take about {:.1e} null collisions per real one; keep the channels within a factor {MAX_CHANNEL_RATIO} (a channel of 0 only if all are 0)",
             sigma_t.to_array(),

@@ -1066,7 +1066,7 @@ impl Loader<'_> {
             // Tracking cost: tentative collisions to cross the box where
             // the density is far below its majorant.
             let depth = volume.max_extinction() * volume.field_box().extent().length();
-            if !(depth <= limits::MAX_MAJORANT_DEPTH) {
+            if depth.is_nan() || depth > limits::MAX_MAJORANT_DEPTH {
                 return Err(self.err(
                     &span,
                     "sigma_t",
