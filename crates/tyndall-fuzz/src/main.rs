@@ -33,6 +33,9 @@ use tyndall::scene::mesh::{self, MeshTransform};
 use tyndall::scene::{SceneDescription, SourceText, native};
 use tyndall::{IntegratorKind, RenderSettings};
 
+/// With every target running, one input in this many is a render.
+const RENDER_SHARE: usize = 16;
+
 /// SplitMix64: a small, fixed, seedable generator.
 struct Rng(u64);
 
@@ -444,7 +447,21 @@ fn main() -> std::process::ExitCode {
     let mut iteration = 0u64;
     while Instant::now() < deadline {
         iteration += 1;
-        let target = args.targets[rng.below(args.targets.len())];
+        // A render costs about a thousand parses: renders get one pick in
+        // RENDER_SHARE when other targets run too, so parses keep their
+        // pace.
+        let parse_targets: Vec<Target> = args
+            .targets
+            .iter()
+            .copied()
+            .filter(|t| *t != Target::Render)
+            .collect();
+        let render_too = parse_targets.len() < args.targets.len();
+        let target = if parse_targets.is_empty() || (render_too && rng.below(RENDER_SHARE) == 0) {
+            Target::Render
+        } else {
+            parse_targets[rng.below(parse_targets.len())]
+        };
         let suited: Vec<&Vec<u8>> = seeds
             .iter()
             .filter(|(p, _)| suits(target, p))
