@@ -435,3 +435,28 @@ fn legacy_reflectance_above_one_is_refused() {
         assert!(e.contains("at most 1"), "{e}");
     }
 }
+
+/// Found by fuzzing: a medium filling all space with `sigma_t = 1e-30`
+/// scattered ~10³⁰ units away and every `volpath` sample was NaN; now
+/// refused at `sigma_t`. A bounded box of it is fine (flights leave it).
+#[test]
+fn vanishing_extinction_filling_all_space_is_refused() {
+    let text = format!(
+        "{CAMERA}[[media]]\nsigma_t = 1e-30\nalbedo = 1.0\n\
+         [[lights]]\ntype = \"point\"\nposition = [0, 2, 0]\nintensity = 10\n"
+    );
+    assert_at(&error(&text), 6, "too thin");
+    let boxed = text.replace(
+        "albedo = 1.0\n",
+        "albedo = 1.0\nbox = { min = [-1, -1, -1], max = [1, 1, 1] }\n",
+    );
+    let desc = parse(&boxed).expect("a bounded thin medium loads");
+    let s = settings(&desc, |s| {
+        s.width = 8;
+        s.height = 8;
+        s.spp = 1;
+        s.integrator = IntegratorKind::Volpath;
+    });
+    let render = tyndall::render(&desc.scene, &s, &|_| {}).unwrap();
+    assert_eq!(render.stats.invalid_samples, 0);
+}

@@ -30,6 +30,13 @@ pub const MAX_EMISSION: f32 = 1e20;
 /// beside non-zero ones never ends a walk through an unbounded medium).
 pub const MAX_CHANNEL_RATIO: f32 = 1000.0;
 
+/// Smallest non-zero extinction (per unit length) of a medium that fills
+/// all space: its mean free path, 1/σt, must stay within
+/// [`MAX_COORDINATE`]. Found by fuzzing: `sigma_t = 1e-30` with no `box`
+/// put scattering events ~10³⁰ away, where squared distances overflow f32,
+/// and every `volpath` sample was NaN.
+pub const MIN_UNBOUNDED_EXTINCTION: f32 = 1.0 / MAX_COORDINATE;
+
 /// Largest optical depth of a non-uniform medium's majorant across its
 /// box: the largest extinction (sigma_t times the largest density) times
 /// the box's diagonal. Tracking takes about this many tentative

@@ -1062,6 +1062,21 @@ impl Loader<'_> {
             region,
         )
         .map_err(|e| self.err(&span, key, e))?;
+        if volume.is_unbounded()
+            && sigma_t.max_element() > 0.0
+            && sigma_t.min_element() < limits::MIN_UNBOUNDED_EXTINCTION
+        {
+            return Err(self.err(
+                &span,
+                "sigma_t",
+                format!(
+                    "`sigma_t` {:?} is too thin for a medium that fills all space: its mean free path would exceed {:e} units, beyond the coordinate limit; use at least {:e} (or 0), or give the medium a `box`",
+                    sigma_t.to_array(),
+                    limits::MAX_COORDINATE,
+                    limits::MIN_UNBOUNDED_EXTINCTION
+                ),
+            ));
+        }
         if kind != "uniform" {
             // Tracking cost: tentative collisions to cross the box where
             // the density is far below its majorant.
