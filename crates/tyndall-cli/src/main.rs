@@ -331,7 +331,22 @@ fn compare(candidate: &Path, reference: &Path, worst: usize) -> Result<()> {
     Ok(())
 }
 
+/// Makes a file-size limit (`ulimit -f`) an error instead of a kill:
+/// by default SIGXFSZ ends the process mid-write and leaves the output's
+/// temporary file behind; ignored, the write fails with EFBIG, the error
+/// is reported and the temporary file removed (issue 11).
+fn ignore_file_size_signal() {
+    #[cfg(unix)]
+    // SAFETY: `signal` with `SIG_IGN` installs no handler code, so there is
+    // no async-signal-safety obligation; it runs first in `main`, before any
+    // thread exists, so it races with no other signal-disposition change.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
+}
+
 fn main() -> ExitCode {
+    ignore_file_size_signal();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render(args),

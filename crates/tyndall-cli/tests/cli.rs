@@ -332,3 +332,29 @@ fn output_is_renamed_into_place_and_threads_are_capped() {
         .collect();
     assert_eq!(names, vec!["demo.png".to_string()]);
 }
+
+/// Issue 11: a PNG cut off by a file-size limit was left behind truncated
+/// (or the process was killed by SIGXFSZ). Now the write fails with an
+/// error, the exit status is non-zero and nothing is left behind.
+#[cfg(unix)]
+#[test]
+fn file_size_limit_is_an_error_and_leaves_nothing() {
+    let dir = temp_dir().join("fsize");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("big.png");
+    let script = format!(
+        "ulimit -f 1; exec '{}' render -o '{}' --width 128 --height 128 --spp 1 -q",
+        env!("CARGO_BIN_EXE_tyndall"),
+        out.display()
+    );
+    let o = Command::new("sh").arg("-c").arg(&script).output().unwrap();
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("the image was not written"),
+        "{}",
+        stderr(&o)
+    );
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+}

@@ -858,7 +858,7 @@ impl Loader<'_> {
                         "radius",
                         *radius,
                         (f32::MIN_POSITIVE, limits::MAX_COORDINATE),
-                        "a positive length of at most 1e9",
+                        "a length between 1.2e-38 and 1e9",
                     )?,
                 };
                 builder.add_shape(Shape::Sphere(sphere), m);
