@@ -460,3 +460,13 @@ fn vanishing_extinction_filling_all_space_is_refused() {
     let render = tyndall::render(&desc.scene, &s, &|_| {}).unwrap();
     assert_eq!(render.stats.invalid_samples, 0);
 }
+
+/// Found by fuzzing: `background_color 1e20 0 0` decoded from sRGB (a
+/// power of 2.4) to infinite radiance, and every sample that left the
+/// scene was NaN; now refused where written.
+#[test]
+fn legacy_background_beyond_the_emission_limit_is_refused() {
+    let e = legacy_error("v 0 0 0\nbackground_color 1e20 0 0\n");
+    assert!(e.starts_with("scene.obj:2:18:"), "{e}");
+    assert!(e.contains("too large"), "{e}");
+}

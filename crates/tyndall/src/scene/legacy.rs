@@ -390,12 +390,20 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                 ));
             }
             "background_color" => {
+                let at = p.peek();
                 let c = p.color("`background_color`")?;
                 background = Rgb::new(
                     srgb_to_linear(c.x),
                     srgb_to_linear(c.y),
                     srgb_to_linear(c.z),
                 );
+                // Decoding raises values to the power 2.4: found by
+                // fuzzing, `background_color 1e20 0 0` became infinite.
+                limits::check_emission(
+                    "`background_color` (decoded to linear radiance)",
+                    background,
+                )
+                .map_err(|e| p.error(at, e))?;
             }
             "PerspectiveCamera" => camera = Some(perspective_camera(&mut p, tok)?),
             "OrthographicCamera" => {
