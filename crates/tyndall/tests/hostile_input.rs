@@ -470,3 +470,35 @@ fn legacy_background_beyond_the_emission_limit_is_refused() {
     assert!(e.starts_with("scene.obj:2:18:"), "{e}");
     assert!(e.contains("too large"), "{e}");
 }
+
+/// A spot's `look_at` a denormal distance from its position normalised to
+/// NaN (the squared length underflowed to 0); now a unit direction.
+#[test]
+fn spot_look_at_a_tiny_distance_away_gives_a_unit_direction() {
+    let text = format!(
+        "{CAMERA}[[lights]]\ntype = \"spot\"\nposition = [0, 1, 0]\n\
+         look_at = [0, 1, 1e-40]\ncutoff_deg = 30\nintensity = 1\n"
+    );
+    let desc = parse(&text).unwrap();
+    let Light::Spot(spot) = desc.scene.lights[0] else {
+        panic!("a spot light");
+    };
+    assert!(
+        (spot.direction - Vec3::Z).length() < 1e-6,
+        "{}",
+        spot.direction
+    );
+}
+
+/// A legacy camera whose `up` is too short to normalise in f32 gave NaN
+/// rays; it is refused, naming the up vector.
+#[test]
+fn legacy_camera_up_too_short_is_refused() {
+    let e = legacy_error(
+        "PerspectiveCamera {\ncamera_position < 0, 0, 5 >\npoint_of_interest < 0, 0, 0 >\nup < 0, 1e-30, 0 >\nangle 40\n}\n",
+    );
+    assert!(
+        e.starts_with("scene.obj:1:1:") && e.contains("up vector must be a non-zero"),
+        "{e}"
+    );
+}

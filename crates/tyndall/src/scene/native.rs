@@ -1143,7 +1143,9 @@ impl Loader<'_> {
                                 "`look_at` must differ from `position`",
                             ));
                         }
-                        (t - position).normalize()
+                        // Scaled before normalising: a `look_at` 1e-45 away
+                        // would otherwise normalise to NaN.
+                        self.direction(&span, "look_at", (t - position).to_array())?
                     }
                     _ => {
                         return Err(self.err(
