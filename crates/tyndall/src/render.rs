@@ -33,10 +33,11 @@ pub const MAX_IMAGE_SIDE: u32 = 1 << 15;
 /// Most samples per pixel accepted (2²⁰).
 pub const MAX_SPP: u32 = 1 << 20;
 
-/// Most march steps one camera ray may take (`march`): settings whose
-/// longest fog segment over the step exceeds it are refused up front.
-/// At 8×8 pixels and 1 spp this bounds a render with one light to about
-/// 8.4 M steps (a few seconds on one core).
+/// Most march steps one camera ray may take (`march`), counted once per
+/// light (each step visits every light): settings whose longest fog
+/// segment over the step, times the lights, exceeds it are refused up
+/// front. At 8×8 pixels and 1 spp this bounds a render to about 8.4 M
+/// light visits (about a second on one core).
 pub const MAX_MARCH_STEPS: u64 = 1 << 17;
 
 /// Most memory a render may plan for its images and maps (4 GiB): the
@@ -141,12 +142,13 @@ pub enum RenderError {
     #[error("samples per pixel must be at most {MAX_SPP}, got {0}")]
     TooManySamples(u32),
     #[error(
-        "march step {step} would take up to {steps:.3e} steps per ray over the longest fog segment ({length:.3e} units): at most {MAX_MARCH_STEPS} are allowed, so use a step of at least {min_step:.3e}"
+        "march step {step} would take up to {steps:.3e} steps per ray over the longest fog segment ({length:.3e} units), each visiting {lights} light(s): at most {MAX_MARCH_STEPS} steps × lights are allowed, so use a step of at least {min_step:.3e}"
     )]
     MarchSteps {
         step: f32,
         length: f64,
         steps: f64,
+        lights: usize,
         min_step: f64,
     },
     #[error(
@@ -252,12 +254,15 @@ impl RenderSettings {
             return Ok(());
         };
         let steps = length / self.step as f64;
-        if steps > MAX_MARCH_STEPS as f64 {
+        let lights = scene.lights.len();
+        let budget = MAX_MARCH_STEPS as f64 / lights as f64;
+        if steps > budget {
             return Err(RenderError::MarchSteps {
                 step: self.step,
                 length,
                 steps,
-                min_step: length / MAX_MARCH_STEPS as f64,
+                lights,
+                min_step: length / budget,
             });
         }
         Ok(())

@@ -502,3 +502,26 @@ fn legacy_camera_up_too_short_is_refused() {
         "{e}"
     );
 }
+
+/// A march visits every light at every step: the step bound counts
+/// steps × lights, and a scene holds at most 1024 lights.
+#[test]
+fn march_work_counts_lights_and_lights_are_bounded() {
+    let one = parse(&fog_scene("integrator = \"march\"")).unwrap();
+    // 4·√3 / 0.001 ≈ 6928 steps: fine with one light.
+    let s = settings(&one, |s| s.step = 1e-3);
+    s.validate(&one.scene).expect("one light");
+    let light = "[[lights]]\ntype = \"point\"\nposition = [0, 1, 0]\nintensity = 1\n";
+    let many = parse(&(fog_scene("integrator = \"march\"") + &light.repeat(31))).unwrap();
+    let e = s.validate(&many.scene).unwrap_err().to_string();
+    assert!(e.contains("32 light(s)"), "{e}");
+    let too_many = fog_scene("") + &light.repeat(1024);
+    let e = error(&too_many);
+    assert!(e.contains("at most 1024 lights"), "{e}");
+    // The scene's own light ends on line 14; the 1025th light's `type` is
+    // the second line of the 1024th four-line copy.
+    assert!(
+        e.starts_with(&format!("scene.toml:{}:", 14 + 4 * 1023 + 2)),
+        "{e}"
+    );
+}

@@ -80,10 +80,11 @@ pub(crate) fn in_scattered(
     };
     // Lattice indices k with lo ≤ t_k < hi, counted in integers (an f32
     // counter stops at 2²⁴, issue 11) and in f64 so the division cannot
-    // overflow; at most MAX_MARCH_STEPS, which the settings were checked
-    // against (the cap only guards callers that skipped the check).
+    // overflow; at most MAX_MARCH_STEPS over the lights, which the settings
+    // were checked against (the cap only guards callers that skipped it).
     let (first, end) = lattice_range(a, lo, hi, step, jitter);
-    let end = end.min(first.saturating_add(MAX_MARCH_STEPS));
+    let budget = MAX_MARCH_STEPS / scene.lights.len().max(1) as u64;
+    let end = end.min(first.saturating_add(budget));
     let mut sum = Rgb::ZERO;
     for index in first..end {
         let t = a + (jitter + index as f32) * step;

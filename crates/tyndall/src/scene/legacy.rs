@@ -473,6 +473,15 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
         let quad = super::parallelogram(c, one_sided);
         if m.emitted.max_element() > 0.0 {
             let quad = quad.map_err(|e| source.error_at(at, format!("emissive face: {e}")))?;
+            if builder.lights().len() == limits::MAX_LIGHTS {
+                return Err(source.error_at(
+                    at,
+                    format!(
+                        "a scene may hold at most {} lights (emissive faces)",
+                        limits::MAX_LIGHTS
+                    ),
+                ));
+            }
             match m.cutoff_deg.or(face.cutoff_deg) {
                 Some(cutoff) => {
                     // The spot's intensity is radiance × area (W/sr).

@@ -43,6 +43,11 @@ pub const MIN_UNBOUNDED_EXTINCTION: f32 = 1.0 / MAX_COORDINATE;
 /// collisions to cross the box where the density is far below its bound.
 pub const MAX_MAJORANT_DEPTH: f32 = 1e5;
 
+/// Most lights a scene may hold. Every integrator visits every light at
+/// each path vertex (each march step), so a render's cost grows with
+/// their number; 1024 keeps an 8×8, 1 spp render within seconds.
+pub const MAX_LIGHTS: usize = 1024;
+
 /// Largest scene file read (native TOML or legacy .obj), in bytes.
 pub const MAX_SCENE_FILE_BYTES: u64 = 64 << 20;
 

@@ -508,7 +508,14 @@ impl Loader<'_> {
         for shape in &file.shapes {
             self.shape(shape, &material_ids, &mut builder)?;
         }
-        for light in &file.lights {
+        for (i, light) in file.lights.iter().enumerate() {
+            if i == limits::MAX_LIGHTS {
+                return Err(self.err(
+                    &light.span(),
+                    "type",
+                    format!("a scene may hold at most {} lights", limits::MAX_LIGHTS),
+                ));
+            }
             self.light(light, &mut builder)?;
         }
         for (i, medium) in file.media.iter().enumerate() {
