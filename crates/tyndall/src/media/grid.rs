@@ -13,7 +13,11 @@
 //! are interpolated trilinearly between centres, clamped at the faces.
 
 use glam::{IVec3, UVec3, Vec3};
+use std::io::Read;
 use std::path::Path;
+
+/// Most bytes the header line may take, its newline included.
+const HEADER_BYTES: u64 = 256;
 
 /// The header's magic word and the only version this reader knows.
 const MAGIC: &str = "tyndall-grid";
@@ -104,9 +108,16 @@ impl VoxelGrid {
     /// Parses a `.tgrid` file's bytes; the error says what is wrong and
     /// where (header field, or voxel index and its byte offset).
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, String> {
+        let (size, count, header_end) = Self::parse_header(bytes)?;
+        Self::from_data(size, count, header_end, bytes)
+    }
+
+    /// The grid size, voxel count and the header line's length (without
+    /// its newline) from the first bytes of a file (256 are enough).
+    fn parse_header(bytes: &[u8]) -> Result<(UVec3, u64, usize), String> {
         let header_end = bytes
             .iter()
-            .take(256)
+            .take(HEADER_BYTES as usize)
             .position(|&b| b == b'\n')
             .ok_or_else(|| format!("line 1: no `{MAGIC} {VERSION} nx ny nz` header line"))?;
         let header = std::str::from_utf8(&bytes[..header_end])
@@ -158,6 +169,11 @@ impl VoxelGrid {
                 ));
             }
         };
+        Ok((size, count, header_end))
+    }
+
+    /// The voxels after a parsed header.
+    fn from_data(size: UVec3, count: u64, header_end: usize, bytes: &[u8]) -> Result<Self, String> {
         let data = &bytes[header_end + 1..];
         if data.len() as u64 != count * 4 {
             return Err(format!(
@@ -182,10 +198,35 @@ impl VoxelGrid {
 
     /// Reads a `.tgrid` file; errors name the file.
     pub fn read(path: &Path) -> Result<Self, String> {
-        let bytes =
-            crate::scene::limits::read_capped(path, crate::scene::limits::MAX_GRID_FILE_BYTES)
-                .map_err(|e| format!("cannot read grid file `{}`: {e}", path.display()))?;
-        Self::from_bytes(&bytes).map_err(|e| format!("grid file `{}`: {e}", path.display()))
+        let cannot = |e: String| format!("cannot read grid file `{}`: {e}", path.display());
+        let named = |e: String| format!("grid file `{}`: {e}", path.display());
+        let file = std::fs::File::open(path).map_err(|e| cannot(e.to_string()))?;
+        if file.metadata().is_ok_and(|m| m.is_dir()) {
+            return Err(cannot("it is a directory".into()));
+        }
+        // The header first: it says how many bytes follow, so no more
+        // than that (and one to spot a longer file) is ever read, and a
+        // file such as `/dev/zero` fails right after its header.
+        let mut reader = std::io::BufReader::new(file);
+        let mut bytes = Vec::new();
+        (&mut reader)
+            .take(HEADER_BYTES)
+            .read_to_end(&mut bytes)
+            .map_err(|e| cannot(e.to_string()))?;
+        let (size, count, header_end) = Self::parse_header(&bytes).map_err(named)?;
+        let expected = (header_end + 1) as u64 + 4 * count;
+        let wanted = (expected + 1).saturating_sub(bytes.len() as u64);
+        reader
+            .take(wanted)
+            .read_to_end(&mut bytes)
+            .map_err(|e| cannot(e.to_string()))?;
+        if bytes.len() as u64 > expected {
+            return Err(named(format!(
+                "the file is longer than the {count} f32 values ({} bytes) its header announces",
+                4 * count
+            )));
+        }
+        Self::from_data(size, count, header_end, &bytes).map_err(named)
     }
 }
 

@@ -56,6 +56,9 @@ pub const MAX_MESH_FILE_BYTES: u64 = 256 << 20;
 
 /// Largest grid (.tgrid) file read, in bytes: the most voxels a grid may
 /// hold ([`crate::media::grid::MAX_VOXELS`], 4 bytes each) and its header.
+/// The reader reads the header first and then no more than the voxels it
+/// announces (and one byte to spot a longer file), so `/dev/zero` fails
+/// after 256 bytes.
 pub const MAX_GRID_FILE_BYTES: u64 = (crate::media::grid::MAX_VOXELS << 2) + 256;
 
 /// Reads at most `limit` bytes of a file. A file that is longer (or a
