@@ -318,6 +318,10 @@ fn render(args: RenderArgs) -> Result<()> {
         );
     }
     settings_checked(&desc)?;
+    // Fail on a bad output name or an unwritable destination before
+    // spending time on the render: the temporary file beside the target
+    // is created now and renamed onto it once the image is complete.
+    let output_file = tyndall::film::OutputFile::create(&output)?;
     let warnings = desc
         .warnings
         .iter()
@@ -410,16 +414,25 @@ fn render(args: RenderArgs) -> Result<()> {
     };
     let reached = part.accumulation.passes();
     if is_part {
+        // A part is written (atomically) by the part writer: the early
+        // temporary file only proved the destination writable.
+        drop(output_file);
         parts::write_part(&output, &part, PartCompression::Rle)
             .with_context(|| "the part was not written")?;
     } else {
-        part.accumulation
-            .resolve()
-            .write(&output, settings.exposure)
+        output_file
+            .finish(&part.accumulation.resolve(), settings.exposure)
             .with_context(|| "the image was not written")?;
     }
     if !args.quiet {
         report(&settings, &part.accumulation, &stats, &output);
+    }
+    if stats.invalid_samples > 0 {
+        // Even with --quiet: the image is missing these samples.
+        eprintln!(
+            "warning: {} of {} samples were NaN or infinite and were dropped (the image averages the rest)",
+            stats.invalid_samples, stats.samples
+        );
     }
     if stopped_by_limit {
         // Said even with --quiet: the image holds fewer samples than asked.
@@ -531,12 +544,7 @@ fn report(
             stats.rays.map_lookups as f64 * 1e-6
         );
     }
-    if stats.invalid_samples > 0 {
-        eprintln!(
-            "warning: {} samples were NaN or infinite and were dropped",
-            stats.invalid_samples
-        );
-    }
+    eprintln!("non-finite samples dropped: {}", stats.invalid_samples);
 }
 
 fn compare(candidate: &Path, reference: &Path, worst: usize) -> Result<()> {
@@ -583,7 +591,22 @@ fn compare(candidate: &Path, reference: &Path, worst: usize) -> Result<()> {
     Ok(())
 }
 
+/// Makes a file-size limit (`ulimit -f`) an error instead of a kill:
+/// by default SIGXFSZ ends the process mid-write and leaves the output's
+/// temporary file behind; ignored, the write fails with EFBIG, the error
+/// is reported and the temporary file removed (issue 11).
+fn ignore_file_size_signal() {
+    #[cfg(unix)]
+    // SAFETY: `signal` with `SIG_IGN` installs no handler code, so there is
+    // no async-signal-safety obligation; it runs first in `main`, before any
+    // thread exists, so it races with no other signal-disposition change.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
+}
+
 fn main() -> ExitCode {
+    ignore_file_size_signal();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render(args),

@@ -267,3 +267,94 @@ fn help_explains_every_flag() {
         assert!(help.contains(flag), "{flag} missing from --help");
     }
 }
+
+/// Issue 11: an unwritable output was found only after the whole render.
+/// The output file is now created before rendering, so a render that
+/// would take minutes fails at once, naming the path.
+#[test]
+fn unwritable_output_fails_before_rendering() {
+    let out = temp_dir().join("no-such-dir/out.png");
+    let start = std::time::Instant::now();
+    let o = tyndall(&[
+        "render",
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "2048",
+        "--height",
+        "2048",
+        "--spp",
+        "256",
+        "-q",
+    ]);
+    let secs = start.elapsed().as_secs_f32();
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(
+        err.contains("no-such-dir/out.png") && err.contains("cannot create the output file"),
+        "{err}"
+    );
+    assert!(secs < 30.0, "took {secs} s: it rendered first");
+}
+
+/// The image appears under its name only when complete, and no
+/// temporary file is left beside it; `--threads` above the machine's
+/// parallelism is capped with a warning.
+#[test]
+fn output_is_renamed_into_place_and_threads_are_capped() {
+    let dir = temp_dir().join("atomic");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("demo.png");
+    let o = tyndall(&[
+        "render",
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--spp",
+        "1",
+        "--threads",
+        "100000",
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("100000 threads requested"),
+        "{}",
+        stderr(&o)
+    );
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, vec!["demo.png".to_string()]);
+}
+
+/// Issue 11: a PNG cut off by a file-size limit was left behind truncated
+/// (or the process was killed by SIGXFSZ). Now the write fails with an
+/// error, the exit status is non-zero and nothing is left behind.
+#[cfg(unix)]
+#[test]
+fn file_size_limit_is_an_error_and_leaves_nothing() {
+    let dir = temp_dir().join("fsize");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("big.png");
+    let script = format!(
+        "ulimit -f 1; exec '{}' render -o '{}' --width 128 --height 128 --spp 1 -q",
+        env!("CARGO_BIN_EXE_tyndall"),
+        out.display()
+    );
+    let o = Command::new("sh").arg("-c").arg(&script).output().unwrap();
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("the image was not written"),
+        "{}",
+        stderr(&o)
+    );
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+}

@@ -20,6 +20,11 @@ use std::time::Duration;
 /// single primitive.
 const MIN_BVH_PRIMITIVES: usize = 4;
 
+/// Largest scene extent the BVH is built for: the widest scene the
+/// loaders accept, spheres of the largest radius at the largest
+/// coordinates on either side (4 × [`crate::scene::limits::MAX_COORDINATE`]).
+const MAX_BVH_EXTENT: f32 = 4.0 * crate::scene::limits::MAX_COORDINATE;
+
 /// A shape with its material.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Primitive {
@@ -56,7 +61,13 @@ impl Geometry {
         let bounds = primitives
             .iter()
             .fold(Bounds::EMPTY, |b, p| b.union(p.shape.bounds()));
-        let bvh = (primitives.len() >= MIN_BVH_PRIMITIVES).then(|| {
+        // obvhs panics (an index out of bounds in its CWBVH collapse) on
+        // primitives about 10¹⁹ across, and quantises badly long before;
+        // the loaders refuse coordinates beyond `MAX_COORDINATE`, and
+        // geometry built past that by other means gets a linear scan:
+        // slow, but correct.
+        let tree_safe = bounds.is_empty() || bounds.extent().max_element() <= MAX_BVH_EXTENT;
+        let bvh = (primitives.len() >= MIN_BVH_PRIMITIVES && tree_safe).then(|| {
             let mut build_time = Duration::default();
             // No spatial pre-splits: every primitive is then referenced by
             // exactly one leaf, which the any-hit glass traversal relies on.

@@ -29,11 +29,14 @@ use crate::color::Rgb;
 use crate::exact_sum::ExactRgb;
 use crate::film::Image;
 use crate::integrators::light_tracer::{self, LightPaths};
+use crate::integrators::march;
 use crate::integrators::{Integrator, IntegratorKind, PixelPosition, Strategies};
 use crate::media::tracking::MAX_VOLUMES;
 use crate::region::{PixelRect, RegionError, RenderRegion};
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
+use crate::scene::limits::describe_bytes;
+use crate::shadow_maps;
 use crate::visibility::{RayCounts, Visibility, VisibilityMode};
 use glam::{DVec3, Vec2};
 use rayon::prelude::*;
@@ -49,6 +52,32 @@ pub const DEFAULT_VOLUME_SAMPLES: u32 = 8;
 
 /// Largest accepted image side, in pixels.
 pub const MAX_IMAGE_SIDE: u32 = 1 << 15;
+
+/// Most samples per pixel accepted (2²⁰).
+pub const MAX_SPP: u32 = 1 << 20;
+
+/// Most march steps one camera ray may take (`march`), counted once per
+/// light (each step visits every light): settings whose longest fog
+/// segment over the step, times the lights, exceeds it are refused up
+/// front. At 8×8 pixels and 1 spp this bounds a render to about 8.4 M
+/// light visits (about a second on one core).
+pub const MAX_MARCH_STEPS: u64 = 1 << 17;
+
+/// Most memory a render may plan for its images and maps (4 GiB): the
+/// film and the image written, the light tracer's films, shadow maps.
+/// Settings estimated above it are refused with the amount they need.
+pub const MAX_RENDER_BYTES: u64 = 4 << 30;
+
+/// Bytes per pixel of the film (the f64 RGB sums of [`Accumulation`]),
+/// the image resolved from it (f32 RGB) and the file written from that
+/// (f32 RGB for OpenEXR, less for PNG; counted at the larger).
+const FILM_BYTES_PER_PIXEL: u64 = 24 + 12 + 12;
+
+/// Bytes per texel of a shadow-map face, counted at the build's peak:
+/// the rows (depth and layer count) and the face they are copied into
+/// (depth and layer offset), 4 bytes each. Glass layers (16 bytes per
+/// pane a texel sees) come on top.
+const MAP_BYTES_PER_TEXEL: u64 = 16;
 
 /// How to render: image size, sampling and method.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -138,6 +167,26 @@ pub enum RenderError {
     VolumesNeedVolpath(usize, &'static str),
     #[error("the scene has {0} volumes; at most {MAX_VOLUMES} are supported")]
     TooManyVolumes(usize),
+    #[error("samples per pixel must be at most {MAX_SPP}, got {0}")]
+    TooManySamples(u32),
+    #[error(
+        "march step {step} would take up to {steps:.3e} steps per ray over the longest fog segment ({length:.3e} units), each visiting {lights} light(s): at most {MAX_MARCH_STEPS} steps × lights are allowed, so use a step of at least {min_step:.3e}"
+    )]
+    MarchSteps {
+        step: f32,
+        length: f64,
+        steps: f64,
+        lights: usize,
+        min_step: f64,
+    },
+    #[error(
+        "the render would need about {needed} for its images and maps ({what}), more than the {limit} limit: lower the image size or the shadow-map resolution"
+    )]
+    Memory {
+        needed: String,
+        what: String,
+        limit: String,
+    },
     #[error("could not start the worker threads: {0}")]
     ThreadPool(String),
     #[error(transparent)]
@@ -159,6 +208,9 @@ impl RenderSettings {
         if self.spp == 0 {
             return Err(RenderError::NoSamples);
         }
+        if self.spp > MAX_SPP {
+            return Err(RenderError::TooManySamples(self.spp));
+        }
         if self.max_depth == 0 {
             return Err(RenderError::MaxDepth);
         }
@@ -179,6 +231,8 @@ impl RenderSettings {
         if !self.exposure.is_finite() {
             return Err(RenderError::Exposure(self.exposure));
         }
+        self.check_march_steps(scene)?;
+        self.check_memory(scene)?;
         if self.threads == Some(0) {
             return Err(RenderError::Threads);
         }
@@ -205,10 +259,114 @@ impl RenderSettings {
 }
 
 impl RenderSettings {
+    /// The longest fog segment a `march` ray may cover: the fog box's
+    /// diagonal, or the distance to optical depth
+    /// [`march::MAX_OPTICAL_DEPTH`] where the march stops, whichever is
+    /// shorter; `None` if the march has nothing to do.
+    fn longest_march(scene: &Scene) -> Option<f64> {
+        let fog = scene.fog.as_ref()?;
+        if fog.sigma_t <= 0.0 || fog.sigma_s() == Rgb::ZERO || scene.lights.is_empty() {
+            return None;
+        }
+        let to_depth = march::MAX_OPTICAL_DEPTH as f64 / fog.sigma_t as f64;
+        let diagonal = fog
+            .bounds
+            .map_or(f64::INFINITY, |b| b.extent().as_dvec3().length());
+        Some(to_depth.min(diagonal))
+    }
+
+    /// Refuses a `march` step that would take more than
+    /// [`MAX_MARCH_STEPS`] steps on some ray (issue 11: a step of 3e-7
+    /// never finished; 1e-45 silently rendered no fog).
+    fn check_march_steps(&self, scene: &Scene) -> Result<(), RenderError> {
+        if self.integrator != IntegratorKind::March {
+            return Ok(());
+        }
+        let Some(length) = Self::longest_march(scene) else {
+            return Ok(());
+        };
+        let steps = length / self.step as f64;
+        let lights = scene.lights.len();
+        let budget = MAX_MARCH_STEPS as f64 / lights as f64;
+        if steps > budget {
+            return Err(RenderError::MarchSteps {
+                step: self.step,
+                length,
+                steps,
+                lights,
+                min_step: length / budget,
+            });
+        }
+        Ok(())
+    }
+
+    /// Estimated bytes of the images and maps this render allocates, with
+    /// a description of the parts (for the error message).
+    pub fn memory_estimate(&self, scene: &Scene) -> (u64, String) {
+        let pixels = self.width as u64 * self.height as u64;
+        let mut total = pixels.saturating_mul(FILM_BYTES_PER_PIXEL);
+        let mut parts = vec![format!(
+            "{}×{} film and image: {}",
+            self.width,
+            self.height,
+            describe_bytes(total)
+        )];
+        if traces_light_paths(scene, self) {
+            // The light paths' exact fixed-point sums, for the full image.
+            let film = pixels.saturating_mul(std::mem::size_of::<ExactRgb>() as u64);
+            total = total.saturating_add(film);
+            parts.push(format!("light-path sums: {}", describe_bytes(film)));
+        }
+        if let VisibilityMode::Maps { resolution } = self.visibility {
+            let faces: u64 = scene.lights.iter().map(shadow_maps::face_count).sum();
+            let texels = (resolution as u64).pow(2);
+            let maps = faces
+                .saturating_mul(texels)
+                .saturating_mul(MAP_BYTES_PER_TEXEL);
+            total = total.saturating_add(maps);
+            parts.push(format!(
+                "{faces} shadow-map faces of {resolution}² texels: {}",
+                describe_bytes(maps)
+            ));
+        }
+        (total, parts.join(", "))
+    }
+
+    /// Refuses a render whose [`RenderSettings::memory_estimate`] is above
+    /// [`MAX_RENDER_BYTES`].
+    fn check_memory(&self, scene: &Scene) -> Result<(), RenderError> {
+        let (needed, what) = self.memory_estimate(scene);
+        if needed > MAX_RENDER_BYTES {
+            return Err(RenderError::Memory {
+                needed: describe_bytes(needed),
+                what,
+                limit: describe_bytes(MAX_RENDER_BYTES),
+            });
+        }
+        Ok(())
+    }
+
+    /// The worker threads to start: the requested count, capped at the
+    /// machine's available parallelism (more threads only cost memory;
+    /// `--threads 100000` exhausted the PID space). `None`: every core.
+    pub fn worker_threads(&self) -> Option<usize> {
+        self.threads.map(|n| n.min(available_parallelism()))
+    }
+
     /// Things about to be rendered that are allowed but worth a warning:
-    /// non-physical fog albedo under `march` (the paper's figures).
+    /// non-physical fog albedo under `march` (the paper's figures), more
+    /// threads than the machine runs at once.
     pub fn warnings(&self, scene: &Scene) -> Vec<String> {
         let mut warnings = Vec::new();
+        if let Some(n) = self.threads
+            && n > available_parallelism()
+        {
+            warnings.push(format!(
+                "{n} threads requested; this machine runs {} at once, so {} are used",
+                available_parallelism(),
+                available_parallelism()
+            ));
+        }
         if let Some(fog) = &scene.fog
             && fog.albedo.max_element() > 1.0
             && self.integrator.accepts_non_physical_albedo()
@@ -221,6 +379,11 @@ impl RenderSettings {
         }
         warnings
     }
+}
+
+/// Threads the machine can run at once (1 if unknown).
+fn available_parallelism() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
 /// What a render did, for the end-of-run report.
@@ -450,7 +613,7 @@ pub fn render_region(
     };
     let pool = {
         let mut builder = rayon::ThreadPoolBuilder::new();
-        if let Some(n) = settings.threads {
+        if let Some(n) = settings.worker_threads() {
             builder = builder.num_threads(n);
         }
         builder

@@ -170,6 +170,18 @@ pub struct MapScene<'a> {
     pub model: GlassModel,
 }
 
+/// How many map faces [`ShadowMaps::build`] renders for `light`: six for
+/// a point light or a wide spot, one for a narrow spot or a directional
+/// light, none for an area light (it keeps shadow rays).
+pub(crate) fn face_count(light: &Light) -> u64 {
+    match light {
+        Light::Spot(s) if s.cos_cutoff >= MAX_PERSPECTIVE_CUTOFF_DEG.to_radians().cos() => 1,
+        Light::Spot(_) | Light::Point(_) => 6,
+        Light::Directional(_) => 1,
+        Light::Quad(_) | Light::Sphere(_) => 0,
+    }
+}
+
 impl ShadowMaps {
     /// Renders the maps of all lights at `resolution`² texels per face.
     pub fn build(scene: &MapScene, lights: &[Light], resolution: u32) -> Self {

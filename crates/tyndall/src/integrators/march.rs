@@ -17,6 +17,7 @@ use super::{MediumQuery, PixelPosition, light_point, scattered_radiance};
 use crate::color::Rgb;
 use crate::media::tracking::VolumeTracker;
 use crate::media::transmittance;
+use crate::render::MAX_MARCH_STEPS;
 use crate::sampler::PixelSampler;
 use crate::visibility::RayCounts;
 
@@ -77,15 +78,19 @@ pub(crate) fn in_scattered(
     else {
         return Rgb::ZERO;
     };
-    let first = ((lo - a) / step - jitter).ceil().max(0.0);
+    // Lattice indices k with lo ≤ t_k < hi, counted in integers (an f32
+    // counter stops at 2²⁴, issue 11) and in f64 so the division cannot
+    // overflow; at most MAX_MARCH_STEPS over the lights, which the settings
+    // were checked against (the cap only guards callers that skipped it).
+    let (first, end) = lattice_range(a, lo, hi, step, jitter);
+    let budget = MAX_MARCH_STEPS / scene.lights.len().max(1) as u64;
+    let end = end.min(first.saturating_add(budget));
     let mut sum = Rgb::ZERO;
-    let mut index = first;
-    loop {
-        let t = a + (jitter + index) * step;
+    for index in first..end {
+        let t = a + (jitter + index as f32) * step;
         if t >= hi {
             break;
         }
-        index += 1.0;
         let x = ray.at(t);
         let camera_t = transmittance(fog.sigma_t, t - a);
         for (light_index, light) in scene.lights.iter().enumerate() {
@@ -94,4 +99,36 @@ pub(crate) fn in_scattered(
         }
     }
     sum * step
+}
+
+/// The range `first..end` of lattice indices `k ≥ 0` whose points
+/// `t_k = a + (jitter + k)·step` lie in `[lo, hi)`, computed in f64 and
+/// saturated to u64 (an unbounded `hi` gives `u64::MAX`).
+fn lattice_range(a: f32, lo: f32, hi: f32, step: f32, jitter: f32) -> (u64, u64) {
+    let index = |t: f32| {
+        let k = ((t as f64 - a as f64) / step as f64 - jitter as f64).ceil();
+        // `as` saturates: negative to 0, +∞ to u64::MAX, NaN to 0.
+        k.max(0.0) as u64
+    };
+    (index(lo), index(hi))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Regression (issue 11): with an f32 counter, `index += 1.0` stopped
+    /// at 2²⁴ and a step of 3e-7 looped forever; a step of 1e-45 made the
+    /// first index infinite and skipped the fog.
+    #[test]
+    fn lattice_ranges_are_exact_integers() {
+        assert_eq!(lattice_range(0.0, 0.0, 1.0, 0.25, 0.5), (0, 4));
+        assert_eq!(lattice_range(0.0, 0.3, 1.0, 0.25, 0.0), (2, 4));
+        let (first, end) = lattice_range(0.0, 0.0, 10.0, 3e-7, 0.5);
+        assert_eq!(first, 0);
+        assert!(end > 1 << 24, "{end}");
+        let (first, end) = lattice_range(0.0, 0.0, 1.0, 1e-45, 0.5);
+        assert_eq!(first, 0);
+        assert!(end > 1 << 40, "{end}");
+    }
 }

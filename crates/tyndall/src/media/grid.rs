@@ -13,7 +13,11 @@
 //! are interpolated trilinearly between centres, clamped at the faces.
 
 use glam::{IVec3, UVec3, Vec3};
+use std::io::Read;
 use std::path::Path;
+
+/// Most bytes the header line may take, its newline included.
+const HEADER_BYTES: u64 = 256;
 
 /// The header's magic word and the only version this reader knows.
 const MAGIC: &str = "tyndall-grid";
@@ -21,7 +25,7 @@ const VERSION: u32 = 1;
 
 /// Most voxels a grid may hold (1 GiB of f32), so a corrupt header cannot
 /// ask for absurd memory.
-const MAX_VOXELS: u64 = 1 << 28;
+pub const MAX_VOXELS: u64 = 1 << 28;
 
 /// A dense grid of densities over the unit cube.
 #[derive(Clone, Debug, PartialEq)]
@@ -34,9 +38,8 @@ impl VoxelGrid {
     /// A grid of `size` voxels from values in x-fastest order; `None`
     /// unless the count matches and every value is finite and ≥ 0.
     pub fn new(size: UVec3, values: Vec<f32>) -> Option<Self> {
-        let count = size.as_u64vec3().element_product();
         let ok = size.min_element() > 0
-            && count == values.len() as u64
+            && voxel_count(size) == Some(values.len() as u64)
             && values.iter().all(|v| v.is_finite() && *v >= 0.0);
         ok.then_some(Self { size, values })
     }
@@ -105,9 +108,16 @@ impl VoxelGrid {
     /// Parses a `.tgrid` file's bytes; the error says what is wrong and
     /// where (header field, or voxel index and its byte offset).
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, String> {
+        let (size, count, header_end) = Self::parse_header(bytes)?;
+        Self::from_data(size, count, header_end, bytes)
+    }
+
+    /// The grid size, voxel count and the header line's length (without
+    /// its newline) from the first bytes of a file (256 are enough).
+    fn parse_header(bytes: &[u8]) -> Result<(UVec3, u64, usize), String> {
         let header_end = bytes
             .iter()
-            .take(256)
+            .take(HEADER_BYTES as usize)
             .position(|&b| b == b'\n')
             .ok_or_else(|| format!("line 1: no `{MAGIC} {VERSION} nx ny nz` header line"))?;
         let header = std::str::from_utf8(&bytes[..header_end])
@@ -150,12 +160,20 @@ impl VoxelGrid {
             })?;
         }
         let size = UVec3::from_array(size);
-        let count = size.as_u64vec3().element_product();
-        if count > MAX_VOXELS {
-            return Err(format!(
-                "line 1: {count} voxels is more than the {MAX_VOXELS} this reader accepts"
-            ));
-        }
+        let count = match voxel_count(size) {
+            Some(count) if count <= MAX_VOXELS => count,
+            _ => {
+                return Err(format!(
+                    "line 1: {}×{}×{} voxels is more than the {MAX_VOXELS} this reader accepts",
+                    size.x, size.y, size.z
+                ));
+            }
+        };
+        Ok((size, count, header_end))
+    }
+
+    /// The voxels after a parsed header.
+    fn from_data(size: UVec3, count: u64, header_end: usize, bytes: &[u8]) -> Result<Self, String> {
         let data = &bytes[header_end + 1..];
         if data.len() as u64 != count * 4 {
             return Err(format!(
@@ -180,10 +198,43 @@ impl VoxelGrid {
 
     /// Reads a `.tgrid` file; errors name the file.
     pub fn read(path: &Path) -> Result<Self, String> {
-        let bytes = std::fs::read(path)
-            .map_err(|e| format!("cannot read grid file `{}`: {e}", path.display()))?;
-        Self::from_bytes(&bytes).map_err(|e| format!("grid file `{}`: {e}", path.display()))
+        let cannot = |e: String| format!("cannot read grid file `{}`: {e}", path.display());
+        let named = |e: String| format!("grid file `{}`: {e}", path.display());
+        let file = std::fs::File::open(path).map_err(|e| cannot(e.to_string()))?;
+        if file.metadata().is_ok_and(|m| m.is_dir()) {
+            return Err(cannot("it is a directory".into()));
+        }
+        // The header first: it says how many bytes follow, so no more
+        // than that (and one to spot a longer file) is ever read, and a
+        // file such as `/dev/zero` fails right after its header.
+        let mut reader = std::io::BufReader::new(file);
+        let mut bytes = Vec::new();
+        (&mut reader)
+            .take(HEADER_BYTES)
+            .read_to_end(&mut bytes)
+            .map_err(|e| cannot(e.to_string()))?;
+        let (size, count, header_end) = Self::parse_header(&bytes).map_err(named)?;
+        let expected = (header_end + 1) as u64 + 4 * count;
+        let wanted = (expected + 1).saturating_sub(bytes.len() as u64);
+        reader
+            .take(wanted)
+            .read_to_end(&mut bytes)
+            .map_err(|e| cannot(e.to_string()))?;
+        if bytes.len() as u64 > expected {
+            return Err(named(format!(
+                "the file is longer than the {count} f32 values ({} bytes) its header announces",
+                4 * count
+            )));
+        }
+        Self::from_data(size, count, header_end, &bytes).map_err(named)
     }
+}
+
+/// `nx·ny·nz` in checked arithmetic (`None` on overflow).
+fn voxel_count(size: UVec3) -> Option<u64> {
+    (size.x as u64)
+        .checked_mul(size.y as u64)?
+        .checked_mul(size.z as u64)
 }
 
 #[cfg(test)]
@@ -251,5 +302,16 @@ mod tests {
                 .contains("voxel 23")
         );
         assert!(VoxelGrid::from_bytes(b"vdb").is_err());
+    }
+
+    /// Regression (issue 11): 2³¹·2³¹·4 wrapped to 0 voxels in u64, passed
+    /// the size and length checks, and panicked indexing an empty grid.
+    #[test]
+    fn header_sizes_that_overflow_are_refused() {
+        let header = b"tyndall-grid 1 2147483648 2147483648 4\n";
+        let e = VoxelGrid::from_bytes(header).unwrap_err();
+        assert!(e.contains("more than"), "{e}");
+        let size = UVec3::new(1 << 31, 1 << 31, 4);
+        assert!(VoxelGrid::new(size, Vec::new()).is_none());
     }
 }

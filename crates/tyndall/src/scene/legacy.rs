@@ -9,7 +9,7 @@
 //! applies to the emissive faces that follow (until the next `c`). A `c`
 //! that ends a block's fields could be either (`TrailingCutoff`).
 
-use super::{SceneBuilder, SceneDescription, SceneError, SourceText};
+use super::{SceneBuilder, SceneDescription, SceneError, SourceText, limits};
 use crate::camera::{CameraSpec, FieldOfView};
 use crate::color::{Rgb, srgb_to_linear};
 use crate::glass::{Glass, GlassModel};
@@ -150,6 +150,14 @@ impl<'a> Parser<'a> {
         ))
     }
 
+    /// A position: three numbers within [`limits::MAX_COORDINATE`].
+    fn position(&mut self, what: &str) -> Result<Vec3, SceneError> {
+        let at = self.peek();
+        let v = self.vec3(what)?;
+        limits::check_coordinates(what, v).map_err(|m| self.error(at, m))?;
+        Ok(v)
+    }
+
     fn color(&mut self, what: &str) -> Result<Rgb, SceneError> {
         let at = self.peek();
         let c = self.vec3(what)?;
@@ -157,6 +165,24 @@ impl<'a> Parser<'a> {
             return Err(self.error(
                 at,
                 format!("{what} must be non-negative, got {:?}", c.to_array()),
+            ));
+        }
+        Ok(c)
+    }
+
+    /// A reflectance: a colour in [0, 1] per channel. Above 1 a surface
+    /// creates light; bounce after bounce its paths overflow to infinity
+    /// (found by fuzzing: `diffuse 1e15 0.54 0.54` dropped samples as NaN).
+    fn reflectance(&mut self, what: &str) -> Result<Rgb, SceneError> {
+        let at = self.peek();
+        let c = self.color(what)?;
+        if c.max_element() > 1.0 {
+            return Err(self.error(
+                at,
+                format!(
+                    "{what} is a reflectance and must be at most 1 per channel, got {:?}",
+                    c.to_array()
+                ),
             ));
         }
         Ok(c)
@@ -191,7 +217,12 @@ impl<'a> Parser<'a> {
             .map(|p| p.parse::<f32>().ok().filter(|v| v.is_finite()))
             .collect();
         match values.as_slice() {
-            [Some(x), Some(y), Some(z)] => Ok(Vec3::new(*x, *y, *z)),
+            [Some(x), Some(y), Some(z)] => {
+                let v = Vec3::new(*x, *y, *z);
+                limits::check_coordinates(what, v)
+                    .map_err(|m| self.source.error_at(start.offset, m))?;
+                Ok(v)
+            }
             _ => Err(self.source.error_at(
                 start.offset,
                 format!(
@@ -303,7 +334,7 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                 ));
             };
             match tok.text {
-                "diffuse" => m.diffuse = p.color("`diffuse`")?,
+                "diffuse" => m.diffuse = p.reflectance("`diffuse`")?,
                 "texture_file" => {
                     p.bump().ok_or_else(|| {
                         p.error(None, "expected a file name after `texture_file`")
@@ -311,7 +342,7 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                     m.diffuse = Rgb::splat(0.5);
                     m.textured = true;
                 }
-                "reflective" => m.reflective = p.color("`reflective`")?,
+                "reflective" => m.reflective = p.reflectance("`reflective`")?,
                 "roughness" => {
                     let at = p.peek();
                     let r = p.number("`roughness`")?;
@@ -320,7 +351,12 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                     }
                     materials.last_mut().expect("open block").roughness = r;
                 }
-                "emitted" => m.emitted = p.color("`emitted`")?,
+                "emitted" => {
+                    let at = p.peek();
+                    let c = p.color("`emitted`")?;
+                    limits::check_emission("`emitted`", c).map_err(|e| p.error(at, e))?;
+                    materials.last_mut().expect("open block").emitted = c;
+                }
                 "alpha" => {
                     let at = p.peek();
                     let a = p.number("`alpha`")?;
@@ -357,7 +393,7 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                 });
                 open_block = true;
             }
-            "v" => vertices.push(p.vec3("a vertex `v x y z`")?),
+            "v" => vertices.push(p.position("a vertex `v x y z`")?),
             "vt" => {
                 p.number("texture coordinate s")?;
                 p.number("texture coordinate t")?;
@@ -406,13 +442,17 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                         "a sphere needs an active material: use `m i` first",
                     )
                 })?;
-                let center = p.vec3("the sphere centre")?;
+                let center = p.position("the sphere centre")?;
                 let at = p.peek();
                 let radius = p.number("the sphere radius")?;
-                if radius <= 0.0 {
-                    return Err(
-                        p.error(at, format!("sphere radius must be positive, got {radius}"))
-                    );
+                if !(radius > 0.0 && radius <= limits::MAX_COORDINATE) {
+                    return Err(p.error(
+                        at,
+                        format!(
+                            "sphere radius must be positive and at most {:e}, got {radius}",
+                            limits::MAX_COORDINATE
+                        ),
+                    ));
                 }
                 spheres.push((Sphere { center, radius }, material));
             }
@@ -423,12 +463,20 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                 ));
             }
             "background_color" => {
+                let at = p.peek();
                 let c = p.color("`background_color`")?;
                 background = Rgb::new(
                     srgb_to_linear(c.x),
                     srgb_to_linear(c.y),
                     srgb_to_linear(c.z),
                 );
+                // Decoding raises values to the power 2.4: found by
+                // fuzzing, `background_color 1e20 0 0` became infinite.
+                limits::check_emission(
+                    "`background_color` (decoded to linear radiance)",
+                    background,
+                )
+                .map_err(|e| p.error(at, e))?;
             }
             "PerspectiveCamera" => camera = Some(perspective_camera(&mut p, tok)?),
             "OrthographicCamera" => {
@@ -489,7 +537,17 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
 
     let camera = match camera {
         Some(c) => c,
-        None => default_camera(&vertices, &spheres),
+        None => {
+            let camera = default_camera(&vertices, &spheres);
+            // Far from the origin a small scene's offset camera can round
+            // onto its target (issue 11: every ray NaN, a black image).
+            super::check_camera(&camera).map_err(|m| {
+                source.error(format!(
+                    "the default camera (the file has no `PerspectiveCamera`) cannot be placed: {m}; give a `PerspectiveCamera`"
+                ))
+            })?;
+            camera
+        }
     };
     let mut builder = SceneBuilder::new(camera);
     builder.background = background;
@@ -532,8 +590,24 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
         let quad = super::parallelogram(c, one_sided);
         if m.emitted.max_element() > 0.0 {
             let quad = quad.map_err(|e| source.error_at(at, format!("emissive face: {e}")))?;
+            if builder.lights().len() == limits::MAX_LIGHTS {
+                return Err(source.error_at(
+                    at,
+                    format!(
+                        "a scene may hold at most {} lights (emissive faces)",
+                        limits::MAX_LIGHTS
+                    ),
+                ));
+            }
             match *cutoff {
                 Some(cutoff) => {
+                    // The spot's intensity is radiance × area (W/sr).
+                    let intensity = m.emitted * quad.area();
+                    limits::check_emission(
+                        "the spotlight's intensity (`emitted` × face area)",
+                        intensity,
+                    )
+                    .map_err(|e| source.error_at(at, format!("emissive face: {e}")))?;
                     // The quad is the lamp seen by the camera; the spot
                     // carries its light into the scene (counted once).
                     let lamp = *lamp_ids[face.material].get_or_insert_with(|| {
@@ -547,7 +621,7 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                         direction: quad.normal,
                         cos_cutoff: cutoff.to_radians().cos(),
                         profile: SpotProfile::Linear,
-                        intensity: m.emitted * quad.area(),
+                        intensity,
                     }));
                 }
                 None => builder.add_quad_light(quad, m.emitted, !one_sided),

@@ -1,5 +1,6 @@
 //! Triangle meshes from Wavefront .obj files (via tobj).
 
+use super::limits::{MAX_MESH_FILE_BYTES, check_coordinates, read_capped};
 use crate::shapes::Triangle;
 use glam::{EulerRot, Mat4, Quat, Vec3};
 use std::path::Path;
@@ -29,19 +30,30 @@ pub struct MeshTriangles {
 }
 
 /// Loads every object of an .obj file as triangles (faces with more
-/// sides are triangulated). Materials in the file are ignored: the scene
-/// assigns one. The error message names the file and the problem.
+/// sides are triangulated). Materials in the file are ignored, and
+/// `mtllib` lines are not followed: the scene assigns one. Files longer
+/// than [`MAX_MESH_FILE_BYTES`] are refused before they are read whole.
+/// The error message names the file and the problem.
 pub fn load_obj_mesh(path: &Path, transform: &MeshTransform) -> Result<MeshTriangles, String> {
+    let bytes = read_capped(path, MAX_MESH_FILE_BYTES)
+        .map_err(|e| format!("cannot read mesh file `{}`: {e}", path.display()))?;
+    parse_obj_mesh(&bytes, transform).map_err(|e| format!("mesh file `{}`: {e}", path.display()))
+}
+
+/// The triangles of an .obj file's bytes, placed by `transform` (see
+/// [`load_obj_mesh`]); the error does not name the file.
+pub fn parse_obj_mesh(bytes: &[u8], transform: &MeshTransform) -> Result<MeshTriangles, String> {
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: false,
         ignore_points: true,
         ignore_lines: true,
     };
-    let (models, _materials) = tobj::load_obj(path, &options).map_err(|e| match e {
-        tobj::LoadError::OpenFileFailed => format!("cannot open mesh file `{}`", path.display()),
-        other => format!("cannot read mesh file `{}`: {other}", path.display()),
-    })?;
+    // No material file is ever opened: an `mtllib` line could name any
+    // file (even `/dev/zero`), and the scene assigns the material.
+    let no_materials = |_: &Path| -> tobj::MTLLoadResult { Ok(Default::default()) };
+    let (models, _materials) = tobj::load_obj_buf(&mut &bytes[..], &options, no_materials)
+        .map_err(|e| format!("cannot parse it: {e}"))?;
     let m = transform.matrix();
     let mut triangles = Vec::new();
     let mut skipped_degenerate = 0;
@@ -49,25 +61,16 @@ pub fn load_obj_mesh(path: &Path, transform: &MeshTransform) -> Result<MeshTrian
         let mesh = &model.mesh;
         let vertex = |i: u32| -> Result<Vec3, String> {
             let i = i as usize;
-            mesh.positions
+            let p = mesh
+                .positions
                 .get(3 * i..3 * i + 3)
-                .map(|p| m.transform_point3(Vec3::new(p[0], p[1], p[2])))
-                .ok_or_else(|| {
-                    format!(
-                        "mesh file `{}`: face refers to missing vertex {}",
-                        path.display(),
-                        i + 1
-                    )
-                })
+                .ok_or_else(|| format!("a face refers to missing vertex {}", i + 1))?;
+            let placed = m.transform_point3(Vec3::new(p[0], p[1], p[2]));
+            check_coordinates(&format!("vertex {} (placed)", i + 1), placed)?;
+            Ok(placed)
         };
         for face in mesh.indices.chunks_exact(3) {
             let (a, b, c) = (vertex(face[0])?, vertex(face[1])?, vertex(face[2])?);
-            if !(a.is_finite() && b.is_finite() && c.is_finite()) {
-                return Err(format!(
-                    "mesh file `{}`: vertex coordinates must be finite",
-                    path.display()
-                ));
-            }
             match Triangle::new(a, b, c) {
                 Some(t) => triangles.push(t),
                 None => skipped_degenerate += 1,
@@ -75,7 +78,7 @@ pub fn load_obj_mesh(path: &Path, transform: &MeshTransform) -> Result<MeshTrian
         }
     }
     if triangles.is_empty() {
-        return Err(format!("mesh file `{}` has no triangles", path.display()));
+        return Err("it has no triangles".into());
     }
     Ok(MeshTriangles {
         triangles,

@@ -6,6 +6,7 @@
 
 pub mod demo;
 pub mod legacy;
+pub mod limits;
 pub mod mesh;
 pub mod native;
 mod source;
@@ -232,6 +233,13 @@ pub(crate) fn check_camera(spec: &CameraSpec) -> Result<(), String> {
     let has_direction = forward.length_squared() > 0.0; // false for NaN too
     if !has_direction {
         return Err("the camera's look-at point must differ from its position".into());
+    }
+    let up_length = spec.up.length_squared(); // 0 when it underflows
+    if !(up_length > 0.0 && up_length.is_finite()) {
+        return Err(
+            "the camera's up vector must be a non-zero direction (of length between 1e-19 and 1e19)"
+                .into(),
+        );
     }
     let up_across_view = forward
         .normalize()

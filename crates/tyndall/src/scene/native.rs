@@ -4,6 +4,7 @@
 //! parsing (ranges, references, files) is reported at the offending key's
 //! line and column through the tables' spans.
 
+use super::limits;
 use super::mesh::{MeshTransform, load_obj_mesh};
 use super::{GlassSettings, SceneBuilder, SceneDescription, SceneError, SourceText};
 use crate::camera::{CameraSpec, FieldOfView};
@@ -481,25 +482,44 @@ impl Loader<'_> {
         self.source.error_at_key(span.clone(), key, message)
     }
 
+    /// A position (or placement) whose coordinates are finite and within
+    /// [`limits::MAX_COORDINATE`].
     fn vec3(&self, span: &Range<usize>, key: &str, v: V3) -> Result<Vec3, SceneError> {
-        if v.iter().all(|x| x.is_finite()) {
-            Ok(Vec3::from_array(v))
-        } else {
-            Err(self.err(
+        let v = Vec3::from_array(v);
+        limits::check_coordinates(&format!("`{key}`"), v).map_err(|m| self.err(span, key, m))?;
+        Ok(v)
+    }
+
+    /// A unit direction from any finite non-zero vector (scaled before
+    /// normalising, so `[0, -1, -1.5e38]` does not overflow to zero).
+    fn direction(&self, span: &Range<usize>, key: &str, v: V3) -> Result<Vec3, SceneError> {
+        let d = Vec3::from_array(v);
+        if !d.is_finite() {
+            return Err(self.err(
                 span,
                 key,
                 format!("`{key}` must be finite numbers, got {v:?}"),
-            ))
+            ));
         }
-    }
-
-    fn direction(&self, span: &Range<usize>, key: &str, v: V3) -> Result<Vec3, SceneError> {
-        let d = self.vec3(span, key, v)?;
-        if d.length_squared() > 0.0 {
-            Ok(d.normalize())
+        let scale = d.abs().max_element();
+        let unit = if scale > 0.0 {
+            (d / scale).normalize()
+        } else {
+            Vec3::ZERO
+        };
+        if unit.is_finite() && unit != Vec3::ZERO {
+            Ok(unit)
         } else {
             Err(self.err(span, key, format!("`{key}` must be a non-zero direction")))
         }
+    }
+
+    /// An emitted quantity: non-negative, finite and at most
+    /// [`limits::MAX_EMISSION`] per channel.
+    fn emission(&self, span: &Range<usize>, key: &str, c: ColorValue) -> Result<Rgb, SceneError> {
+        let c = self.color(span, key, c, false)?;
+        limits::check_emission(&format!("`{key}`"), c).map_err(|m| self.err(span, key, m))?;
+        Ok(c)
     }
 
     fn number(
@@ -558,8 +578,29 @@ impl Loader<'_> {
         }
         for shape in &file.shapes {
             self.shape(shape, &material_ids, &mut builder)?;
+            // Emissive quads, box faces and spheres are lights too.
+            if builder.lights().len() > limits::MAX_LIGHTS {
+                return Err(self.err(
+                    &shape.span(),
+                    "material",
+                    format!(
+                        "a scene may hold at most {} lights (emissive quads, box faces and spheres count)",
+                        limits::MAX_LIGHTS
+                    ),
+                ));
+            }
         }
         for light in &file.lights {
+            if builder.lights().len() == limits::MAX_LIGHTS {
+                return Err(self.err(
+                    &light.span(),
+                    "type",
+                    format!(
+                        "a scene may hold at most {} lights (emissive quads, box faces and spheres count)",
+                        limits::MAX_LIGHTS
+                    ),
+                ));
+            }
             self.light(light, &mut builder)?;
         }
         for include in &file.include {
@@ -638,8 +679,15 @@ impl Loader<'_> {
             }
         }
         if let Some(spp) = r.spp {
-            if spp == 0 {
-                return Err(self.err(&span, "spp", "`spp` must be at least 1"));
+            if !(1..=crate::render::MAX_SPP).contains(&spp) {
+                return Err(self.err(
+                    &span,
+                    "spp",
+                    format!(
+                        "`spp` must be between 1 and {}, got {spp}",
+                        crate::render::MAX_SPP
+                    ),
+                ));
             }
             s.spp = spp;
         }
@@ -748,7 +796,7 @@ impl Loader<'_> {
             };
         }
         if let Some(bg) = r.background {
-            builder.background = self.color(&span, "background", bg, false)?;
+            builder.background = self.emission(&span, "background", bg)?;
         }
         let output = r.output.as_ref().map(|o| self.relative(o));
         Ok((s, output))
@@ -829,7 +877,7 @@ impl Loader<'_> {
                 radiance,
                 two_sided,
             }) => Material::Emissive {
-                radiance: self.color(&span, "radiance", radiance, false)?,
+                radiance: self.emission(&span, "radiance", radiance)?,
                 two_sided,
             },
             MaterialDesc::Glass(GlassDesc { color, alpha }) => Material::Glass(Glass {
@@ -904,8 +952,8 @@ impl Loader<'_> {
                         &span,
                         "radius",
                         *radius,
-                        (f32::MIN_POSITIVE, f32::MAX),
-                        "a positive length",
+                        (f32::MIN_POSITIVE, limits::MAX_COORDINATE),
+                        "a length between 1.2e-38 and 1e9",
                     )?,
                 };
                 builder.add_shape(Shape::Sphere(sphere), m);
@@ -1023,6 +1071,7 @@ impl Loader<'_> {
         let span = desc.span();
         let m = desc.get_ref();
         let sigma_t = self.color(&span, "sigma_t", m.sigma_t, false)?;
+        limits::check_extinction_channels(sigma_t).map_err(|e| self.err(&span, "sigma_t", e))?;
         let albedo = self.color(&span, "albedo", m.albedo, true)?;
         let g = self.number(&span, "g", m.g, (-0.999, 0.999), "in (−1, 1)")?;
         let placement = (m.translate, m.scale, m.rotate_deg);
@@ -1197,14 +1246,45 @@ impl Loader<'_> {
             }
         };
         let key = if m.mesh.is_some() { "mesh" } else { "density" };
-        Volume::new(
+        let volume = Volume::new(
             sigma_t,
             albedo,
             PhaseFunction::from_asymmetry(g),
             density,
             region,
         )
-        .map_err(|e| self.err(&span, key, e))
+        .map_err(|e| self.err(&span, key, e))?;
+        if volume.is_unbounded()
+            && sigma_t.max_element() > 0.0
+            && sigma_t.min_element() < limits::MIN_UNBOUNDED_EXTINCTION
+        {
+            return Err(self.err(
+                &span,
+                "sigma_t",
+                format!(
+                    "`sigma_t` {:?} is too thin for a medium that fills all space: its mean free path would exceed {:e} units, beyond the coordinate limit; use at least {:e} (or 0), or give the medium a `box`",
+                    sigma_t.to_array(),
+                    limits::MAX_COORDINATE,
+                    limits::MIN_UNBOUNDED_EXTINCTION
+                ),
+            ));
+        }
+        if kind != "uniform" {
+            // Tracking cost: tentative collisions to cross the box where
+            // the density is far below its majorant.
+            let depth = volume.max_extinction() * volume.field_box().extent().length();
+            if depth.is_nan() || depth > limits::MAX_MAJORANT_DEPTH {
+                return Err(self.err(
+                    &span,
+                    "sigma_t",
+                    format!(
+                        "the medium's largest extinction times its box's diagonal is {depth:.3e}, more than the {:e} a non-uniform density may reach: tracking would take about that many steps per ray",
+                        limits::MAX_MAJORANT_DEPTH
+                    ),
+                ));
+            }
+        }
+        Ok(volume)
     }
 
     fn light(
@@ -1221,8 +1301,8 @@ impl Loader<'_> {
             }) => {
                 let intensity =
                     match (intensity, power) {
-                        (Some(i), None) => self.color(&span, "intensity", *i, false)?,
-                        (None, Some(p)) => self.color(&span, "power", *p, false)? / (4.0 * PI),
+                        (Some(i), None) => self.emission(&span, "intensity", *i)?,
+                        (None, Some(p)) => self.emission(&span, "power", *p)? / (4.0 * PI),
                         _ => return Err(self.err(
                             &span,
                             "position",
@@ -1255,7 +1335,9 @@ impl Loader<'_> {
                                 "`look_at` must differ from `position`",
                             ));
                         }
-                        (t - position).normalize()
+                        // Scaled before normalising: a `look_at` 1e-45 away
+                        // would otherwise normalise to NaN.
+                        self.direction(&span, "look_at", (t - position).to_array())?
                     }
                     _ => {
                         return Err(self.err(
@@ -1292,7 +1374,7 @@ impl Loader<'_> {
                     direction,
                     cos_cutoff,
                     profile,
-                    intensity: self.color(&span, "intensity", *intensity, false)?,
+                    intensity: self.emission(&span, "intensity", *intensity)?,
                 }));
             }
             LightDesc::Directional(DirectionalDesc {
@@ -1301,7 +1383,7 @@ impl Loader<'_> {
             }) => {
                 builder.add_light(Light::Directional(DirectionalLight {
                     direction: self.direction(&span, "direction", *direction)?,
-                    irradiance: self.color(&span, "irradiance", *irradiance, false)?,
+                    irradiance: self.emission(&span, "irradiance", *irradiance)?,
                 }));
             }
             LightDesc::Quad(QuadLightDesc {
@@ -1310,7 +1392,7 @@ impl Loader<'_> {
                 two_sided,
             }) => {
                 let quad = self.quad(&span, corners, false)?;
-                let radiance = self.color(&span, "radiance", *radiance, false)?;
+                let radiance = self.emission(&span, "radiance", *radiance)?;
                 builder.add_quad_light(quad, radiance, *two_sided);
             }
         }

@@ -50,15 +50,24 @@ impl SourceText {
     }
 
     /// Reads a file; the error names the file.
+    /// Files longer than [`super::limits::MAX_SCENE_FILE_BYTES`] are
+    /// refused before they are read whole.
     pub fn read(path: &Path) -> Result<Self, SceneError> {
-        std::fs::read_to_string(path)
-            .map(|text| Self::new(path, text))
-            .map_err(|e| SceneError {
-                path: path.to_owned(),
-                line: 0,
-                column: 0,
-                message: format!("cannot read the file: {e}"),
-            })
+        let error = |message: String| SceneError {
+            path: path.to_owned(),
+            line: 0,
+            column: 0,
+            message,
+        };
+        let bytes = super::limits::read_capped(path, super::limits::MAX_SCENE_FILE_BYTES)
+            .map_err(|e| error(format!("cannot read the file: {e}")))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            let offset = e.utf8_error().valid_up_to();
+            error(format!(
+                "cannot read the file: it is not UTF-8 text (byte {offset})"
+            ))
+        })?;
+        Ok(Self::new(path, text))
     }
 
     /// 1-based (line, column) of a byte offset.

@@ -1,0 +1,174 @@
+//! Limits on what a scene may ask for, so that hostile or corrupt input
+//! is refused with a clear message instead of crashing, hanging or
+//! exhausting memory. Every limit is listed in docs/scene-format.md
+//! ("Limits"); the render-setting limits live beside
+//! [`crate::render::RenderSettings::validate`].
+
+use std::io::Read;
+use std::path::Path;
+
+/// Largest absolute value of any coordinate (positions, corners, centres,
+/// radii, mesh vertices after placement). Shapes square products of
+/// coordinates (a triangle's or quad's edge cross product has components
+/// ~|x|², its squared length ~|x|⁴): at 10⁹ they stay within f32's range
+/// (10³⁸), above about 4·10⁹ they overflow and a shape looks degenerate.
+/// The BVH (obvhs) panicked on primitives about 10¹⁹ across; it was
+/// checked against a linear scan with primitives from 10⁻³ to this size
+/// (tests/hostile_input.rs).
+pub const MAX_COORDINATE: f32 = 1e9;
+
+/// Largest emitted quantity (radiance, intensity, power, irradiance, per
+/// channel): above this, products with areas and solid angles overflow
+/// f32 and samples turn infinite.
+pub const MAX_EMISSION: f32 = 1e20;
+
+/// Largest ratio between the largest and the smallest channel of a
+/// medium's RGB extinction. Spectral tracking draws tentative collisions
+/// at the largest channel's rate; once the path's throughput sits in the
+/// weak channels, about this many of them pass per real event (issue 11:
+/// `sigma_t = [1, 1e9, 1]` did not finish an 8×8 image; a channel of 0
+/// beside non-zero ones never ends a walk through an unbounded medium).
+pub const MAX_CHANNEL_RATIO: f32 = 1000.0;
+
+/// Smallest non-zero extinction (per unit length) of a medium that fills
+/// all space: its mean free path, 1/σt, must stay within
+/// [`MAX_COORDINATE`]. Found by fuzzing: `sigma_t = 1e-30` with no `box`
+/// put scattering events ~10³⁰ away, where squared distances overflow f32,
+/// and every `volpath` sample was NaN.
+pub const MIN_UNBOUNDED_EXTINCTION: f32 = 1.0 / MAX_COORDINATE;
+
+/// Largest optical depth of a non-uniform medium's majorant across its
+/// box: the largest extinction (sigma_t times the largest density) times
+/// the box's diagonal. Tracking takes about this many tentative
+/// collisions to cross the box where the density is far below its bound.
+pub const MAX_MAJORANT_DEPTH: f32 = 1e5;
+
+/// Most lights a scene may hold. Every integrator visits every light at
+/// each path vertex (each march step), so a render's cost grows with
+/// their number; 1024 keeps an 8×8, 1 spp render within seconds.
+pub const MAX_LIGHTS: usize = 1024;
+
+/// Largest scene file read (native TOML or legacy .obj), in bytes.
+pub const MAX_SCENE_FILE_BYTES: u64 = 64 << 20;
+
+/// Largest mesh (.obj) file read, in bytes.
+pub const MAX_MESH_FILE_BYTES: u64 = 256 << 20;
+
+/// Largest grid (.tgrid) file read, in bytes: the most voxels a grid may
+/// hold ([`crate::media::grid::MAX_VOXELS`], 4 bytes each) and its header.
+/// The reader reads the header first and then no more than the voxels it
+/// announces (and one byte to spot a longer file), so `/dev/zero` fails
+/// after 256 bytes.
+pub const MAX_GRID_FILE_BYTES: u64 = (crate::media::grid::MAX_VOXELS << 2) + 256;
+
+/// Reads at most `limit` bytes of a file. A file that is longer (or a
+/// device such as `/dev/zero` that never ends) is refused after reading
+/// `limit + 1` bytes; the message says what the limit is. The error is
+/// returned without the path: callers name the file.
+pub fn read_capped(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let metadata = file.metadata().map_err(|e| e.to_string())?;
+    if metadata.is_dir() {
+        return Err("it is a directory".into());
+    }
+    if metadata.is_file() && metadata.len() > limit {
+        return Err(too_large(metadata.len(), limit));
+    }
+    let mut bytes = Vec::new();
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| e.to_string())?;
+    if bytes.len() as u64 > limit {
+        return Err(format!(
+            "it is longer than the {} this reader accepts (or never ends)",
+            describe_bytes(limit)
+        ));
+    }
+    Ok(bytes)
+}
+
+fn too_large(len: u64, limit: u64) -> String {
+    format!(
+        "it is {} long, more than the {} this reader accepts",
+        describe_bytes(len),
+        describe_bytes(limit)
+    )
+}
+
+/// A byte count for messages: "12.3 GiB", "640 KiB", "17 bytes".
+pub fn describe_bytes(n: u64) -> String {
+    const UNITS: [&str; 4] = ["KiB", "MiB", "GiB", "TiB"];
+    if n < 1024 {
+        return format!("{n} bytes");
+    }
+    let mut value = n as f64 / 1024.0;
+    let mut unit = 0;
+    while value >= 1024.0 && unit + 1 < UNITS.len() {
+        value /= 1024.0;
+        unit += 1;
+    }
+    format!("{value:.1} {}", UNITS[unit])
+}
+
+/// Checks that every coordinate of `v` is finite and within
+/// [`MAX_COORDINATE`]; the error names `what`.
+pub fn check_coordinates(what: &str, v: glam::Vec3) -> Result<(), String> {
+    if !v.is_finite() {
+        return Err(format!(
+            "{what} must be finite numbers, got {:?}",
+            v.to_array()
+        ));
+    }
+    if v.abs().max_element() > MAX_COORDINATE {
+        return Err(format!(
+            "{what} {:?} is too far out: coordinates must be within ±{MAX_COORDINATE:e}",
+            v.to_array()
+        ));
+    }
+    Ok(())
+}
+
+/// Checks that every channel of an emitted quantity is at most
+/// [`MAX_EMISSION`].
+pub fn check_emission(what: &str, c: crate::color::Rgb) -> Result<(), String> {
+    if !(c.is_finite() && c.max_element() <= MAX_EMISSION) {
+        return Err(format!(
+            "{what} {:?} is too large: emitted quantities must be at most {MAX_EMISSION:e} per channel",
+            c.to_array()
+        ));
+    }
+    Ok(())
+}
+
+/// Checks a medium's RGB extinction against [`MAX_CHANNEL_RATIO`].
+pub fn check_extinction_channels(sigma_t: crate::color::Rgb) -> Result<(), String> {
+    let (lo, hi) = (sigma_t.min_element(), sigma_t.max_element());
+    if hi > 0.0 && hi > lo * MAX_CHANNEL_RATIO {
+        return Err(format!(
+            "`sigma_t` {:?} has channels more than {MAX_CHANNEL_RATIO} times apart: tracking draws collisions at the largest channel's rate, so the weakest would take about {:.1e} null collisions per real one; keep the channels within a factor {MAX_CHANNEL_RATIO} (a channel of 0 only if all are 0)",
+            sigma_t.to_array(),
+            if lo > 0.0 { hi / lo } else { f32::INFINITY }
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dev_zero_is_refused_quickly() {
+        let path = Path::new("/dev/zero");
+        if path.exists() {
+            let e = read_capped(path, 1 << 20).unwrap_err();
+            assert!(e.contains("never ends"), "{e}");
+        }
+    }
+
+    #[test]
+    fn byte_counts_read_well() {
+        assert_eq!(describe_bytes(17), "17 bytes");
+        assert_eq!(describe_bytes(3 << 30), "3.0 GiB");
+    }
+}
