@@ -129,15 +129,9 @@ impl Geometry {
         &self,
         ray: &Ray,
         t_max: f32,
-        mut visit: impl FnMut(f32, u32) -> ControlFlow<()>,
+        visit: impl FnMut(f32, u32) -> ControlFlow<()>,
     ) {
-        self.for_each_candidate(ray, t_max, |_, index| {
-            let prim = &self.primitives[index as usize];
-            match prim.shape.intersect(ray, t_max) {
-                Some(t) => visit(t, index),
-                None => ControlFlow::Continue(()),
-            }
-        });
+        self.for_each_hit_by(ray, t_max, Shape::intersect, visit);
     }
 
     /// [`Geometry::for_each_hit`] for a ray traced along the light's flow
@@ -147,11 +141,22 @@ impl Geometry {
         &self,
         ray: &Ray,
         t_max: f32,
+        visit: impl FnMut(f32, u32) -> ControlFlow<()>,
+    ) {
+        self.for_each_hit_by(ray, t_max, Shape::intersect_from_light, visit);
+    }
+
+    /// Every intersection `intersect` finds with `t ∈ (0, t_max)`.
+    fn for_each_hit_by(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        intersect: impl Fn(&Shape, &Ray, f32) -> Option<f32>,
         mut visit: impl FnMut(f32, u32) -> ControlFlow<()>,
     ) {
         self.for_each_candidate(ray, t_max, |_, index| {
             let prim = &self.primitives[index as usize];
-            match prim.shape.intersect_from_light(ray, t_max) {
+            match intersect(&prim.shape, ray, t_max) {
                 Some(t) => visit(t, index),
                 None => ControlFlow::Continue(()),
             }

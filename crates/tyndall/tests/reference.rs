@@ -42,13 +42,7 @@ fn integrators_converge_to_references() {
                 })
             };
             let (c1, c2) = (shot(1), shot(2));
-            let to_ref = pixel_distances(&c1, &reference, &reference);
-            let between = pixel_distances(&c1, &c2, &reference);
-            // Per pixel, summed over channels: divide by 3 for relMSE units.
-            let z: Vec<f64> = (0..to_ref.len())
-                .map(|i| (to_ref[i] - 0.5 * between[i]) / 3.0)
-                .collect();
-            let (excess, stderr) = mean_and_stderr(&z);
+            let (excess, stderr) = excess_over_noise(&c1, &c2, &reference);
             let bound = 2.0 * REFERENCE_ERROR + 4.0 * stderr;
             assert!(
                 excess <= bound,
@@ -133,12 +127,7 @@ fn volpath_converges_to_multiple_scattering_references() {
             100.0 * (m / m_ref - 1.0)
         );
 
-        let to_ref = pixel_distances(&c1, &reference, &reference);
-        let between = pixel_distances(&c1, &c2, &reference);
-        let z: Vec<f64> = (0..to_ref.len())
-            .map(|i| (to_ref[i] - 0.5 * between[i]) / 3.0)
-            .collect();
-        let (excess, stderr) = mean_and_stderr(&z);
+        let (excess, stderr) = excess_over_noise(&c1, &c2, &reference);
         let bound = 2.0 * reference_error + 4.0 * stderr;
         assert!(
             excess <= bound,
@@ -146,6 +135,20 @@ fn volpath_converges_to_multiple_scattering_references() {
             relative_mse(&c1, &reference)
         );
     }
+}
+
+/// The relMSE of render `c1` against `reference` in excess of its own
+/// noise, and the standard error of that excess: the mean over pixels of
+/// `d(c1, R) − d(c1, c2)/2` (see [`integrators_converge_to_references`]),
+/// with `c2` an independent render of the same settings.
+fn excess_over_noise(c1: &Image, c2: &Image, reference: &Image) -> (f64, f64) {
+    let to_ref = pixel_distances(c1, reference, reference);
+    let between = pixel_distances(c1, c2, reference);
+    // Per pixel, summed over channels: divide by 3 for relMSE units.
+    let z: Vec<f64> = (0..to_ref.len())
+        .map(|i| (to_ref[i] - 0.5 * between[i]) / 3.0)
+        .collect();
+    mean_and_stderr(&z)
 }
 
 /// The reference's own estimated relMSE against the truth,
