@@ -531,3 +531,41 @@ fn march_work_counts_lights_and_lights_are_bounded() {
         "{e}"
     );
 }
+
+/// Found by fuzzing: fog `albedo = 3e38` (accepted for `march`) made the
+/// scattered radiance infinite, and a denormal fog `sigma_t = 1e-45` in a
+/// box made `volpath` samples NaN. Both refused where written, and from
+/// the command line.
+#[test]
+fn extreme_fog_is_refused() {
+    let scene = fog_scene("");
+    assert_at(
+        &error(&scene.replace("albedo = 0.8", "albedo = 3e38")),
+        9,
+        "at most 100",
+    );
+    assert_at(
+        &error(&scene.replace("sigma_t = 0.5", "sigma_t = 1e-45")),
+        8,
+        "sigma_t",
+    );
+    assert_at(
+        &error(&scene.replace("sigma_t = 0.5", "sigma_t = 3e38")),
+        8,
+        "sigma_t",
+    );
+    let mut desc = parse(&scene).unwrap();
+    assert!(
+        desc.override_fog(Some(1e-45), None)
+            .unwrap_err()
+            .contains("--density")
+    );
+    assert!(
+        desc.override_fog(None, Some(1e30))
+            .unwrap_err()
+            .contains("--albedo")
+    );
+    // The paper's albedo 10 and a vacuum (0) are fine.
+    desc.override_fog(Some(0.0), Some(10.0))
+        .expect("the paper's values");
+}

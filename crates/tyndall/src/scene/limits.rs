@@ -37,6 +37,39 @@ pub const MAX_CHANNEL_RATIO: f32 = 1000.0;
 /// and every `volpath` sample was NaN.
 pub const MIN_UNBOUNDED_EXTINCTION: f32 = 1.0 / MAX_COORDINATE;
 
+/// Largest fog extinction (per unit length): with the largest albedo,
+/// the scattering coefficient `albedo·sigma_t` stays far inside f32.
+pub const MAX_FOG_EXTINCTION: f32 = 1e20;
+
+/// Largest fog albedo. Above 1 it is not physical and only `march`
+/// renders it (the paper's figures used up to 10); found by fuzzing,
+/// `albedo = 3e38` made the scattered radiance infinite.
+pub const MAX_FOG_ALBEDO: f32 = 100.0;
+
+/// Checks fog's extinction: 0, or between [`MIN_UNBOUNDED_EXTINCTION`]
+/// (found by fuzzing: a denormal `sigma_t = 1e-45` in a fog box made
+/// `volpath` samples NaN) and [`MAX_FOG_EXTINCTION`].
+pub fn check_fog_extinction(sigma_t: f32) -> Result<(), String> {
+    let ok = sigma_t == 0.0 || (MIN_UNBOUNDED_EXTINCTION..=MAX_FOG_EXTINCTION).contains(&sigma_t);
+    if !ok {
+        return Err(format!(
+            "fog `sigma_t` must be 0 or between {MIN_UNBOUNDED_EXTINCTION:e} and {MAX_FOG_EXTINCTION:e} per unit length, got {sigma_t}"
+        ));
+    }
+    Ok(())
+}
+
+/// Checks fog's albedo against [`MAX_FOG_ALBEDO`].
+pub fn check_fog_albedo(albedo: crate::color::Rgb) -> Result<(), String> {
+    if !(albedo.is_finite() && albedo.max_element() <= MAX_FOG_ALBEDO) {
+        return Err(format!(
+            "fog `albedo` {:?} is too large: at most {MAX_FOG_ALBEDO} (above 1 it is not physical; the paper's figures used up to 10)",
+            albedo.to_array()
+        ));
+    }
+    Ok(())
+}
+
 /// Largest optical depth of a non-uniform medium's majorant across its
 /// box: the largest extinction (sigma_t times the largest density) times
 /// the box's diagonal. Tracking takes about this many tentative

@@ -314,15 +314,17 @@ impl SceneDescription {
         density: Option<f32>,
         albedo: Option<f32>,
     ) -> Result<(), String> {
-        if let Some(d) = density
-            && !(d >= 0.0 && d.is_finite())
-        {
-            return Err(format!("--density must be a non-negative number, got {d}"));
+        if let Some(d) = density {
+            if !(d >= 0.0 && d.is_finite()) {
+                return Err(format!("--density must be a non-negative number, got {d}"));
+            }
+            limits::check_fog_extinction(d).map_err(|e| format!("--density: {e}"))?;
         }
-        if let Some(a) = albedo
-            && !(a >= 0.0 && a.is_finite())
-        {
-            return Err(format!("--albedo must be a non-negative number, got {a}"));
+        if let Some(a) = albedo {
+            if !(a >= 0.0 && a.is_finite()) {
+                return Err(format!("--albedo must be a non-negative number, got {a}"));
+            }
+            limits::check_fog_albedo(Rgb::splat(a)).map_err(|e| format!("--albedo: {e}"))?;
         }
         match (&mut self.scene.fog, density) {
             (Some(fog), _) => {

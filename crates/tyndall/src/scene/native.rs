@@ -817,7 +817,9 @@ impl Loader<'_> {
             (0.0, f32::MAX),
             "a non-negative density",
         )?;
+        limits::check_fog_extinction(sigma_t).map_err(|e| self.err(&span, "sigma_t", e))?;
         let albedo = self.color(&span, "albedo", f.albedo, false)?;
+        limits::check_fog_albedo(albedo).map_err(|e| self.err(&span, "albedo", e))?;
         let g = self.number(&span, "g", f.g, (-0.999, 0.999), "in (−1, 1)")?;
         let bounds = match &f.bounds {
             None => None,
