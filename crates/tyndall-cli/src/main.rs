@@ -430,7 +430,7 @@ fn render(args: RenderArgs) -> Result<()> {
     if stats.invalid_samples > 0 {
         // Even with --quiet: the image is missing these samples.
         eprintln!(
-            "warning: {} of {} samples were NaN or infinite and were dropped (the image averages the rest)",
+            "warning: {} samples (of {} camera samples and the light-path connections) were NaN or infinite and were dropped (the image averages the rest)",
             stats.invalid_samples, stats.samples
         );
     }

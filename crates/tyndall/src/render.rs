@@ -395,8 +395,9 @@ pub struct RenderStats {
     pub maps: Duration,
     pub samples: u64,
     pub rays: RayCounts,
-    /// Samples whose radiance was NaN or infinite and were dropped (a bug
-    /// if ever non-zero; reported, never hidden).
+    /// Samples whose radiance was NaN or infinite and were dropped, camera
+    /// samples and light-path connections alike (a bug if ever non-zero;
+    /// reported, never hidden).
     pub invalid_samples: u64,
 }
 
@@ -673,7 +674,7 @@ pub fn render_region(
             // tile traces its share.
             let first = s as u64 * full_width * settings.height as u64;
             let share = light_share(settings.width, rect);
-            let counts = pool.install(|| {
+            let (counts, dropped) = pool.install(|| {
                 light_tracer::trace_paths(
                     scene,
                     &camera,
@@ -687,6 +688,7 @@ pub fn render_region(
             });
             camera_rays.fetch_add(counts.camera, Ordering::Relaxed);
             shadow_rays.fetch_add(counts.shadow, Ordering::Relaxed);
+            invalid.fetch_add(dropped, Ordering::Relaxed);
         }
         accumulation.region.samples.end = s + 1;
         passes += 1;

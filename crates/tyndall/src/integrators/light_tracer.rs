@@ -91,7 +91,7 @@ pub fn trace(
     which: LightPaths,
 ) -> (Vec<Rgb>, RayCounts) {
     let mut sums = vec![ExactRgb::ZERO; (width * height) as usize];
-    let counts = trace_paths(
+    let (counts, _) = trace_paths(
         scene,
         camera,
         width,
@@ -116,6 +116,8 @@ pub fn trace(
 /// is the `i`-th point of one Sobol sequence over all paths, so disjoint
 /// index ranges are disjoint parts of one stratified set, and the sums of
 /// any division of a range into sub-ranges add up exactly to the range's.
+/// Returns the rays traced and how many connections were dropped as
+/// non-finite.
 #[allow(clippy::too_many_arguments)]
 pub fn trace_paths(
     scene: &Scene,
@@ -126,13 +128,14 @@ pub fn trace_paths(
     max_depth: u32,
     which: LightPaths,
     sums: &mut [ExactRgb],
-) -> RayCounts {
+) -> (RayCounts, u64) {
     let emitters: Vec<usize> = (0..scene.lights.len())
         .filter(|&i| matches!(scene.lights[i], Light::Point(_) | Light::Spot(_)))
         .collect();
     let mut counts = RayCounts::default();
+    let mut dropped = 0u64;
     if emitters.is_empty() || paths.is_empty() {
-        return counts;
+        return (counts, dropped);
     }
     let tracer = Tracer {
         scene,
@@ -169,6 +172,8 @@ pub fn trace_paths(
             for (pixel, value) in splats {
                 if value.is_finite() {
                     sums[pixel as usize].add(value);
+                } else {
+                    dropped += 1;
                 }
             }
             counts.camera += c.camera;
@@ -176,7 +181,7 @@ pub fn trace_paths(
         }
         batch_start = batch_end;
     }
-    counts
+    (counts, dropped)
 }
 
 /// A camera connection: the index of its pixel and its contribution.
