@@ -7,7 +7,7 @@
 //! camera met in the walk becomes the camera, KHR_lights_punctual lights
 //! become point, spot and directional lights (photometric units converted
 //! by [`crate::photometry`]) and materials map to Tyndall's closed set
-//! ([`material`](GltfLoader::material)). Errors name the file and the
+//! (`GltfLoader::material`). Errors name the file and the
 //! element (`meshes[2].primitives[0]`, `nodes[3]`, `materials[1]`).
 
 use crate::photometry::{candela_to_watts_per_sr, lux_to_watts_per_m2};

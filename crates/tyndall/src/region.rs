@@ -4,7 +4,7 @@
 //!
 //! Every sample is identified globally by (seed, pixel, sample index), and
 //! each light-tracing path by its global path index (see
-//! [`crate::render`]), so any part computes exactly the samples the whole
+//! [`crate::render`](mod@crate::render)), so any part computes exactly the samples the whole
 //! render would compute for its pixels and indices.
 
 use std::ops::Range;

@@ -50,7 +50,7 @@ impl SmokeNoise {
     /// An upper bound of [`SmokeNoise::eval`] over the box `[lo, hi]`.
     ///
     /// Its cost is bounded: an octave whose box touches more than
-    /// [`MAX_LATTICE_SCAN`] lattice points is bounded by 1, the largest
+    /// `MAX_LATTICE_SCAN` lattice points is bounded by 1, the largest
     /// lattice value, instead of by a scan (issue 11: a dense scan costs
     /// frequency³ and never finished at frequency 1024 with 8 octaves).
     /// The bound stays true; it is loose only where the box spans many
