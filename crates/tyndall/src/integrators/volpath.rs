@@ -616,7 +616,10 @@ impl<'a> FogSegment<'a> {
         let t_light = fog.transmittance_along(y0, to_y / d, d);
         let lights = medium.scene.quad_light_count() as f32;
         let sides = if q.two_sided { 2.0 } else { 1.0 };
-        fog.sigma_t * t_light * t * t / (lights * q.quad.area() * PI * sides * p_dir * p_flight)
+        finite_density(
+            fog.sigma_t * t_light * t * t
+                / (lights * q.quad.area() * PI * sides * p_dir * p_flight),
+        )
     }
 }
 
@@ -666,7 +669,25 @@ impl FogSegment<'_> {
         let phase = fog.phase.eval(-(to_y1 / d).dot(medium.ray.direction));
         let lights = medium.scene.quad_light_count() as f32;
         let sides = if q.two_sided { 2.0 } else { 1.0 };
-        fog.sigma_t * t_light * phase / (lights * q.quad.area() * PI * sides * reached)
+        finite_density(
+            fog.sigma_t * t_light * phase / (lights * q.quad.area() * PI * sides * reached),
+        )
+    }
+}
+
+/// A connection density relative to a camera-path density, kept finite.
+/// Where the camera path's flight density underflows f32 (a free flight
+/// through an optical depth above ~85, e.g. a camera deep in dense fog)
+/// the ratio overflows, and ∞/∞ in the connection's own weight was NaN
+/// (found by fuzzing). Capped at `f32::MAX` the connection takes the
+/// whole weight, which is the limit of the balance heuristic; only
+/// where both light-vertex terms overflow at once is the split between
+/// them lost, on contributions below f32's resolution.
+fn finite_density(ratio: f32) -> f32 {
+    if ratio.is_nan() {
+        0.0
+    } else {
+        ratio.min(f32::MAX)
     }
 }
 
