@@ -1,37 +1,10 @@
 //! The `tyndall` binary: exit status 0 only when the image was written;
 //! errors name file, line and column.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn tyndall(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tyndall"))
-        .args(args)
-        .output()
-        .expect("run tyndall")
-}
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// This test process's scratch directory.
-fn temp_dir() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("tyndall-cli-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
-
-/// A fresh path in the scratch directory (any old file removed).
-fn temp(name: &str) -> PathBuf {
-    let path = temp_dir().join(name);
-    let _ = std::fs::remove_file(&path);
-    path
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use common::{repo, stderr, temp, temp_dir, tyndall};
+use std::process::Command;
 
 #[test]
 fn renders_demo_to_png_and_exr() {

@@ -2,25 +2,10 @@
 //! command line; a bad one exits non-zero naming the file and the
 //! element, and writes no image.
 
+mod common;
+
+use common::{stderr, temp_dir, tyndall};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn tyndall(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tyndall"))
-        .args(args)
-        .output()
-        .expect("run tyndall")
-}
-
-fn temp_dir() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("tyndall-cli-gltf-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 /// A floor of two triangles under a 683 cd point light, seen by a camera;
 /// `mode` is the primitive mode (4 = triangles).

@@ -2,33 +2,12 @@
 //! `tyndall merge` (issue 13): parts reassemble into the single render,
 //! a killed render resumes to the same file, bad requests fail cleanly.
 
+mod common;
+
+use common::{repo, stderr, temp, tyndall};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
-
-fn tyndall(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tyndall"))
-        .args(args)
-        .output()
-        .expect("run tyndall")
-}
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// A fresh path in this test process's scratch directory.
-fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("tyndall-cli-parts-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let path = dir.join(name);
-    let _ = std::fs::remove_file(&path);
-    path
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 fn s(p: &Path) -> &str {
     p.to_str().expect("UTF-8 path")
