@@ -175,12 +175,10 @@ impl SphereLight {
         4.0 * std::f32::consts::PI * self.sphere.radius * self.sphere.radius
     }
 
-    /// A point uniform over the surface (density 1/A) from `u ∈ [0,1)²`.
+    /// A point uniform over the surface (density 1/A) from `u ∈ [0,1)²`:
+    /// the full sphere of directions is the cone with cos θmax = −1.
     fn point(&self, u: Vec2) -> Vec3 {
-        let z = 1.0 - 2.0 * u.x;
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        let phi = std::f32::consts::TAU * u.y;
-        self.sphere.center + self.sphere.radius * Vec3::new(r * phi.cos(), r * phi.sin(), z)
+        self.sphere.center + self.sphere.radius * uniform_cone(Vec3::Z, -1.0, u)
     }
 
     /// `cos θmax` of the cone the sphere subtends from `x`, if `x` is
