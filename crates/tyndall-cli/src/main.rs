@@ -16,10 +16,9 @@ use std::time::{Duration, Instant};
 use tyndall::parts::{self, Part, PartCompression, PartIdentity};
 use tyndall::region::{PixelRect, RenderRegion};
 use tyndall::render::Accumulation;
-use tyndall::scene::legacy::LegacyOptions;
-use tyndall::scene::{SceneDescription, demo, legacy, native};
-use tyndall::visibility::{DEFAULT_MAP_RESOLUTION, VisibilityMode};
-use tyndall::{IntegratorKind, RenderStats};
+use tyndall::settings::{DEFAULT_MAP_RESOLUTION, VisibilityMode};
+use tyndall::{IntegratorKind, RenderStats, Scene, SceneDesc};
+use tyndall_load::{LegacyOptions, SceneError, demo};
 
 #[derive(Parser)]
 #[command(
@@ -225,7 +224,7 @@ fn parse_integrator(s: &str) -> Result<IntegratorKind, String> {
 
 impl Overrides {
     /// Applies the overrides to a loaded scene.
-    pub fn apply(&self, desc: &mut SceneDescription) -> Result<()> {
+    pub fn apply(&self, desc: &mut SceneDesc) -> Result<()> {
         let s = &mut desc.settings;
         if let Some(v) = self.width {
             s.width = v;
@@ -282,23 +281,16 @@ impl Overrides {
 }
 
 /// Loads a scene by its file ending, or the demo for `None`.
-pub fn load_scene(path: Option<&Path>, two_sided: bool) -> Result<SceneDescription> {
-    let Some(path) = path else {
-        return Ok(demo::load()?);
-    };
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    Ok(match ext.as_deref() {
-        Some("toml") => native::load_with(path, &tyndall_load::Formats)?,
-        Some("obj") => legacy::load(path, LegacyOptions { two_sided })?,
-        Some("gltf" | "glb") => tyndall_load::gltf::load(path)?,
-        _ => bail!(
-            "{}: unknown scene format: the file name must end in .toml (native), .obj (the paper's legacy format) or .gltf/.glb (glTF 2.0)",
-            path.display()
-        ),
+pub fn load_scene(path: Option<&Path>, two_sided: bool) -> Result<SceneDesc> {
+    Ok(match path {
+        None => demo::load()?,
+        Some(path) => tyndall_load::load(path, LegacyOptions { two_sided })?,
     })
+}
+
+/// The runtime scene of a description; errors name the item's origin.
+pub fn build_scene(desc: &SceneDesc) -> Result<Scene> {
+    Ok(Scene::build(desc).map_err(SceneError::from)?)
 }
 
 fn render(args: RenderArgs) -> Result<()> {
@@ -317,7 +309,13 @@ fn render(args: RenderArgs) -> Result<()> {
             output.display()
         );
     }
-    settings_checked(&desc)?;
+    // Ranges were checked at load for the scene's own settings, so an
+    // error here is a flag's.
+    desc.settings
+        .check_ranges()
+        .map_err(|e| anyhow::anyhow!("--{}: {e}", e.setting.replace('_', "-")))?;
+    let scene = build_scene(&desc)?;
+    desc.settings.validate(&scene)?;
     // Fail on a bad output name or an unwritable destination before
     // spending time on the render: the temporary file beside the target
     // is created now and renamed onto it once the image is complete.
@@ -326,7 +324,7 @@ fn render(args: RenderArgs) -> Result<()> {
         .warnings
         .iter()
         .cloned()
-        .chain(desc.settings.warnings(&desc.scene));
+        .chain(desc.settings.warnings(&scene));
     for w in warnings {
         eprintln!("warning: {w}");
     }
@@ -338,7 +336,7 @@ fn render(args: RenderArgs) -> Result<()> {
     let samples = args.samples.map_or(0..settings.spp, |(a, b)| a..b);
     let region = RenderRegion { rect, samples };
     region.check(settings.width, settings.height)?;
-    let identity = PartIdentity::new(&desc.scene, &settings);
+    let identity = PartIdentity::new(&scene, &settings);
     let resume = match &args.checkpoint {
         Some(path) if path.exists() => {
             let part = parts::read_part(path)?;
@@ -391,7 +389,7 @@ fn render(args: RenderArgs) -> Result<()> {
         }
     };
     let (accumulation, stats) = tyndall::render::render_region(
-        &desc.scene,
+        &scene,
         &settings,
         &region,
         resume,
@@ -480,12 +478,6 @@ fn merge(paths: &[PathBuf], output: &Path) -> Result<()> {
         a.region.samples.start,
         a.region.samples.end
     );
-    Ok(())
-}
-
-/// Rejects settings the scene cannot be rendered with, before warnings.
-fn settings_checked(desc: &SceneDescription) -> Result<()> {
-    desc.settings.validate(&desc.scene)?;
     Ok(())
 }
 

@@ -180,7 +180,10 @@ fn bad_inputs_fail_without_writing_an_image() {
     let bad = bad_scene.to_str().unwrap().to_owned();
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["render", &bad], "bad.toml:"),
-        (vec!["render", "--width", "0"], "image size"),
+        (
+            vec!["render", "--width", "0"],
+            "--width: `width` must be between 1",
+        ),
         (vec!["render", "--density", "-1"], "--density"),
         (vec!["render", "--integrator", "fast"], "unknown integrator"),
         (vec!["render", "no-such-scene.toml"], "no-such-scene.toml"),

@@ -28,10 +28,11 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 use tyndall::media::grid::VoxelGrid;
-use tyndall::scene::legacy::{self, LegacyOptions};
-use tyndall::scene::mesh::{self, MeshTransform};
-use tyndall::scene::{SceneDescription, SourceText, native};
-use tyndall::{IntegratorKind, RenderSettings};
+use tyndall::settings::VisibilityMode;
+use tyndall::{IntegratorKind, RenderSettings, Scene, SceneDesc};
+use tyndall_load::legacy::{self, LegacyOptions};
+use tyndall_load::mesh::{self, MeshTransform};
+use tyndall_load::{SourceText, native};
 
 /// With every target running, one input in this many is a render.
 const RENDER_SHARE: usize = 16;
@@ -233,7 +234,7 @@ impl Target {
 
 /// Parses a scene as native TOML or legacy .obj (by `legacy`); the path
 /// sits in `scenes/` so relative mesh and grid files resolve.
-fn parse_scene(scenes: &Path, bytes: &[u8], legacy_format: bool) -> Option<SceneDescription> {
+fn parse_scene(scenes: &Path, bytes: &[u8], legacy_format: bool) -> Option<SceneDesc> {
     let text = String::from_utf8_lossy(bytes).into_owned();
     if legacy_format {
         let source = SourceText::new(scenes.join("fuzz.obj"), text);
@@ -247,8 +248,10 @@ fn parse_scene(scenes: &Path, bytes: &[u8], legacy_format: bool) -> Option<Scene
 /// Renders an accepted scene at 8×8, 1 spp with every integrator whose
 /// settings validate (shadow maps at most 64² texels). Returns how many
 /// renders ran and how many samples were dropped as non-finite.
-fn render_tiny(desc: &SceneDescription) -> (u64, u64) {
+fn render_tiny(desc: &SceneDesc) -> (u64, u64) {
     let (mut renders, mut dropped) = (0, 0);
+    // A loader validates what it returns, so building cannot fail.
+    let scene = Scene::build(desc).expect("a loaded scene builds");
     for integrator in [
         IntegratorKind::March,
         IntegratorKind::Single,
@@ -262,12 +265,12 @@ fn render_tiny(desc: &SceneDescription) -> (u64, u64) {
             integrator,
             ..desc.settings
         };
-        if let tyndall::visibility::VisibilityMode::Maps { resolution } = settings.visibility {
-            settings.visibility = tyndall::visibility::VisibilityMode::Maps {
+        if let VisibilityMode::Maps { resolution } = settings.visibility {
+            settings.visibility = VisibilityMode::Maps {
                 resolution: resolution.min(64),
             };
         }
-        if let Ok(render) = tyndall::render(&desc.scene, &settings, &|_| {}) {
+        if let Ok(render) = tyndall::render(&scene, &settings, &|_| {}) {
             renders += 1;
             dropped += render.stats.invalid_samples;
         }

@@ -11,6 +11,7 @@
 //! element (`meshes[2].primitives[0]`, `nodes[3]`, `materials[1]`).
 
 use crate::photometry::{candela_to_watts_per_sr, lux_to_watts_per_m2};
+use crate::source::SceneError;
 use ::gltf::image::Format;
 use ::gltf::khr_lights_punctual::Kind;
 use ::gltf::mesh::Mode;
@@ -18,13 +19,14 @@ use ::gltf::{Accessor, Semantic};
 use glam::{Mat4, Vec3};
 use std::collections::HashMap;
 use std::path::Path;
+use std::sync::Arc;
 use tyndall::camera::{CameraSpec, FieldOfView};
 use tyndall::color::{Rgb, srgb_to_linear};
+use tyndall::description::{LightDesc, Origin, SceneDesc, Sourced};
 use tyndall::glass::Glass;
-use tyndall::lights::{DirectionalLight, Light, PointLight, SpotLight, SpotProfile};
+use tyndall::lights::{DirectionalLight, PointLight, SpotLight, SpotProfile};
 use tyndall::materials::{Material, MaterialId, Surface};
-use tyndall::render::RenderSettings;
-use tyndall::scene::{SceneBuilder, SceneDescription, SceneError};
+use tyndall::settings::MAX_IMAGE_SIDE;
 use tyndall::shapes::{Bounds, Shape, Triangle};
 
 /// Extensions this loader interprets; any other listed in
@@ -53,7 +55,7 @@ pub struct GltfCamera {
     pub aspect: Option<f32>,
 }
 
-/// What a glTF file added to a [`SceneBuilder`].
+/// What a glTF file added to a [`SceneDesc`].
 pub struct GltfContent {
     /// The first camera of the scene's node walk (depth first, in node
     /// order), if any.
@@ -66,21 +68,21 @@ pub struct GltfContent {
 /// Loads a glTF file as a whole scene: its camera (or a view of its
 /// bounds), geometry, materials and lights, with default render settings
 /// (the image height follows the camera's aspect ratio) and no fog.
-pub fn load(path: &Path) -> Result<SceneDescription, SceneError> {
+pub fn load(path: &Path) -> Result<SceneDesc, SceneError> {
     let placeholder = CameraSpec {
         position: Vec3::Z,
         look_at: Vec3::ZERO,
         up: Vec3::Y,
         fov: FieldOfView::Vertical(DEFAULT_FOV_Y_DEG),
     };
-    let mut builder = SceneBuilder::new(placeholder);
-    let mut content = add_to_scene(path, Mat4::IDENTITY, &mut builder)?;
-    let mut settings = RenderSettings::default();
-    builder.camera = match content.camera {
+    let mut desc = SceneDesc::new(Sourced::code(placeholder));
+    let mut content = add_to_scene(path, Mat4::IDENTITY, &mut desc)?;
+    let settings = &mut desc.settings;
+    let camera = match content.camera {
         Some(camera) => {
             if let Some(aspect) = camera.aspect {
                 let height = (settings.width as f32 / aspect).round();
-                settings.height = height.clamp(1.0, tyndall::render::MAX_IMAGE_SIDE as f32) as u32;
+                settings.height = height.clamp(1.0, MAX_IMAGE_SIDE as f32) as u32;
             }
             camera.spec
         }
@@ -96,26 +98,31 @@ pub fn load(path: &Path) -> Result<SceneDescription, SceneError> {
             })?
         }
     };
-    if builder.lights().is_empty() {
+    desc.camera = Sourced::new(
+        camera,
+        Origin::Element {
+            file: Arc::from(path),
+            path: "cameras".into(),
+        },
+    );
+    if desc.lights.is_empty() {
         content.warnings.push(
             "the scene has no KHR_lights_punctual lights: only emissive surfaces light it".into(),
         );
     }
-    Ok(SceneDescription {
-        scene: builder.build(),
-        settings,
-        output: None,
-        warnings: content.warnings,
-    })
+    desc.validate()?;
+    content.warnings.extend(desc.lighting_warnings());
+    desc.warnings = content.warnings;
+    Ok(desc)
 }
 
 /// Adds the geometry, materials and lights of the glTF file at `path`,
 /// placed by `placement` (applied after the file's own transforms), to
-/// `builder`. The camera is returned, not set.
+/// `scene`. The camera is returned, not set.
 pub fn add_to_scene(
     path: &Path,
     placement: Mat4,
-    builder: &mut SceneBuilder,
+    scene: &mut SceneDesc,
 ) -> Result<GltfContent, SceneError> {
     let (document, buffers, images) =
         ::gltf::import(path).map_err(|e| error(path, describe_import_error(&e)))?;
@@ -138,13 +145,13 @@ pub fn add_to_scene(
             ));
         }
     }
-    let scene = document
+    let gltf_scene = document
         .default_scene()
         .or_else(|| document.scenes().next())
         .ok_or_else(|| error(path, "the file has no scenes"))?;
     let mut ancestors = Vec::new();
-    for node in scene.nodes() {
-        loader.node(&node, placement, &mut ancestors, builder)?;
+    for node in gltf_scene.nodes() {
+        loader.node(&node, placement, &mut ancestors, scene)?;
     }
     if loader.skipped_degenerate > 0 {
         loader.warnings.push(format!(
@@ -217,6 +224,14 @@ struct GltfLoader<'a> {
 }
 
 impl GltfLoader<'_> {
+    /// The origin of element `element` of this file.
+    fn origin(&self, element: String) -> Origin {
+        Origin::Element {
+            file: Arc::from(self.path),
+            path: element,
+        }
+    }
+
     fn err(&self, element: &str, message: impl std::fmt::Display) -> SceneError {
         error(self.path, format!("{element}: {message}"))
     }
@@ -231,7 +246,7 @@ impl GltfLoader<'_> {
         node: &::gltf::Node,
         parent: Mat4,
         ancestors: &mut Vec<usize>,
-        builder: &mut SceneBuilder,
+        scene: &mut SceneDesc,
     ) -> Result<(), SceneError> {
         let element = format!("nodes[{}]", node.index());
         if ancestors.contains(&node.index()) {
@@ -243,7 +258,7 @@ impl GltfLoader<'_> {
         }
         let world = parent * local;
         if let Some(mesh) = node.mesh() {
-            self.mesh(&mesh, world, builder)?;
+            self.mesh(&mesh, world, scene)?;
         }
         if let Some(camera) = node.camera()
             && self.camera.is_none()
@@ -251,12 +266,13 @@ impl GltfLoader<'_> {
             self.camera = Some(self.camera(&element, &camera, world)?);
         }
         if let Some(light) = node.light() {
+            let origin = self.origin(format!("{element}.light"));
             let light = self.light(&light, world)?;
-            builder.add_light(light);
+            scene.add_light(light, origin);
         }
         ancestors.push(node.index());
         for child in node.children() {
-            self.node(&child, world, ancestors, builder)?;
+            self.node(&child, world, ancestors, scene)?;
         }
         ancestors.pop();
         Ok(())
@@ -321,7 +337,7 @@ impl GltfLoader<'_> {
         &mut self,
         light: &::gltf::khr_lights_punctual::Light,
         world: Mat4,
-    ) -> Result<Light, SceneError> {
+    ) -> Result<LightDesc, SceneError> {
         let element = format!("KHR_lights_punctual.lights[{}]", light.index());
         let color = Rgb::from_array(light.color());
         let intensity = light.intensity();
@@ -349,7 +365,7 @@ impl GltfLoader<'_> {
             return Err(self.err(&element, "the light's node transform has no direction"));
         }
         Ok(match light.kind() {
-            Kind::Point => Light::Point(PointLight {
+            Kind::Point => LightDesc::Point(PointLight {
                 position,
                 intensity: color * candela_to_watts_per_sr(intensity),
             }),
@@ -377,7 +393,7 @@ impl GltfLoader<'_> {
                         cos_inner: inner_cone_angle.cos(),
                     }
                 };
-                Light::Spot(SpotLight {
+                LightDesc::Spot(SpotLight {
                     position,
                     direction: direction.normalize(),
                     cos_cutoff: outer_cone_angle.cos(),
@@ -385,7 +401,7 @@ impl GltfLoader<'_> {
                     intensity: color * candela_to_watts_per_sr(intensity),
                 })
             }
-            Kind::Directional => Light::Directional(DirectionalLight {
+            Kind::Directional => LightDesc::Directional(DirectionalLight {
                 direction: direction.normalize(),
                 irradiance: color * lux_to_watts_per_m2(intensity),
             }),
@@ -432,7 +448,7 @@ impl GltfLoader<'_> {
         &mut self,
         mesh: &::gltf::Mesh,
         world: Mat4,
-        builder: &mut SceneBuilder,
+        scene: &mut SceneDesc,
     ) -> Result<(), SceneError> {
         // A mirroring transform reverses the winding, and with it the
         // front face (glTF §3.7.4): swap two corners to keep it.
@@ -467,7 +483,8 @@ impl GltfLoader<'_> {
                     false,
                 )?;
             }
-            let material = self.material_id(&primitive.material(), builder)?;
+            let material = self.material_id(&primitive.material(), scene)?;
+            let mut triangles = Vec::new();
             let buffers = &self.buffers;
             let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
             let positions: Vec<Vec3> = reader
@@ -525,11 +542,13 @@ impl GltfLoader<'_> {
                 match Triangle::new(a, b, c) {
                     Some(triangle) => {
                         self.bounds = self.bounds.union(triangle.bounds());
-                        builder.add_shape(Shape::Triangle(triangle), material);
+                        triangles.push(Shape::Triangle(triangle));
                     }
                     None => self.skipped_degenerate += 1,
                 }
             }
+            let origin = self.origin(element);
+            scene.add_shapes(triangles, material, origin);
         }
         Ok(())
     }
@@ -537,13 +556,17 @@ impl GltfLoader<'_> {
     fn material_id(
         &mut self,
         material: &::gltf::Material,
-        builder: &mut SceneBuilder,
+        scene: &mut SceneDesc,
     ) -> Result<MaterialId, SceneError> {
         if let Some(&id) = self.materials.get(&material.index()) {
             return Ok(id);
         }
         let converted = self.material(material)?;
-        let id = builder.add_material(converted);
+        let element = match material.index() {
+            Some(i) => format!("materials[{i}]"),
+            None => "the default material".into(),
+        };
+        let id = scene.add_material(converted, self.origin(element));
         self.materials.insert(material.index(), id);
         Ok(id)
     }

@@ -1,74 +1,84 @@
-//! Scene loaders for Tyndall that need file-format crates the core keeps
-//! out: glTF 2.0 (cargo feature `gltf`) and OpenVDB grids (cargo feature
-//! `vdb`), both on by default.
+//! Scene loaders for Tyndall: every file format the core keeps out.
 //!
-//! Every loader produces the same [`SceneDescription`] the core's native
-//! TOML and legacy .obj loaders produce; [`load`] picks one by the file
-//! ending.
+//! - the native TOML format ([`native`], docs/scene-format.md), with
+//!   Wavefront .obj meshes ([`mesh`]) and `.tgrid` voxel grids;
+//! - the paper's legacy .obj format ([`legacy`], shared LEGACY-OBJ.md);
+//! - glTF 2.0 ([`gltf`], cargo feature `gltf`) and OpenVDB grids ([`vdb`],
+//!   cargo feature `vdb`), both on by default;
+//! - the built-in [`demo`].
+//!
+//! Every loader produces a [`SceneDesc`] (plain data, each item with its
+//! origin), validated, with errors placed at the file, line and column
+//! ([`SceneError`]); [`tyndall::Scene::build`] makes the runtime scene.
+//! [`load`] picks a loader by the file ending.
 
+pub mod demo;
 #[cfg(feature = "gltf")]
 pub mod gltf;
+pub mod legacy;
+pub mod mesh;
+pub mod native;
 pub mod photometry;
+mod source;
 #[cfg(feature = "vdb")]
 pub mod vdb;
 
+pub use legacy::LegacyOptions;
+pub use source::{SceneError, SourceText};
+
 use std::path::Path;
+use tyndall::SceneDesc;
 use tyndall::media::sparse::SparseGrid;
-use tyndall::scene::legacy::{self, LegacyOptions};
-use tyndall::scene::native::ExternalFormats;
-use tyndall::scene::{SceneBuilder, SceneDescription, SceneError, native};
 
-/// The formats a native scene may name: glTF (`.gltf`, `.glb`) in
-/// `[[include]]` with the `gltf` feature, OpenVDB grids as `[[media]]`
-/// densities with the `vdb` feature.
-pub struct Formats;
+/// The float grid named `grid` of the OpenVDB file at `path`, with its
+/// index-to-world transform; the error names the file and grid.
+fn vdb_grid(path: &Path, grid: &str) -> Result<SparseGrid, String> {
+    #[cfg(feature = "vdb")]
+    return vdb::read_grid(path, grid);
+    #[cfg(not(feature = "vdb"))]
+    return Err(format!(
+        "{}: grid \"{grid}\": OpenVDB needs tyndall-load's `vdb` feature",
+        path.display()
+    ));
+}
 
-impl ExternalFormats for Formats {
-    fn vdb_grid(&self, path: &Path, grid: &str) -> Result<SparseGrid, String> {
-        #[cfg(feature = "vdb")]
-        return vdb::read_grid(path, grid);
-        #[cfg(not(feature = "vdb"))]
-        return Err(format!(
-            "{}: grid \"{grid}\": OpenVDB needs tyndall-load's `vdb` feature",
-            path.display()
-        ));
-    }
-
-    fn include(
-        &self,
-        path: &Path,
-        placement: glam::Mat4,
-        builder: &mut SceneBuilder,
-    ) -> Result<Vec<String>, SceneError> {
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase);
-        match ext.as_deref() {
-            #[cfg(feature = "gltf")]
-            Some("gltf" | "glb") => Ok(gltf::add_to_scene(path, placement, builder)?.warnings),
-            _ => {
-                let _ = (placement, builder);
-                Err(SceneError {
-                    path: path.to_owned(),
-                    line: 0,
-                    column: 0,
-                    message: "only glTF files (.gltf, .glb) can be included".into(),
-                })
-            }
+/// Adds the geometry, materials and lights of the file at `path` (an
+/// `[[include]]`), placed by `placement` after the file's own transforms,
+/// to `scene`; returns the loader's warnings. Errors name the included
+/// file and the element in it.
+fn include(
+    path: &Path,
+    placement: glam::Mat4,
+    scene: &mut SceneDesc,
+) -> Result<Vec<String>, SceneError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        #[cfg(feature = "gltf")]
+        Some("gltf" | "glb") => Ok(gltf::add_to_scene(path, placement, scene)?.warnings),
+        _ => {
+            let _ = (placement, scene);
+            Err(SceneError {
+                path: path.to_owned(),
+                line: 0,
+                column: 0,
+                message: "only glTF files (.gltf, .glb) can be included".into(),
+            })
         }
     }
 }
 
 /// Loads a scene by its file ending: `.toml` (native), `.obj` (the
 /// paper's legacy format, with `legacy` options), `.gltf`/`.glb` (glTF 2.0).
-pub fn load(path: &Path, legacy: LegacyOptions) -> Result<SceneDescription, SceneError> {
+pub fn load(path: &Path, legacy: LegacyOptions) -> Result<SceneDesc, SceneError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("toml") => native::load_with(path, &Formats),
+        Some("toml") => native::load(path),
         Some("obj") => legacy::load(path, legacy),
         #[cfg(feature = "gltf")]
         Some("gltf" | "glb") => gltf::load(path),

@@ -9,40 +9,38 @@ use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
-use tyndall::IntegratorKind;
 use tyndall::region::{PixelRect, RenderRegion};
-use tyndall::scene::legacy::LegacyOptions;
-use tyndall::scene::{SceneDescription, SourceText, legacy, native};
+use tyndall::{IntegratorKind, Scene, SceneDesc};
+use tyndall_load::{LegacyOptions, SceneError, SourceText, native};
 
-/// A loaded scene with the render settings its file gives.
+/// A loaded scene: its description (with the render settings its file
+/// gives) and the runtime scene built from it.
 #[pyclass(frozen, module = "tyndall._tyndall")]
 struct NativeScene {
-    desc: SceneDescription,
+    desc: SceneDesc,
+    scene: Scene,
+}
+
+impl NativeScene {
+    fn new(desc: SceneDesc) -> PyResult<Self> {
+        let scene = Scene::build(&desc)
+            .map_err(SceneError::from)
+            .map_err(value_error)?;
+        Ok(Self { desc, scene })
+    }
 }
 
 fn value_error(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())
 }
 
-/// Loads a native (.toml) or legacy (.obj) scene file.
+/// Loads a scene file by its ending: native (.toml), the paper's legacy
+/// format (.obj) or glTF 2.0 (.gltf, .glb).
 #[pyfunction]
 #[pyo3(signature = (path, two_sided = false))]
 fn load(path: PathBuf, two_sided: bool) -> PyResult<NativeScene> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let desc = match ext.as_deref() {
-        Some("toml") => native::load(&path).map_err(value_error)?,
-        Some("obj") => legacy::load(&path, LegacyOptions { two_sided }).map_err(value_error)?,
-        _ => {
-            return Err(value_error(format!(
-                "{}: unknown scene format: the file name must end in .toml (native) or .obj (the paper's legacy format)",
-                path.display()
-            )));
-        }
-    };
-    Ok(NativeScene { desc })
+    let desc = tyndall_load::load(&path, LegacyOptions { two_sided }).map_err(value_error)?;
+    NativeScene::new(desc)
 }
 
 /// Parses a native scene from TOML text; `path` names it in errors and
@@ -50,14 +48,14 @@ fn load(path: PathBuf, two_sided: bool) -> PyResult<NativeScene> {
 #[pyfunction]
 fn parse_toml(text: String, path: PathBuf) -> PyResult<NativeScene> {
     let desc = native::parse(&SourceText::new(path, text)).map_err(value_error)?;
-    Ok(NativeScene { desc })
+    NativeScene::new(desc)
 }
 
 /// The built-in demo scene.
 #[pyfunction]
 fn demo() -> PyResult<NativeScene> {
-    let desc = tyndall::scene::demo::load().map_err(value_error)?;
-    Ok(NativeScene { desc })
+    let desc = tyndall_load::demo::load().map_err(value_error)?;
+    NativeScene::new(desc)
 }
 
 #[pymethods]
@@ -108,7 +106,7 @@ impl NativeScene {
         if threads.is_some() {
             settings.threads = threads;
         }
-        settings.validate(&self.desc.scene).map_err(value_error)?;
+        settings.validate(&self.scene).map_err(value_error)?;
         let rect = match tile {
             Some((i, n)) => {
                 PixelRect::tile(i, n, settings.width, settings.height).map_err(value_error)?
@@ -124,7 +122,7 @@ impl NativeScene {
             .check(settings.width, settings.height)
             .map_err(value_error)?;
         let total = region.samples.len() as u64;
-        let scene = &self.desc.scene;
+        let scene = &self.scene;
         // Rendering runs without the GIL; after each pass it is taken back
         // briefly to deliver Ctrl-C (KeyboardInterrupt) and progress.
         let (result, interrupted) = py.detach(|| {

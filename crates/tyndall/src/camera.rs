@@ -22,6 +22,35 @@ pub struct CameraSpec {
     pub fov: FieldOfView,
 }
 
+impl CameraSpec {
+    /// Checks that a camera can be built: distinct position and target, an
+    /// up vector not parallel to the view direction.
+    pub fn check(&self) -> Result<(), String> {
+        let spec = self;
+        let forward = spec.look_at - spec.position;
+        let has_direction = forward.length_squared() > 0.0; // false for NaN too
+        if !has_direction {
+            return Err("the camera's look-at point must differ from its position".into());
+        }
+        let up_length = spec.up.length_squared(); // 0 when it underflows
+        if !(up_length > 0.0 && up_length.is_finite()) {
+            return Err(
+            "the camera's up vector must be a non-zero direction (of length between 1e-19 and 1e19)"
+                .into(),
+        );
+        }
+        let up_across_view = forward
+            .normalize()
+            .cross(spec.up.normalize())
+            .length_squared()
+            > 1e-10;
+        if !up_across_view {
+            return Err("the camera's up vector must not be parallel to its view direction".into());
+        }
+        Ok(())
+    }
+}
+
 /// A pinhole camera for one image size. Forward `f = normalize(look_at −
 /// position)`, right `r = normalize(f × up)`, image-up `u = r × f`; pixel
 /// row 0 is the top of the image.

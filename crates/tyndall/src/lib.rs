@@ -11,12 +11,15 @@
 //!
 //! Modules follow pbrt's decomposition: [`camera`], [`shapes`], [`accel`],
 //! [`lights`], [`materials`], [`glass`], [`media`], [`phase`], [`sampler`],
-//! [`sampling`], [`visibility`], [`integrators`], [`film`], [`scene`]
-//! loading, and the [`render()`] loop.
+//! [`sampling`], [`visibility`], [`integrators`], [`film`], the
+//! [`description`] of a scene that loaders produce, the runtime [`scene`]
+//! built from it, the render [`settings`], and the [`render()`] loop. File
+//! formats live in the `tyndall-load` crate.
 
 pub mod accel;
 pub mod camera;
 pub mod color;
+pub mod description;
 pub mod exact_sum;
 pub mod film;
 pub mod glass;
@@ -33,12 +36,14 @@ pub mod render;
 pub mod sampler;
 pub mod sampling;
 pub mod scene;
+pub mod settings;
 pub mod shadow_maps;
 pub mod shapes;
 pub mod visibility;
 
 pub use color::Rgb;
+pub use description::{DescError, SceneDesc};
 pub use film::Image;
-pub use integrators::IntegratorKind;
-pub use render::{Render, RenderSettings, RenderStats, render};
-pub use scene::{Scene, SceneDescription, SceneError};
+pub use render::{Render, RenderStats, render};
+pub use scene::Scene;
+pub use settings::{IntegratorKind, RenderSettings};

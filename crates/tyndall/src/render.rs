@@ -30,31 +30,20 @@ use crate::exact_sum::ExactRgb;
 use crate::film::Image;
 use crate::integrators::light_tracer::{self, LightPaths};
 use crate::integrators::march;
-use crate::integrators::{Integrator, IntegratorKind, PixelPosition, Strategies};
+use crate::integrators::{Integrator, PixelPosition};
 use crate::media::tracking::MAX_VOLUMES;
 use crate::region::{PixelRect, RegionError, RenderRegion};
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
 use crate::scene::limits::describe_bytes;
+use crate::settings::{IntegratorKind, RenderSettings, SettingError, VisibilityMode};
 use crate::shadow_maps;
-use crate::visibility::{RayCounts, Visibility, VisibilityMode};
+use crate::visibility::{RayCounts, Visibility};
 use glam::{DVec3, Vec2};
 use rayon::prelude::*;
 use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
-
-/// `max_depth` meaning "no limit".
-pub const UNLIMITED_DEPTH: u32 = u32::MAX;
-
-/// Default equiangular samples per light per camera ray (`single`).
-pub const DEFAULT_VOLUME_SAMPLES: u32 = 8;
-
-/// Largest accepted image side, in pixels.
-pub const MAX_IMAGE_SIDE: u32 = 1 << 15;
-
-/// Most samples per pixel accepted (2²⁰).
-pub const MAX_SPP: u32 = 1 << 20;
 
 /// Most march steps one camera ray may take (`march`), counted once per
 /// light (each step visits every light): settings whose longest fog
@@ -79,84 +68,11 @@ const FILM_BYTES_PER_PIXEL: u64 = 24 + 12 + 12;
 /// pane a texel sees) come on top.
 const MAP_BYTES_PER_TEXEL: u64 = 16;
 
-/// How to render: image size, sampling and method.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RenderSettings {
-    pub width: u32,
-    pub height: u32,
-    /// Samples per pixel.
-    pub spp: u32,
-    pub seed: u64,
-    /// Worker threads; `None` uses every core.
-    pub threads: Option<usize>,
-    pub integrator: IntegratorKind,
-    /// March step length (scene units) for [`IntegratorKind::March`].
-    pub step: f32,
-    /// Equiangular samples per light per camera ray for
-    /// [`IntegratorKind::Single`] (stratified along the ray).
-    pub volume_samples: u32,
-    /// Side of the interleaved-sampling tile for [`IntegratorKind::March`]
-    /// (1: off).
-    pub interleave: u32,
-    /// Shadow rays or shadow maps.
-    pub visibility: VisibilityMode,
-    /// Most reflections followed from a camera ray by `march` and `single`
-    /// (glass crossings do not count).
-    pub max_bounces: u32,
-    /// Most scattering events of a `volpath` path ([`UNLIMITED_DEPTH`]:
-    /// no limit, Russian roulette ends paths).
-    pub max_depth: u32,
-    /// Exposure in stops applied when writing display images (PNG).
-    pub exposure: f32,
-    /// The estimators `volpath` combines (all by default; a subset is for
-    /// checking and measuring them, see [`Strategies`]).
-    pub strategies: Strategies,
-}
-
-impl Default for RenderSettings {
-    fn default() -> Self {
-        Self {
-            width: 640,
-            height: 360,
-            spp: 16,
-            seed: 0,
-            threads: None,
-            integrator: IntegratorKind::Single,
-            step: 0.1,
-            volume_samples: DEFAULT_VOLUME_SAMPLES,
-            interleave: 1,
-            visibility: VisibilityMode::ShadowRays,
-            max_bounces: 4,
-            max_depth: UNLIMITED_DEPTH,
-            exposure: 0.0,
-            strategies: Strategies::ALL,
-        }
-    }
-}
-
 /// Why a render could not start.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum RenderError {
-    #[error(
-        "image size {width}×{height} is invalid: both sides must be between 1 and {MAX_IMAGE_SIDE} pixels"
-    )]
-    ImageSize { width: u32, height: u32 },
-    #[error("samples per pixel must be at least 1")]
-    NoSamples,
-    #[error("max depth must be at least 1 (1 = single scattering)")]
-    MaxDepth,
-    #[error("volume samples per light must be between 1 and 1024, got {0}")]
-    VolumeSamples(u32),
-    #[error("the interleaving tile must be between 1 and 16 pixels wide, got {0}")]
-    Interleave(u32),
-    #[error("shadow-map resolution must be between 16 and 16384 texels, got {0}")]
-    MapResolution(u32),
-    #[error("march step must be a positive finite length, got {0}")]
-    Step(f32),
-    #[error("exposure must be finite, got {0}")]
-    Exposure(f32),
-    #[error("threads must be at least 1")]
-    Threads,
+    #[error(transparent)]
+    Setting(#[from] SettingError),
     #[error(
         "fog albedo {0} exceeds 1 in some channel: that is not physical, and the `{1}` integrator only accepts physical media (the `march` integrator accepts it)"
     )]
@@ -167,8 +83,6 @@ pub enum RenderError {
     VolumesNeedVolpath(usize, &'static str),
     #[error("the scene has {0} volumes; at most {MAX_VOLUMES} are supported")]
     TooManyVolumes(usize),
-    #[error("samples per pixel must be at most {MAX_SPP}, got {0}")]
-    TooManySamples(u32),
     #[error(
         "march step {step} would take up to {steps:.3e} steps per ray over the longest fog segment ({length:.3e} units), each visiting {lights} light(s): at most {MAX_MARCH_STEPS} steps × lights are allowed, so use a step of at least {min_step:.3e}"
     )]
@@ -198,44 +112,9 @@ pub enum RenderError {
 impl RenderSettings {
     /// Checks the settings against the scene and the chosen integrator.
     pub fn validate(&self, scene: &Scene) -> Result<(), RenderError> {
-        let side_ok = |s: u32| (1..=MAX_IMAGE_SIDE).contains(&s);
-        if !side_ok(self.width) || !side_ok(self.height) {
-            return Err(RenderError::ImageSize {
-                width: self.width,
-                height: self.height,
-            });
-        }
-        if self.spp == 0 {
-            return Err(RenderError::NoSamples);
-        }
-        if self.spp > MAX_SPP {
-            return Err(RenderError::TooManySamples(self.spp));
-        }
-        if self.max_depth == 0 {
-            return Err(RenderError::MaxDepth);
-        }
-        if !(1..=1024).contains(&self.volume_samples) {
-            return Err(RenderError::VolumeSamples(self.volume_samples));
-        }
-        if !(1..=16).contains(&self.interleave) {
-            return Err(RenderError::Interleave(self.interleave));
-        }
-        if let VisibilityMode::Maps { resolution } = self.visibility
-            && !(16..=16384).contains(&resolution)
-        {
-            return Err(RenderError::MapResolution(resolution));
-        }
-        if !(self.step > 0.0 && self.step.is_finite()) {
-            return Err(RenderError::Step(self.step));
-        }
-        if !self.exposure.is_finite() {
-            return Err(RenderError::Exposure(self.exposure));
-        }
+        self.check_ranges()?;
         self.check_march_steps(scene)?;
         self.check_memory(scene)?;
-        if self.threads == Some(0) {
-            return Err(RenderError::Threads);
-        }
         if let Some(fog) = &scene.fog
             && fog.albedo.max_element() > 1.0
             && !self.integrator.accepts_non_physical_albedo()

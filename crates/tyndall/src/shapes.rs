@@ -136,7 +136,28 @@ pub struct Quad {
     w: Vec3,
 }
 
+/// Relative tolerance for four corners to form a parallelogram.
+const PARALLELOGRAM_TOLERANCE: f32 = 1e-4;
+
 impl Quad {
+    /// A quad from four corners listed around a parallelogram; the error
+    /// says why they do not form one.
+    pub fn from_corners(c: [Vec3; 4], one_sided: bool) -> Result<Quad, String> {
+        let scale = c
+            .iter()
+            .map(|p| p.abs().max_element())
+            .fold(1.0f32, f32::max);
+        let expected = c[1] + c[3] - c[0];
+        if (expected - c[2]).length() > PARALLELOGRAM_TOLERANCE * scale {
+            return Err(format!(
+                "the corners must form a parallelogram listed in order around it (the third corner should be {:?})",
+                expected.to_array()
+            ));
+        }
+        Self::new(c[0], c[1] - c[0], c[3] - c[0], one_sided)
+            .ok_or_else(|| "the corners must span a parallelogram of non-zero area".to_string())
+    }
+
     /// A quad from a corner and two edges; `None` if the edges are
     /// parallel or zero (a degenerate quad has no area and no normal).
     pub fn new(origin: Vec3, edge_u: Vec3, edge_v: Vec3, one_sided: bool) -> Option<Self> {

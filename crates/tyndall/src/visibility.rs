@@ -17,27 +17,7 @@ use crate::shadow_maps::{MapScene, ShadowMaps};
 use glam::Vec3;
 use std::ops::ControlFlow;
 
-/// Default shadow-map resolution (texels per side of each face).
-pub const DEFAULT_MAP_RESOLUTION: u32 = 512;
-
-/// How visibility towards lights is computed, as chosen by settings.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum VisibilityMode {
-    /// Exact: a shadow ray through the BVH per query.
-    #[default]
-    ShadowRays,
-    /// Shadow and transmittance maps of `resolution`² texels per face.
-    Maps { resolution: u32 },
-}
-
-impl VisibilityMode {
-    pub fn name(&self) -> &'static str {
-        match self {
-            VisibilityMode::ShadowRays => "rays",
-            VisibilityMode::Maps { .. } => "maps",
-        }
-    }
-}
+pub use crate::settings::{DEFAULT_MAP_RESOLUTION, VisibilityMode};
 
 /// Visibility ready for a render.
 pub enum Visibility {

@@ -5,22 +5,24 @@
 use super::{BenchArgs, Method, median, settings};
 use anyhow::Result;
 use glam::Vec3;
-use tyndall::lights::{Light, SpotLight};
+use tyndall::SceneDesc;
+use tyndall::description::{LightDesc, Origin};
+use tyndall::lights::SpotLight;
 use tyndall::metrics::relative_mse;
-use tyndall::scene::{SceneDescription, demo, native};
-use tyndall::visibility::{DEFAULT_MAP_RESOLUTION, VisibilityMode};
+use tyndall::settings::{DEFAULT_MAP_RESOLUTION, VisibilityMode};
 use tyndall::{Image, RenderSettings};
+use tyndall_load::{demo, native};
 
 const MAPS: VisibilityMode = VisibilityMode::Maps {
     resolution: DEFAULT_MAP_RESOLUTION,
 };
 
 /// Median time (s) and the last image of `args.runs` renders.
-fn timed(desc: &SceneDescription, s: &RenderSettings, runs: usize) -> Result<(f64, Image)> {
+fn timed(desc: &SceneDesc, s: &RenderSettings, runs: usize) -> Result<(f64, Image)> {
     let mut times = Vec::new();
     let mut image = None;
     for _ in 0..runs.max(1) {
-        let r = tyndall::render(&desc.scene, s, &|_| {})?;
+        let r = tyndall::render(&crate::build_scene(desc)?, s, &|_| {})?;
         times.push(r.stats.elapsed);
         image = Some(r.image);
     }
@@ -88,11 +90,11 @@ pub fn run(args: &BenchArgs) -> Result<()> {
 
 /// Replaces the scene's lights by `n` spots on a circle above the
 /// sphere, aimed at it, with the total intensity of the original one.
-fn add_spots(desc: &mut SceneDescription, n: usize) {
-    let Some(Light::Spot(original)) = desc.scene.lights.first().copied() else {
+fn add_spots(desc: &mut SceneDesc, n: usize) {
+    let Some(LightDesc::Spot(original)) = desc.lights.first().map(|l| l.value) else {
         return;
     };
-    desc.scene.lights.clear();
+    desc.lights.clear();
     for i in 0..n {
         let angle = std::f32::consts::TAU * i as f32 / n as f32;
         let offset = if n == 1 {
@@ -102,11 +104,12 @@ fn add_spots(desc: &mut SceneDescription, n: usize) {
         };
         let position = original.position + offset;
         let target = original.position + original.direction * 4.0;
-        desc.scene.lights.push(Light::Spot(SpotLight {
+        let spot = SpotLight {
             position,
             direction: (target - position).normalize(),
             intensity: original.intensity / n as f32,
             ..original
-        }));
+        };
+        desc.add_light(LightDesc::Spot(spot), Origin::Code);
     }
 }

@@ -15,10 +15,11 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use std::path::PathBuf;
 use std::time::Duration;
+use tyndall::SceneDesc;
 use tyndall::metrics::{error_concentration, relative_mse};
-use tyndall::render::DEFAULT_VOLUME_SAMPLES;
-use tyndall::scene::{SceneDescription, demo, native};
+use tyndall::settings::DEFAULT_VOLUME_SAMPLES;
 use tyndall::{Image, IntegratorKind, RenderSettings};
+use tyndall_load::{demo, native};
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -252,7 +253,7 @@ fn equal_error(args: &BenchArgs) -> Result<()> {
 fn equal_error_case(
     title: &str,
     key: &str,
-    desc: &SceneDescription,
+    desc: &SceneDesc,
     args: &BenchArgs,
     width: u32,
     height: u32,
@@ -291,7 +292,7 @@ fn equal_error_case(
 }
 
 pub(crate) fn settings(
-    desc: &SceneDescription,
+    desc: &SceneDesc,
     args: &BenchArgs,
     width: u32,
     height: u32,
@@ -313,7 +314,7 @@ pub(crate) fn settings(
 }
 
 pub(crate) fn measure(
-    desc: &SceneDescription,
+    desc: &SceneDesc,
     args: &BenchArgs,
     width: u32,
     height: u32,
@@ -334,7 +335,7 @@ pub(crate) fn measure(
         let mut times = Vec::new();
         let mut image = None;
         for _ in 0..args.runs.max(1) {
-            let r = tyndall::render(&desc.scene, &s, &|_| {})?;
+            let r = tyndall::render(&crate::build_scene(desc)?, &s, &|_| {})?;
             times.push(r.stats.elapsed);
             image = Some(r.image);
         }
@@ -356,7 +357,7 @@ pub(crate) fn median(times: &mut [Duration]) -> Duration {
 
 /// A long `single` render, cached by scene text, size and sample count.
 pub(crate) fn long_render(
-    desc: &SceneDescription,
+    desc: &SceneDesc,
     args: &BenchArgs,
     key: &str,
     width: u32,
@@ -374,7 +375,7 @@ pub(crate) fn long_render(
     }
     eprintln!("rendering the reference {} (once; cached)…", path.display());
     let s = settings(desc, args, width, height, method, spp, 1000);
-    let r = tyndall::render(&desc.scene, &s, &|_| {})?;
+    let r = tyndall::render(&crate::build_scene(desc)?, &s, &|_| {})?;
     std::fs::create_dir_all(&args.cache)
         .with_context(|| format!("creating {}", args.cache.display()))?;
     r.image.write(&path, 0.0)?;
@@ -383,16 +384,23 @@ pub(crate) fn long_render(
 
 /// Identifies what a cached reference was rendered from: the scene's
 /// geometry, lights and fog as printed, and the size.
-fn scene_fingerprint(desc: &SceneDescription, width: u32, height: u32) -> u64 {
+fn scene_fingerprint(desc: &SceneDesc, width: u32, height: u32) -> u64 {
     use std::hash::{Hash, Hasher};
     let mut h = std::collections::hash_map::DefaultHasher::new();
     format!(
-        "{:?}{:?}{:?}{:?}{:?}",
-        desc.scene.geometry.primitives(),
-        desc.scene.lights,
-        desc.scene.fog,
-        desc.scene.volumes,
-        desc.scene.camera
+        "{:?}{:?}{:?}{:?}{:?}{:?}",
+        desc.camera.value,
+        desc.materials.iter().map(|m| m.value).collect::<Vec<_>>(),
+        desc.shapes
+            .iter()
+            .map(|s| (&s.shapes, s.material))
+            .collect::<Vec<_>>(),
+        desc.lights.iter().map(|l| l.value).collect::<Vec<_>>(),
+        desc.fog.as_ref().map(|f| f.value),
+        desc.media
+            .iter()
+            .map(|m| (m.sigma_t, m.albedo, m.phase, &m.density, &m.region))
+            .collect::<Vec<_>>(),
     )
     .hash(&mut h);
     (width, height, env!("CARGO_PKG_VERSION")).hash(&mut h);

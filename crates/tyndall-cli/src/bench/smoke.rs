@@ -8,8 +8,10 @@ use super::{
 use anyhow::{Result, bail};
 use glam::UVec3;
 use tyndall::Rgb;
-use tyndall::media::volume::{Density, Volume, VolumeRegion};
-use tyndall::scene::{SceneDescription, native};
+use tyndall::SceneDesc;
+use tyndall::description::{MediumDesc, Origin, RegionDesc};
+use tyndall::media::volume::{Density, Volume};
+use tyndall_load::native;
 
 pub fn run(args: &BenchArgs) -> Result<()> {
     let mut desc = native::load(&args.scenes.join("smoke.toml"))?;
@@ -35,7 +37,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
 
     // The cost of non-uniformity: the same box filled uniformly, at the
     // same extinction scale and at the grid's mean extinction.
-    let Some(smoke) = desc.scene.volumes.first() else {
+    let scene = crate::build_scene(&desc)?;
+    let Some(smoke) = scene.volumes.first() else {
         bail!("scenes/smoke.toml has no volume");
     };
     let (bounds, sigma_t, albedo, phase) =
@@ -43,24 +46,24 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let mean = mean_extinction(smoke);
     let spp = if args.quick { 4 } else { 32 };
     let s = settings(&desc, args, w, h, method, spp, 1);
-    let time = |desc: &SceneDescription| -> Result<f64> {
+    let time = |desc: &SceneDesc| -> Result<f64> {
+        let scene = crate::build_scene(desc)?;
         let mut times = Vec::new();
         for _ in 0..args.runs.max(1) {
-            times.push(tyndall::render(&desc.scene, &s, &|_| {})?.stats.elapsed);
+            times.push(tyndall::render(&scene, &s, &|_| {})?.stats.elapsed);
         }
         Ok(median(&mut times).as_secs_f64())
     };
     let grid_time = time(&desc)?;
     let mut uniform = |scale: Rgb| -> Result<f64> {
-        let volume = Volume::new(
-            scale,
+        desc.media = vec![MediumDesc {
+            sigma_t: scale,
             albedo,
             phase,
-            Density::Uniform,
-            VolumeRegion::Box(bounds),
-        )
-        .map_err(anyhow::Error::msg)?;
-        desc.scene.volumes = vec![volume];
+            density: Density::Uniform,
+            region: RegionDesc::Box(bounds),
+            origin: Origin::Code,
+        }];
         time(&desc)
     };
     let same_scale = uniform(sigma_t)?;

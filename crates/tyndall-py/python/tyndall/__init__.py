@@ -116,7 +116,8 @@ class Scene:
 
 
 def load(path: PathLike, two_sided: bool = False) -> Scene:
-    """Load a native (``.toml``) or legacy (``.obj``) scene file.
+    """Load a scene file by its ending: native (``.toml``), the paper's legacy
+    format (``.obj``) or glTF 2.0 (``.gltf``, ``.glb``).
 
     ``two_sided`` loads legacy quads as two-sided. Raises ``ValueError``
     naming the file, line and column of any error.

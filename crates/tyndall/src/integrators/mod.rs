@@ -30,9 +30,9 @@ use crate::materials::{Material, Surface, dielectric_scatter};
 use crate::media::Fog;
 use crate::media::tracking::VolumeTracker;
 use crate::ray::{Ray, offset_origin};
-use crate::render::RenderSettings;
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
+use crate::settings::RenderSettings;
 use crate::visibility::{RayCounts, Visibility};
 use glam::{Vec2, Vec3};
 

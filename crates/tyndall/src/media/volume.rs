@@ -61,8 +61,9 @@ impl Density {
         }
     }
 
-    /// An upper bound of the density over the box `[lo, hi]`.
-    fn max_in(&self, lo: Vec3, hi: Vec3) -> f32 {
+    /// An upper bound of the density over the box `[lo, hi]` of the unit
+    /// cube.
+    pub fn max_in(&self, lo: Vec3, hi: Vec3) -> f32 {
         match self {
             Density::Uniform => 1.0,
             Density::Noise(noise) => noise.max_in(lo, hi),

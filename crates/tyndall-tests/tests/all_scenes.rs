@@ -24,11 +24,14 @@
 //!   highlight of an emitter is a rare, very bright sample. Scenes with
 //!   reflective surfaces are excluded from the `volpath` comparison
 //!   anyway (below).
+
+mod common;
+use common::Loaded;
 use std::path::{Path, PathBuf};
 use tyndall::camera::Camera;
 use tyndall::lights::Light;
-use tyndall::scene::legacy::{self, LegacyOptions};
-use tyndall::{Image, IntegratorKind, RenderSettings, SceneDescription};
+use tyndall::{Image, IntegratorKind, RenderSettings};
+use tyndall_load::LegacyOptions;
 
 const WIDTH: u32 = 24;
 const HEIGHT: u32 = 16;
@@ -100,9 +103,9 @@ fn file_name(path: &Path) -> &str {
     path.file_name().and_then(|n| n.to_str()).expect("name")
 }
 
-fn load(path: &Path) -> SceneDescription {
+fn load(path: &Path) -> Loaded {
     let loaded = if path.extension().is_some_and(|e| e == "obj") {
-        legacy::load(path, LegacyOptions::default()).map(|mut desc| {
+        common::load_legacy(path, LegacyOptions::default()).map(|mut desc| {
             desc.override_fog(Some(LEGACY_DENSITY), Some(LEGACY_ALBEDO))
                 .expect("fog");
             desc
@@ -110,18 +113,14 @@ fn load(path: &Path) -> SceneDescription {
     } else {
         // Native scenes through tyndall-load, which also reads what they
         // include (OpenVDB densities, glTF files).
-        tyndall_load::load(path, LegacyOptions::default())
+        common::load_any(path, LegacyOptions::default())
     };
     loaded.unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The two seeds' renders, or `None` if the integrator refuses the scene
 /// (its settings check says why).
-fn render_pair(
-    desc: &SceneDescription,
-    integrator: IntegratorKind,
-    spp: u32,
-) -> Option<[Image; 2]> {
+fn render_pair(desc: &Loaded, integrator: IntegratorKind, spp: u32) -> Option<[Image; 2]> {
     let settings = |seed| RenderSettings {
         width: WIDTH,
         height: HEIGHT,
@@ -143,7 +142,7 @@ fn render_pair(
 
 /// Pixels whose samples have infinite variance: those within one pixel
 /// of where a point or spot light appears on the film.
-fn singular_pixels(desc: &SceneDescription) -> Vec<bool> {
+fn singular_pixels(desc: &Loaded) -> Vec<bool> {
     let camera = Camera::new(&desc.scene.camera, WIDTH, HEIGHT);
     let mut mask = vec![false; (WIDTH * HEIGHT) as usize];
     for light in &desc.scene.lights {
@@ -201,7 +200,7 @@ fn block_estimates(pair: &[Image; 2], skip: &[bool]) -> Vec<BlockEstimate> {
 type BlockEstimate = ([f64; 3], [f64; 3]);
 
 /// The scene with its fog's albedo replaced by `albedo` (grey).
-fn with_albedo(path: &Path, albedo: f32) -> SceneDescription {
+fn with_albedo(path: &Path, albedo: f32) -> Loaded {
     let mut desc = load(path);
     desc.override_fog(None, Some(albedo)).expect("fog");
     desc

@@ -7,9 +7,9 @@ use tyndall::camera::FieldOfView;
 use tyndall::glass::GlassModel;
 use tyndall::lights::{Light, SpotProfile};
 use tyndall::materials::Material;
-use tyndall::scene::SourceText;
-use tyndall::scene::legacy::{self, LegacyOptions};
 use tyndall::shapes::Shape;
+use tyndall_load::LegacyOptions;
+use tyndall_load::SourceText;
 
 /// The short example of LEGACY-OBJ.md, verbatim.
 const EXAMPLE: &str = "material
@@ -47,8 +47,8 @@ PerspectiveCamera {
 }
 ";
 
-fn parse(text: &str) -> Result<tyndall::SceneDescription, tyndall::SceneError> {
-    legacy::parse(&SourceText::new("test.obj", text), LegacyOptions::default())
+fn parse(text: &str) -> Result<common::Loaded, tyndall_load::SceneError> {
+    common::parse_legacy(&SourceText::new("test.obj", text), LegacyOptions::default())
 }
 
 #[test]
@@ -110,7 +110,7 @@ fn example_parses_into_expected_scene() {
 
 #[test]
 fn two_sided_flag() {
-    let desc = legacy::parse(
+    let desc = common::parse_legacy(
         &SourceText::new("t.obj", EXAMPLE),
         LegacyOptions { two_sided: true },
     )
@@ -157,11 +157,11 @@ fn paper_tokens() {
 #[test]
 fn course_scenes_load() {
     let dir = repo().join("scenes/legacy");
-    let cornell =
-        legacy::load(&dir.join("cornell_box.obj"), LegacyOptions::default()).expect("cornell");
+    let cornell = common::load_legacy(&dir.join("cornell_box.obj"), LegacyOptions::default())
+        .expect("cornell");
     assert_eq!(cornell.scene.lights.len(), 1);
     assert_eq!(cornell.scene.geometry.primitives().len(), 6);
-    let spheres = legacy::load(
+    let spheres = common::load_legacy(
         &dir.join("reflective_spheres.obj"),
         LegacyOptions::default(),
     )
@@ -173,8 +173,8 @@ fn course_scenes_load() {
             .iter()
             .any(|m| matches!(m, Material::Opaque(s) if s.roughness == 0.06))
     );
-    let fig7 =
-        legacy::load(&dir.join("fig07-spot-sphere.obj"), LegacyOptions::default()).expect("fig7");
+    let fig7 = common::load_legacy(&dir.join("fig07-spot-sphere.obj"), LegacyOptions::default())
+        .expect("fig7");
     assert!(matches!(fig7.scene.lights[0], Light::Spot(_)));
 }
 
@@ -184,8 +184,8 @@ fn course_scenes_load() {
 #[test]
 fn one_sided_emitter_is_seen_through_from_behind() {
     let dir = repo().join("scenes/legacy");
-    let desc =
-        legacy::load(&dir.join("cornell_box.obj"), LegacyOptions::default()).expect("cornell");
+    let desc = common::load_legacy(&dir.join("cornell_box.obj"), LegacyOptions::default())
+        .expect("cornell");
     let image = common::render(&desc, |s| {
         s.width = 9;
         s.height = 9;

@@ -4,11 +4,11 @@
 
 mod common;
 
+use common::Loaded;
 use common::{render, repo, scene};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use tyndall::IntegratorKind;
-use tyndall::scene::{SceneDescription, native};
 use tyndall::visibility::VisibilityMode;
 
 /// Threads that spin until dropped, so that the render's workers are
@@ -49,7 +49,7 @@ impl Drop for BusyThreads {
 
 /// The bytes of the EXR file of a render at `threads` threads.
 fn exr_bytes(
-    desc: &SceneDescription,
+    desc: &Loaded,
     kind: IntegratorKind,
     visibility: VisibilityMode,
     threads: usize,
@@ -81,7 +81,7 @@ fn exr_bytes(
 #[test]
 fn exr_files_are_identical_for_1_2_3_threads_under_load() {
     let _busy = BusyThreads::start(3);
-    let demo = tyndall::scene::demo::load().expect("demo");
+    let demo = common::demo().expect("demo");
     let maps = VisibilityMode::Maps { resolution: 64 };
     for kind in IntegratorKind::ALL {
         for visibility in [VisibilityMode::ShadowRays, maps] {
@@ -96,7 +96,8 @@ fn exr_files_are_identical_for_1_2_3_threads_under_load() {
             );
         }
     }
-    let focus = native::load(&repo().join("scenes/glass-sphere-focus.toml")).expect("focus scene");
+    let focus =
+        common::load_native(&repo().join("scenes/glass-sphere-focus.toml")).expect("focus scene");
     assert!(tyndall::integrators::light_tracer::has_caustics(
         &focus.scene
     ));

@@ -2,8 +2,8 @@
 //! expected; never a panic.
 mod common;
 
-use tyndall::scene::legacy::{self, LegacyOptions};
-use tyndall::scene::{SourceText, native};
+use tyndall_load::LegacyOptions;
+use tyndall_load::SourceText;
 
 const GOOD: &str = r#"[camera]
 position = [0, 1, 5]
@@ -32,15 +32,15 @@ cutoff_deg = 30
 intensity = 10
 "#;
 
-fn native_error(text: &str) -> tyndall::SceneError {
-    match native::parse(&SourceText::new("scene.toml", text)) {
+fn native_error(text: &str) -> tyndall_load::SceneError {
+    match common::parse_native(&SourceText::new("scene.toml", text)) {
         Ok(_) => panic!("expected an error for:\n{text}"),
         Err(e) => e,
     }
 }
 
 /// Asserts the error is at `line` (1-based) and mentions `words`.
-fn assert_error(e: &tyndall::SceneError, line: usize, words: &str) {
+fn assert_error(e: &tyndall_load::SceneError, line: usize, words: &str) {
     let text = e.to_string();
     assert!(
         text.starts_with(&format!("scene.toml:{line}:")),
@@ -52,7 +52,7 @@ fn assert_error(e: &tyndall::SceneError, line: usize, words: &str) {
 
 #[test]
 fn good_scene_parses() {
-    native::parse(&SourceText::new("scene.toml", GOOD)).expect("good scene");
+    common::parse_native(&SourceText::new("scene.toml", GOOD)).expect("good scene");
 }
 
 #[test]
@@ -107,7 +107,7 @@ fn unknown_material_and_zero_size_image() {
 
 #[test]
 fn zero_size_image_settings_are_rejected() {
-    let desc = native::parse(&SourceText::new("scene.toml", GOOD)).expect("good");
+    let desc = common::parse_native(&SourceText::new("scene.toml", GOOD)).expect("good");
     for (w, h) in [(0, 10), (10, 0)] {
         let settings = tyndall::RenderSettings {
             width: w,
@@ -118,8 +118,8 @@ fn zero_size_image_settings_are_rejected() {
     }
 }
 
-fn legacy_error(text: &str) -> tyndall::SceneError {
-    match legacy::parse(
+fn legacy_error(text: &str) -> tyndall_load::SceneError {
+    match common::parse_legacy(
         &SourceText::new("scene.obj", text),
         LegacyOptions::default(),
     ) {
@@ -245,7 +245,7 @@ fn bad_grid_file_is_reported() {
     );
     let path = dir.join("scene.toml");
     std::fs::write(&path, &text).unwrap();
-    let e = match native::load(&path) {
+    let e = match common::load_native(&path) {
         Ok(_) => panic!("a short grid file must be an error"),
         Err(e) => e.to_string(),
     };

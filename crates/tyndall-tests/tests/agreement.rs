@@ -5,7 +5,6 @@ mod common;
 use common::{average, mean_and_stderr, pixel_distances, render, repo};
 use tyndall::Image;
 use tyndall::IntegratorKind;
-use tyndall::scene::native;
 
 /// Both integrators are unbiased estimators of the same image. For
 /// independent renders A₁, A₂ (march) and B₁, B₂ (single) and a common
@@ -19,7 +18,7 @@ use tyndall::scene::native;
 /// the image pushes it far above.
 #[test]
 fn march_and_single_agree_on_fig7() {
-    let desc = native::load(&repo().join("scenes/fig07-spot-sphere.toml")).expect("scene");
+    let desc = common::load_native(&repo().join("scenes/fig07-spot-sphere.toml")).expect("scene");
     let shot = |kind: IntegratorKind, seed: u64| {
         render(&desc, |s| {
             s.width = 96;
@@ -72,7 +71,7 @@ fn march_and_single_agree_on_fig7() {
 
 #[test]
 fn image_is_identical_for_one_and_two_threads() {
-    let desc = tyndall::scene::demo::load().expect("demo");
+    let desc = common::demo().expect("demo");
     for kind in IntegratorKind::ALL {
         let shot = |threads: usize| {
             render(&desc, |s| {

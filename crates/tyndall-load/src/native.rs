@@ -4,25 +4,8 @@
 //! parsing (ranges, references, files) is reported at the offending key's
 //! line and column through the tables' spans.
 
-use super::limits;
-use super::mesh::{MeshTransform, load_obj_mesh};
-use super::{GlassSettings, SceneBuilder, SceneDescription, SceneError, SourceText};
-use crate::camera::{CameraSpec, FieldOfView};
-use crate::color::Rgb;
-use crate::glass::{Glass, GlassModel};
-use crate::integrators::IntegratorKind;
-use crate::lights::{DirectionalLight, Light, PointLight, SpotLight, SpotProfile};
-use crate::materials::{Material, MaterialId, Surface};
-use crate::media::Fog;
-use crate::media::grid::VoxelGrid;
-use crate::media::noise::SmokeNoise;
-use crate::media::sparse::{SparseDensity, SparseGrid};
-use crate::media::tracking::MAX_VOLUMES;
-use crate::media::volume::{Density, MeshRegion, Volume, VolumeRegion};
-use crate::phase::PhaseFunction;
-use crate::render::RenderSettings;
-use crate::shapes::{Bounds, Quad, Shape, Sphere, Triangle, box_faces};
-use crate::visibility::{DEFAULT_MAP_RESOLUTION, VisibilityMode};
+use crate::mesh::{MeshTransform, load_obj_mesh};
+use crate::source::{SceneError, SourceText};
 use glam::Vec3;
 use serde::Deserialize;
 use serde_spanned::Spanned;
@@ -30,68 +13,68 @@ use std::collections::BTreeMap;
 use std::f32::consts::PI;
 use std::ops::Range;
 use std::path::Path;
+use std::sync::Arc;
+use tyndall::camera::{CameraSpec, FieldOfView};
+use tyndall::color::Rgb;
+use tyndall::description::{
+    GlassSettings, LightDesc, MediumDesc, Origin, RegionDesc, SceneDesc, Sourced,
+};
+use tyndall::glass::{Glass, GlassModel};
+use tyndall::lights::{DirectionalLight, PointLight, SpotLight, SpotProfile};
+use tyndall::materials::{Material, MaterialId, Surface};
+use tyndall::media::Fog;
+use tyndall::media::grid::VoxelGrid;
+use tyndall::media::noise::SmokeNoise;
+use tyndall::media::sparse::{SparseDensity, SparseGrid};
+use tyndall::media::volume::Density;
+use tyndall::phase::PhaseFunction;
+use tyndall::scene::limits;
+use tyndall::settings::{
+    DEFAULT_MAP_RESOLUTION, IntegratorKind, RenderSettings, VisibilityMode, check_map_resolution,
+};
+use tyndall::shapes::{Bounds, Quad, Shape, Sphere, Triangle, box_faces};
 
 type V3 = [f32; 3];
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SceneFile {
-    camera: Spanned<CameraDesc>,
+    camera: Spanned<CameraTable>,
     #[serde(default)]
-    render: Option<Spanned<RenderDesc>>,
+    render: Option<Spanned<RenderTable>>,
     #[serde(default)]
-    fog: Option<Spanned<FogDesc>>,
+    fog: Option<Spanned<FogTable>>,
     #[serde(default)]
-    materials: BTreeMap<String, Spanned<MaterialDesc>>,
+    materials: BTreeMap<String, Spanned<MaterialTable>>,
     #[serde(default)]
-    shapes: Vec<Spanned<ShapeDesc>>,
+    shapes: Vec<Spanned<ShapeTable>>,
     #[serde(default)]
-    lights: Vec<Spanned<LightDesc>>,
+    lights: Vec<Spanned<LightTable>>,
     #[serde(default)]
-    media: Vec<Spanned<MediumDesc>>,
+    media: Vec<Spanned<MediumTable>>,
     #[serde(default)]
-    include: Vec<Spanned<IncludeDesc>>,
+    include: Vec<Spanned<IncludeTable>>,
 }
 
 /// `[[include]]`: a scene file in another format (glTF), placed like a mesh.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct IncludeDesc {
+struct IncludeTable {
     file: String,
     translate: Option<V3>,
     scale: Option<ColorValue>,
     rotate_deg: Option<V3>,
 }
 
-/// Files the core cannot read itself because their formats need heavy
-/// crates (glTF scenes, OpenVDB grids); `tyndall-load` provides them to
-/// [`load_with`].
-pub trait ExternalFormats {
-    /// The float grid named `grid` of the OpenVDB file at `path`, with
-    /// its index-to-world transform; the error names the file and grid.
-    fn vdb_grid(&self, path: &Path, grid: &str) -> Result<SparseGrid, String>;
-
-    /// Adds the geometry, materials and lights of the file at `path`,
-    /// placed by `placement` (after the file's own transforms), to
-    /// `builder`; returns the loader's warnings. Errors name the included
-    /// file and the element in it.
-    fn include(
-        &self,
-        path: &Path,
-        placement: glam::Mat4,
-        builder: &mut SceneBuilder,
-    ) -> Result<Vec<String>, SceneError>;
-}
-
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct MediumDesc {
+struct MediumTable {
     sigma_t: ColorValue,
     albedo: ColorValue,
     #[serde(default)]
     g: f32,
     #[serde(rename = "box")]
-    bounds: Option<BoxDesc>,
+    bounds: Option<BoxTable>,
     mesh: Option<String>,
     translate: Option<V3>,
     scale: Option<ColorValue>,
@@ -107,7 +90,7 @@ struct MediumDesc {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct CameraDesc {
+struct CameraTable {
     position: V3,
     look_at: V3,
     #[serde(default = "default_up")]
@@ -121,7 +104,7 @@ fn default_up() -> V3 {
 
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
-struct RenderDesc {
+struct RenderTable {
     width: Option<u32>,
     height: Option<u32>,
     spp: Option<u32>,
@@ -143,54 +126,54 @@ struct RenderDesc {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct FogDesc {
+struct FogTable {
     sigma_t: f32,
     albedo: ColorValue,
     #[serde(default)]
     g: f32,
     #[serde(rename = "box")]
-    bounds: Option<BoxDesc>,
+    bounds: Option<BoxTable>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct BoxDesc {
+struct BoxTable {
     min: V3,
     max: V3,
 }
 
 #[derive(Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
-enum MaterialDesc {
-    Diffuse(DiffuseDesc),
-    Mirror(MirrorDesc),
-    Glossy(GlossyDesc),
-    Emissive(EmissiveDesc),
-    Glass(GlassDesc),
-    Dielectric(DielectricDesc),
+enum MaterialTable {
+    Diffuse(DiffuseTable),
+    Mirror(MirrorTable),
+    Glossy(GlossyTable),
+    Emissive(EmissiveTable),
+    Glass(GlassTable),
+    Dielectric(DielectricTable),
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct DielectricDesc {
+struct DielectricTable {
     ior: f32,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct DiffuseDesc {
+struct DiffuseTable {
     reflectance: ColorValue,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct MirrorDesc {
+struct MirrorTable {
     reflectance: ColorValue,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct GlossyDesc {
+struct GlossyTable {
     reflectance: ColorValue,
     roughness: f32,
     #[serde(default)]
@@ -199,7 +182,7 @@ struct GlossyDesc {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct EmissiveDesc {
+struct EmissiveTable {
     radiance: ColorValue,
     #[serde(default)]
     two_sided: bool,
@@ -207,7 +190,7 @@ struct EmissiveDesc {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct GlassDesc {
+struct GlassTable {
     color: ColorValue,
     #[serde(default = "one")]
     alpha: f32,
@@ -236,16 +219,16 @@ fn vdb_world_bounds(grid: &SparseGrid, world: glam::Mat4) -> Option<Bounds> {
 
 #[derive(Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
-enum ShapeDesc {
-    Sphere(SphereDesc),
-    Quad(QuadDesc),
-    Box(BoxShapeDesc),
-    Mesh(MeshDesc),
+enum ShapeTable {
+    Sphere(SphereTable),
+    Quad(QuadTable),
+    Box(BoxShapeTable),
+    Mesh(MeshTable),
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct SphereDesc {
+struct SphereTable {
     center: V3,
     radius: f32,
     material: String,
@@ -253,7 +236,7 @@ struct SphereDesc {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct QuadDesc {
+struct QuadTable {
     corners: [V3; 4],
     material: String,
     #[serde(default)]
@@ -262,7 +245,7 @@ struct QuadDesc {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct BoxShapeDesc {
+struct BoxShapeTable {
     min: V3,
     max: V3,
     material: String,
@@ -270,7 +253,7 @@ struct BoxShapeDesc {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct MeshDesc {
+struct MeshTable {
     file: String,
     material: String,
     #[serde(default)]
@@ -283,16 +266,16 @@ struct MeshDesc {
 
 #[derive(Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
-enum LightDesc {
-    Point(PointDesc),
-    Spot(SpotDesc),
-    Directional(DirectionalDesc),
-    Quad(QuadLightDesc),
+enum LightTable {
+    Point(PointTable),
+    Spot(SpotTable),
+    Directional(DirectionalTable),
+    Quad(QuadLightTable),
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct PointDesc {
+struct PointTable {
     position: V3,
     intensity: Option<ColorValue>,
     power: Option<ColorValue>,
@@ -300,7 +283,7 @@ struct PointDesc {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct SpotDesc {
+struct SpotTable {
     position: V3,
     direction: Option<V3>,
     look_at: Option<V3>,
@@ -313,14 +296,14 @@ struct SpotDesc {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct DirectionalDesc {
+struct DirectionalTable {
     direction: V3,
     irradiance: ColorValue,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct QuadLightDesc {
+struct QuadLightTable {
     corners: [V3; 4],
     radiance: ColorValue,
     #[serde(default)]
@@ -335,20 +318,20 @@ fn variant_error(section: &str, kind: &str, body: &str) -> Option<toml::de::Erro
         toml::from_str::<T>(body).err()
     }
     match (section, kind) {
-        ("materials", "diffuse") => check::<DiffuseDesc>(body),
-        ("materials", "mirror") => check::<MirrorDesc>(body),
-        ("materials", "glossy") => check::<GlossyDesc>(body),
-        ("materials", "emissive") => check::<EmissiveDesc>(body),
-        ("materials", "glass") => check::<GlassDesc>(body),
-        ("materials", "dielectric") => check::<DielectricDesc>(body),
-        ("shapes", "sphere") => check::<SphereDesc>(body),
-        ("shapes", "quad") => check::<QuadDesc>(body),
-        ("shapes", "box") => check::<BoxShapeDesc>(body),
-        ("shapes", "mesh") => check::<MeshDesc>(body),
-        ("lights", "point") => check::<PointDesc>(body),
-        ("lights", "spot") => check::<SpotDesc>(body),
-        ("lights", "directional") => check::<DirectionalDesc>(body),
-        ("lights", "quad") => check::<QuadLightDesc>(body),
+        ("materials", "diffuse") => check::<DiffuseTable>(body),
+        ("materials", "mirror") => check::<MirrorTable>(body),
+        ("materials", "glossy") => check::<GlossyTable>(body),
+        ("materials", "emissive") => check::<EmissiveTable>(body),
+        ("materials", "glass") => check::<GlassTable>(body),
+        ("materials", "dielectric") => check::<DielectricTable>(body),
+        ("shapes", "sphere") => check::<SphereTable>(body),
+        ("shapes", "quad") => check::<QuadTable>(body),
+        ("shapes", "box") => check::<BoxShapeTable>(body),
+        ("shapes", "mesh") => check::<MeshTable>(body),
+        ("lights", "point") => check::<PointTable>(body),
+        ("lights", "spot") => check::<SpotTable>(body),
+        ("lights", "directional") => check::<DirectionalTable>(body),
+        ("lights", "quad") => check::<QuadLightTable>(body),
         _ => None,
     }
 }
@@ -374,7 +357,7 @@ fn locate_parse_error(source: &SourceText, offset: usize, message: &str) -> Scen
             .and_then(|t| t.get("type").and_then(|v| v.as_str()).map(str::to_owned));
         if let Some(kind) = kind {
             // Blank the `type = …` line, keeping every other offset.
-            if let Some(at) = super::source::find_key(&blanked, "type") {
+            if let Some(at) = crate::source::find_key(&blanked, "type") {
                 let end = blanked[at..].find('\n').map_or(blanked.len(), |i| at + i);
                 blanked.replace_range(at..end, &" ".repeat(end - at));
             }
@@ -433,51 +416,47 @@ impl<'de> Deserialize<'de> for ColorValue {
 }
 
 /// Loads a native scene file.
-pub fn load(path: &Path) -> Result<SceneDescription, SceneError> {
+pub fn load(path: &Path) -> Result<SceneDesc, SceneError> {
     let source = SourceText::read(path)?;
     parse(&source)
 }
 
-/// Loads a native scene file whose `[[include]]` tables are read by
-/// `formats` (without it, an `[[include]]` is an error).
-pub fn load_with(
-    path: &Path,
-    formats: &dyn ExternalFormats,
-) -> Result<SceneDescription, SceneError> {
-    let source = SourceText::read(path)?;
-    parse_with(&source, Some(formats))
-}
-
 /// Parses native scene text; relative paths resolve against the
-/// directory of `source.path`.
-pub fn parse(source: &SourceText) -> Result<SceneDescription, SceneError> {
-    parse_with(source, None)
-}
-
-/// [`parse`], with `[[include]]` tables read by `formats`.
-pub fn parse_with(
-    source: &SourceText,
-    formats: Option<&dyn ExternalFormats>,
-) -> Result<SceneDescription, SceneError> {
+/// directory of `source.path`. The description is validated
+/// ([`SceneDesc::validate`]), its errors placed at the offending key.
+pub fn parse(source: &SourceText) -> Result<SceneDesc, SceneError> {
     let file: SceneFile = toml::from_str(&source.text).map_err(|e| {
         let offset = e.span().map_or(0, |s| s.start);
         locate_parse_error(source, offset, e.message().trim_end())
     })?;
-    Loader {
+    let mut desc = Loader {
         source,
+        file: Arc::from(source.path.as_path()),
         warnings: Vec::new(),
-        formats,
     }
-    .build(file)
+    .build(file)?;
+    desc.validate().map_err(|e| source.locate(&e))?;
+    let lighting = desc.lighting_warnings();
+    desc.warnings.extend(lighting);
+    Ok(desc)
 }
 
 struct Loader<'a> {
     source: &'a SourceText,
+    /// The file, shared by the origins of its items.
+    file: Arc<Path>,
     warnings: Vec<String>,
-    formats: Option<&'a dyn ExternalFormats>,
 }
 
 impl Loader<'_> {
+    /// The origin of a table spanning `span`.
+    fn origin(&self, span: &Range<usize>) -> Origin {
+        Origin::Span {
+            file: self.file.clone(),
+            span: span.clone(),
+        }
+    }
+
     fn err(&self, span: &Range<usize>, key: &str, message: impl Into<String>) -> SceneError {
         self.source.error_at_key(span.clone(), key, message)
     }
@@ -564,69 +543,39 @@ impl Loader<'_> {
         }
     }
 
-    fn build(mut self, file: SceneFile) -> Result<SceneDescription, SceneError> {
+    fn build(mut self, file: SceneFile) -> Result<SceneDesc, SceneError> {
         let camera = self.camera(&file.camera)?;
-        let mut builder = SceneBuilder::new(camera);
-        let (settings, output) = self.render(&file.render, &mut builder)?;
+        let mut desc = SceneDesc::new(Sourced::new(camera, self.origin(&file.camera.span())));
+        let (settings, output) = self.render(&file.render, &mut desc)?;
         if let Some(fog) = &file.fog {
-            builder.fog = Some(self.fog(fog)?);
+            desc.fog = Some(Sourced::new(self.fog(fog)?, self.origin(&fog.span())));
         }
         let mut material_ids: BTreeMap<&str, MaterialId> = BTreeMap::new();
-        for (name, desc) in &file.materials {
-            let material = self.material(desc)?;
-            material_ids.insert(name.as_str(), builder.add_material(material));
+        for (name, table) in &file.materials {
+            let material = self.material(table)?;
+            let origin = self.origin(&table.span());
+            material_ids.insert(name.as_str(), desc.add_material(material, origin));
         }
         for shape in &file.shapes {
-            self.shape(shape, &material_ids, &mut builder)?;
-            // Emissive quads, box faces and spheres are lights too.
-            if builder.lights().len() > limits::MAX_LIGHTS {
-                return Err(self.err(
-                    &shape.span(),
-                    "material",
-                    format!(
-                        "a scene may hold at most {} lights (emissive quads, box faces and spheres count)",
-                        limits::MAX_LIGHTS
-                    ),
-                ));
-            }
+            self.shape(shape, &material_ids, &mut desc)?;
         }
         for light in &file.lights {
-            if builder.lights().len() == limits::MAX_LIGHTS {
-                return Err(self.err(
-                    &light.span(),
-                    "type",
-                    format!(
-                        "a scene may hold at most {} lights (emissive quads, box faces and spheres count)",
-                        limits::MAX_LIGHTS
-                    ),
-                ));
-            }
-            self.light(light, &mut builder)?;
+            self.light(light, &mut desc)?;
         }
         for include in &file.include {
-            self.include(include, &mut builder)?;
+            self.include(include, &mut desc)?;
         }
-        for (i, medium) in file.media.iter().enumerate() {
-            if i == MAX_VOLUMES {
-                return Err(self.err(
-                    &medium.span(),
-                    "sigma_t",
-                    format!("a scene may hold at most {MAX_VOLUMES} media"),
-                ));
-            }
-            let volume = self.medium(medium)?;
-            builder.volumes.push(volume);
+        for medium in &file.media {
+            let medium = self.medium(medium)?;
+            desc.media.push(medium);
         }
-        super::check_lighting(&builder, &mut self.warnings);
-        Ok(SceneDescription {
-            scene: builder.build(),
-            settings,
-            output,
-            warnings: self.warnings,
-        })
+        desc.settings = settings;
+        desc.output = output;
+        desc.warnings = self.warnings;
+        Ok(desc)
     }
 
-    fn camera(&self, desc: &Spanned<CameraDesc>) -> Result<CameraSpec, SceneError> {
+    fn camera(&self, desc: &Spanned<CameraTable>) -> Result<CameraSpec, SceneError> {
         let span = desc.span();
         let c = desc.get_ref();
         let position = self.vec3(&span, "position", c.position)?;
@@ -645,14 +594,13 @@ impl Loader<'_> {
             up,
             fov: FieldOfView::Vertical(fov),
         };
-        super::check_camera(&spec).map_err(|m| self.err(&span, "look_at", m))?;
         Ok(spec)
     }
 
     fn render(
         &self,
-        desc: &Option<Spanned<RenderDesc>>,
-        builder: &mut SceneBuilder,
+        desc: &Option<Spanned<RenderTable>>,
+        scene: &mut SceneDesc,
     ) -> Result<(RenderSettings, Option<std::path::PathBuf>), SceneError> {
         let mut s = RenderSettings::default();
         let Some(desc) = desc else {
@@ -666,29 +614,7 @@ impl Loader<'_> {
         if let Some(h) = r.height {
             s.height = h;
         }
-        for (key, v) in [("width", s.width), ("height", s.height)] {
-            if !(1..=crate::render::MAX_IMAGE_SIDE).contains(&v) {
-                return Err(self.err(
-                    &span,
-                    key,
-                    format!(
-                        "`{key}` must be between 1 and {} pixels, got {v}",
-                        crate::render::MAX_IMAGE_SIDE
-                    ),
-                ));
-            }
-        }
         if let Some(spp) = r.spp {
-            if !(1..=crate::render::MAX_SPP).contains(&spp) {
-                return Err(self.err(
-                    &span,
-                    "spp",
-                    format!(
-                        "`spp` must be between 1 and {}, got {spp}",
-                        crate::render::MAX_SPP
-                    ),
-                ));
-            }
             s.spp = spp;
         }
         if let Some(seed) = r.seed {
@@ -704,51 +630,21 @@ impl Loader<'_> {
             })?;
         }
         if let Some(step) = r.step {
-            s.step = self.number(
-                &span,
-                "step",
-                step,
-                (f32::MIN_POSITIVE, f32::MAX),
-                "a positive length",
-            )?;
+            s.step = step;
         }
         if let Some(n) = r.volume_samples {
-            if !(1..=1024).contains(&n) {
-                return Err(self.err(
-                    &span,
-                    "volume_samples",
-                    format!("`volume_samples` must be between 1 and 1024, got {n}"),
-                ));
-            }
             s.volume_samples = n;
         }
         if let Some(n) = r.max_depth {
-            if n == 0 {
-                return Err(self.err(
-                    &span,
-                    "max_depth",
-                    "`max_depth` must be at least 1 (1 = single scattering)",
-                ));
-            }
             s.max_depth = n;
         }
         if let Some(n) = r.interleave {
-            if !(1..=16).contains(&n) {
-                return Err(self.err(
-                    &span,
-                    "interleave",
-                    format!("`interleave` must be a tile side between 1 and 16 pixels, got {n}"),
-                ));
-            }
             s.interleave = n;
         }
         let resolution = match r.shadow_map_resolution {
-            Some(n) if !(16..=16384).contains(&n) => {
-                return Err(self.err(
-                    &span,
-                    "shadow_map_resolution",
-                    format!("`shadow_map_resolution` must be between 16 and 16384 texels, got {n}"),
-                ));
+            // Checked even where visibility is "rays", which ignores it.
+            Some(n) if let Err(e) = check_map_resolution(n) => {
+                return Err(self.err(&span, e.setting, e.message));
             }
             Some(n) => n,
             None => DEFAULT_MAP_RESOLUTION,
@@ -768,16 +664,10 @@ impl Loader<'_> {
             s.max_bounces = b;
         }
         if let Some(e) = r.exposure {
-            s.exposure = self.number(
-                &span,
-                "exposure",
-                e,
-                (-64.0, 64.0),
-                "a number of stops in [−64, 64]",
-            )?;
+            s.exposure = e;
         }
         if let Some(m) = &r.glass_model {
-            builder.glass.model = match m.as_str() {
+            scene.glass.model = match m.as_str() {
                 "filter" => GlassModel::Filter,
                 "blend" => GlassModel::Blend,
                 other => {
@@ -790,14 +680,16 @@ impl Loader<'_> {
             };
         }
         if let Some(o) = r.glass_opaque {
-            builder.glass = GlassSettings {
+            scene.glass = GlassSettings {
                 opaque_to_camera: o,
-                ..builder.glass
+                ..scene.glass
             };
         }
         if let Some(bg) = r.background {
-            builder.background = self.emission(&span, "background", bg)?;
+            scene.background = self.emission(&span, "background", bg)?;
         }
+        s.check_ranges()
+            .map_err(|e| self.err(&span, e.setting, e.message))?;
         let output = r.output.as_ref().map(|o| self.relative(o));
         Ok((s, output))
     }
@@ -807,7 +699,7 @@ impl Loader<'_> {
         dir.join(p)
     }
 
-    fn fog(&mut self, desc: &Spanned<FogDesc>) -> Result<Fog, SceneError> {
+    fn fog(&mut self, desc: &Spanned<FogTable>) -> Result<Fog, SceneError> {
         let span = desc.span();
         let f = desc.get_ref();
         let sigma_t = self.number(
@@ -852,18 +744,18 @@ impl Loader<'_> {
         }
     }
 
-    fn material(&self, desc: &Spanned<MaterialDesc>) -> Result<Material, SceneError> {
+    fn material(&self, desc: &Spanned<MaterialTable>) -> Result<Material, SceneError> {
         let span = desc.span();
         Ok(match *desc.get_ref() {
-            MaterialDesc::Diffuse(DiffuseDesc { reflectance }) => Material::Opaque(
+            MaterialTable::Diffuse(DiffuseTable { reflectance }) => Material::Opaque(
                 Surface::diffuse(self.color(&span, "reflectance", reflectance, true)?),
             ),
-            MaterialDesc::Mirror(MirrorDesc { reflectance }) => Material::Opaque(Surface {
+            MaterialTable::Mirror(MirrorTable { reflectance }) => Material::Opaque(Surface {
                 diffuse: Rgb::ZERO,
                 specular: self.color(&span, "reflectance", reflectance, true)?,
                 roughness: 0.0,
             }),
-            MaterialDesc::Glossy(GlossyDesc {
+            MaterialTable::Glossy(GlossyTable {
                 reflectance,
                 roughness,
                 diffuse,
@@ -875,18 +767,18 @@ impl Loader<'_> {
                 specular: self.color(&span, "reflectance", reflectance, true)?,
                 roughness: self.number(&span, "roughness", roughness, (0.0, 1.0), "in [0, 1]")?,
             }),
-            MaterialDesc::Emissive(EmissiveDesc {
+            MaterialTable::Emissive(EmissiveTable {
                 radiance,
                 two_sided,
             }) => Material::Emissive {
                 radiance: self.emission(&span, "radiance", radiance)?,
                 two_sided,
             },
-            MaterialDesc::Glass(GlassDesc { color, alpha }) => Material::Glass(Glass {
+            MaterialTable::Glass(GlassTable { color, alpha }) => Material::Glass(Glass {
                 color: self.color(&span, "color", color, true)?,
                 alpha: self.number(&span, "alpha", alpha, (0.0, 1.0), "an opacity in [0, 1]")?,
             }),
-            MaterialDesc::Dielectric(DielectricDesc { ior }) => Material::Dielectric {
+            MaterialTable::Dielectric(DielectricTable { ior }) => Material::Dielectric {
                 ior: self.number(
                     &span,
                     "ior",
@@ -931,18 +823,19 @@ impl Loader<'_> {
         for (slot, v) in c.iter_mut().zip(corners) {
             *slot = self.vec3(span, "corners", *v)?;
         }
-        super::parallelogram(c, one_sided).map_err(|m| self.err(span, "corners", m))
+        Quad::from_corners(c, one_sided).map_err(|m| self.err(span, "corners", m))
     }
 
     fn shape(
         &mut self,
-        desc: &Spanned<ShapeDesc>,
+        desc: &Spanned<ShapeTable>,
         ids: &BTreeMap<&str, MaterialId>,
-        builder: &mut SceneBuilder,
+        scene: &mut SceneDesc,
     ) -> Result<(), SceneError> {
         let span = desc.span();
+        let origin = self.origin(&span);
         match desc.get_ref() {
-            ShapeDesc::Sphere(SphereDesc {
+            ShapeTable::Sphere(SphereTable {
                 center,
                 radius,
                 material,
@@ -958,28 +851,26 @@ impl Loader<'_> {
                         "a length between 1.2e-38 and 1e9",
                     )?,
                 };
-                builder.add_shape(Shape::Sphere(sphere), m);
+                scene.add_shapes(vec![Shape::Sphere(sphere)], m, origin);
             }
-            ShapeDesc::Quad(QuadDesc {
+            ShapeTable::Quad(QuadTable {
                 corners,
                 material,
                 one_sided,
             }) => {
                 let m = self.material_id(&span, material, ids)?;
                 let q = self.quad(&span, corners, *one_sided)?;
-                builder.add_shape(Shape::Quad(q), m);
+                scene.add_shapes(vec![Shape::Quad(q)], m, origin);
             }
-            ShapeDesc::Box(BoxShapeDesc { min, max, material }) => {
+            ShapeTable::Box(BoxShapeTable { min, max, material }) => {
                 let m = self.material_id(&span, material, ids)?;
                 let b = self.bounds(&span, "min", *min, *max)?;
                 let faces = box_faces(b).ok_or_else(|| {
                     self.err(&span, "min", "the box is too thin: its faces have no area")
                 })?;
-                for face in faces {
-                    builder.add_shape(Shape::Quad(face), m);
-                }
+                scene.add_shapes(faces.map(Shape::Quad).to_vec(), m, origin);
             }
-            ShapeDesc::Mesh(MeshDesc {
+            ShapeTable::Mesh(MeshTable {
                 file,
                 material,
                 translate,
@@ -988,9 +879,12 @@ impl Loader<'_> {
             }) => {
                 let m = self.material_id(&span, material, ids)?;
                 let placement = (*translate, *scale, *rotate_deg);
-                for t in self.mesh(&span, "file", file, placement)? {
-                    builder.add_shape(Shape::Triangle(t), m);
-                }
+                let triangles = self.mesh(&span, "file", file, placement)?;
+                scene.add_shapes(
+                    triangles.into_iter().map(Shape::Triangle).collect(),
+                    m,
+                    origin,
+                );
             }
         }
         Ok(())
@@ -1047,29 +941,21 @@ impl Loader<'_> {
     /// An `[[include]]`: the file's geometry, materials and lights.
     fn include(
         &mut self,
-        desc: &Spanned<IncludeDesc>,
-        builder: &mut SceneBuilder,
+        desc: &Spanned<IncludeTable>,
+        scene: &mut SceneDesc,
     ) -> Result<(), SceneError> {
         let span = desc.span();
         let d = desc.get_ref();
         let placement = self.placement(&span, (d.translate, d.scale, d.rotate_deg))?;
-        let formats = self.formats.ok_or_else(|| {
-            self.err(
-                &span,
-                "file",
-                "`[[include]]` needs the glTF loader: load the scene with tyndall-load (the `tyndall` command does)",
-            )
-        })?;
         let path = self.relative(&d.file);
-        let warnings = formats
-            .include(&path, placement.matrix(), builder)
+        let warnings = crate::include(&path, placement.matrix(), scene)
             .map_err(|e| self.err(&span, "file", format!("cannot include: {e}")))?;
         self.warnings.extend(warnings);
         Ok(())
     }
 
     /// A `[[media]]` volume.
-    fn medium(&mut self, desc: &Spanned<MediumDesc>) -> Result<Volume, SceneError> {
+    fn medium(&mut self, desc: &Spanned<MediumTable>) -> Result<MediumDesc, SceneError> {
         let span = desc.span();
         let m = desc.get_ref();
         let sigma_t = self.color(&span, "sigma_t", m.sigma_t, false)?;
@@ -1099,16 +985,8 @@ impl Loader<'_> {
             let file = m.file.as_ref().ok_or_else(|| {
                 self.err(&span, "density", "density \"vdb\" needs `file = \"….vdb\"`")
             })?;
-            let formats = self.formats.ok_or_else(|| {
-                self.err(
-                    &span,
-                    "density",
-                    "density \"vdb\" needs the OpenVDB reader: load the scene with tyndall-load (the `tyndall` command does)",
-                )
-            })?;
             let name = m.grid.as_deref().unwrap_or("density");
-            let grid = formats
-                .vdb_grid(&self.relative(file), name)
+            let grid = crate::vdb_grid(&self.relative(file), name)
                 .map_err(|e| self.err(&span, "file", e))?;
             let world = self.placement(&span, placement)?.matrix() * grid.index_to_world();
             Some((grid, world))
@@ -1122,13 +1000,11 @@ impl Loader<'_> {
             (Some(_), Some(_)) => {
                 return Err(self.err(&span, "mesh", "give a medium a `box` or a `mesh`, not both"));
             }
-            (Some(b), None) => VolumeRegion::Box(self.bounds(&span, "box", b.min, b.max)?),
-            (None, Some(file)) => {
-                VolumeRegion::Mesh(MeshRegion::new(self.mesh(&span, "mesh", file, placement)?))
-            }
+            (Some(b), None) => RegionDesc::Box(self.bounds(&span, "box", b.min, b.max)?),
+            (None, Some(file)) => RegionDesc::Mesh(self.mesh(&span, "mesh", file, placement)?),
             (None, None) => match &vdb {
                 Some((grid, world)) => {
-                    VolumeRegion::Box(vdb_world_bounds(grid, *world).ok_or_else(|| {
+                    RegionDesc::Box(vdb_world_bounds(grid, *world).ok_or_else(|| {
                         self.err(
                             &span,
                             "file",
@@ -1136,7 +1012,7 @@ impl Loader<'_> {
                         )
                     })?)
                 }
-                None => VolumeRegion::Everywhere,
+                None => RegionDesc::Everywhere,
             },
         };
         let misplaced = |key: &str, given: bool| {
@@ -1214,11 +1090,9 @@ impl Loader<'_> {
                     misplaced(key, given)?;
                 }
                 let (grid, world) = vdb.expect("read above for density \"vdb\"");
-                let field_box = match &region {
-                    VolumeRegion::Box(b) => *b,
-                    VolumeRegion::Mesh(mesh) => mesh.bounds(),
-                    VolumeRegion::Everywhere => unreachable!("a vdb medium has a box"),
-                };
+                // A vdb medium has a box or a mesh (from the grid's
+                // active voxels if not given).
+                let field_box = region.bounds();
                 let unit_to_world = glam::Mat4::from_scale_rotation_translation(
                     field_box.extent(),
                     glam::Quat::IDENTITY,
@@ -1247,56 +1121,21 @@ impl Loader<'_> {
                 ));
             }
         };
-        let key = if m.mesh.is_some() { "mesh" } else { "density" };
-        let volume = Volume::new(
+        Ok(MediumDesc {
             sigma_t,
             albedo,
-            PhaseFunction::from_asymmetry(g),
+            phase: PhaseFunction::from_asymmetry(g),
             density,
             region,
-        )
-        .map_err(|e| self.err(&span, key, e))?;
-        if volume.is_unbounded()
-            && sigma_t.max_element() > 0.0
-            && sigma_t.min_element() < limits::MIN_UNBOUNDED_EXTINCTION
-        {
-            return Err(self.err(
-                &span,
-                "sigma_t",
-                format!(
-                    "`sigma_t` {:?} is too thin for a medium that fills all space: its mean free path would exceed {:e} units, beyond the coordinate limit; use at least {:e} (or 0), or give the medium a `box`",
-                    sigma_t.to_array(),
-                    limits::MAX_COORDINATE,
-                    limits::MIN_UNBOUNDED_EXTINCTION
-                ),
-            ));
-        }
-        if kind != "uniform" {
-            // Tracking cost: tentative collisions to cross the box where
-            // the density is far below its majorant.
-            let depth = volume.max_extinction() * volume.field_box().extent().length();
-            if depth.is_nan() || depth > limits::MAX_MAJORANT_DEPTH {
-                return Err(self.err(
-                    &span,
-                    "sigma_t",
-                    format!(
-                        "the medium's largest extinction times its box's diagonal is {depth:.3e}, more than the {:e} a non-uniform density may reach: tracking would take about that many steps per ray",
-                        limits::MAX_MAJORANT_DEPTH
-                    ),
-                ));
-            }
-        }
-        Ok(volume)
+            origin: self.origin(&span),
+        })
     }
 
-    fn light(
-        &self,
-        desc: &Spanned<LightDesc>,
-        builder: &mut SceneBuilder,
-    ) -> Result<(), SceneError> {
+    fn light(&self, desc: &Spanned<LightTable>, scene: &mut SceneDesc) -> Result<(), SceneError> {
         let span = desc.span();
+        let origin = self.origin(&span);
         match desc.get_ref() {
-            LightDesc::Point(PointDesc {
+            LightTable::Point(PointTable {
                 position,
                 intensity,
                 power,
@@ -1311,12 +1150,15 @@ impl Loader<'_> {
                             "a point light needs exactly one of `intensity` (W/sr) or `power` (W)",
                         )),
                     };
-                builder.add_light(Light::Point(PointLight {
-                    position: self.vec3(&span, "position", *position)?,
-                    intensity,
-                }));
+                scene.add_light(
+                    LightDesc::Point(PointLight {
+                        position: self.vec3(&span, "position", *position)?,
+                        intensity,
+                    }),
+                    origin,
+                );
             }
-            LightDesc::Spot(SpotDesc {
+            LightTable::Spot(SpotTable {
                 position,
                 direction,
                 look_at,
@@ -1371,31 +1213,37 @@ impl Loader<'_> {
                     ("linear" | "hard", Some(_)) => return Err(self.err(&span, "inner_deg", "`inner_deg` applies only to the `smooth` profile")),
                     (other, _) => return Err(self.err(&span, "profile", format!("unknown spot profile `{other}`: expected `linear`, `smooth` or `hard`"))),
                 };
-                builder.add_light(Light::Spot(SpotLight {
-                    position,
-                    direction,
-                    cos_cutoff,
-                    profile,
-                    intensity: self.emission(&span, "intensity", *intensity)?,
-                }));
+                scene.add_light(
+                    LightDesc::Spot(SpotLight {
+                        position,
+                        direction,
+                        cos_cutoff,
+                        profile,
+                        intensity: self.emission(&span, "intensity", *intensity)?,
+                    }),
+                    origin,
+                );
             }
-            LightDesc::Directional(DirectionalDesc {
+            LightTable::Directional(DirectionalTable {
                 direction,
                 irradiance,
             }) => {
-                builder.add_light(Light::Directional(DirectionalLight {
-                    direction: self.direction(&span, "direction", *direction)?,
-                    irradiance: self.emission(&span, "irradiance", *irradiance)?,
-                }));
+                scene.add_light(
+                    LightDesc::Directional(DirectionalLight {
+                        direction: self.direction(&span, "direction", *direction)?,
+                        irradiance: self.emission(&span, "irradiance", *irradiance)?,
+                    }),
+                    origin,
+                );
             }
-            LightDesc::Quad(QuadLightDesc {
+            LightTable::Quad(QuadLightTable {
                 corners,
                 radiance,
                 two_sided,
             }) => {
                 let quad = self.quad(&span, corners, false)?;
                 let radiance = self.emission(&span, "radiance", *radiance)?;
-                builder.add_quad_light(quad, radiance, *two_sided);
+                scene.add_quad_light(quad, radiance, *two_sided, origin);
             }
         }
         Ok(())

@@ -15,9 +15,9 @@
 //! Seeds are fixed, so the outcome is deterministic.
 mod common;
 
+use common::Loaded;
 use common::{render, repo, scene};
 use tyndall::integrators::Strategies;
-use tyndall::scene::{SceneDescription, native};
 use tyndall::{Image, IntegratorKind};
 
 const REGIONS_X: u32 = 4;
@@ -49,17 +49,11 @@ fn region_means(a: &Image, b: &Image) -> Vec<(f64, f64)> {
 }
 
 fn check_scene(file: &str, size: (u32, u32), spp: u32, sets: &[(&str, Strategies)]) {
-    let desc = native::load(&repo().join(file)).expect("scene");
+    let desc = common::load_native(&repo().join(file)).expect("scene");
     check(&desc, file, size, spp, sets);
 }
 
-fn check(
-    desc: &SceneDescription,
-    file: &str,
-    size: (u32, u32),
-    spp: u32,
-    sets: &[(&str, Strategies)],
-) {
+fn check(desc: &Loaded, file: &str, size: (u32, u32), spp: u32, sets: &[(&str, Strategies)]) {
     let shoot = |strategies: Strategies| {
         let one = |seed: u64| {
             render(desc, |s| {

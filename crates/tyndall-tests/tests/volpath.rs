@@ -1,14 +1,14 @@
 //! The volumetric path tracer: furnace tests, energy, and convergence.
 mod common;
 
+use common::Loaded;
 use common::{
     estimate_ray, estimate_ray_with, mean_and_stderr, pixel_distances, render, repo, scene,
 };
 use glam::Vec3;
 use tyndall::integrators::Strategies;
 use tyndall::ray::Ray;
-use tyndall::scene::native;
-use tyndall::{IntegratorKind, RenderSettings, Rgb, SceneDescription};
+use tyndall::{IntegratorKind, RenderSettings, Rgb};
 
 /// A closed box of emitters of radiance 2 around fog of the given albedo.
 /// With `sampled`, the walls are `[[lights]]` quads facing in and volpath
@@ -17,12 +17,12 @@ use tyndall::{IntegratorKind, RenderSettings, Rgb, SceneDescription};
 /// NEE, equiangular samples or connections): every path then ends on a
 /// wall with MIS weight 1 and throughput exactly 1 at albedo 1, so the
 /// furnace is exact.
-fn furnace(albedo: f32, sampled: bool) -> SceneDescription {
+fn furnace(albedo: f32, sampled: bool) -> Loaded {
     furnace_with(albedo, sampled, "")
 }
 
 /// [`furnace`] with more scene text (shapes inside the box).
-fn furnace_with(albedo: f32, sampled: bool, extra: &str) -> SceneDescription {
+fn furnace_with(albedo: f32, sampled: bool, extra: &str) -> Loaded {
     let (lo, hi) = (-2.0f32, 2.0f32);
     // Corners listed so that (c1 − c0) × (c3 − c0) points into the box.
     let faces = [
@@ -155,7 +155,8 @@ fn energy_does_not_grow_with_albedo_below_one() {
 /// 2, which no 1/√spp estimator misses by chance at these sizes).
 #[test]
 fn error_falls_like_inverse_sqrt_spp() {
-    let desc = native::load(&repo().join("scenes/reference/fog-spot-sphere.toml")).expect("scene");
+    let desc =
+        common::load_native(&repo().join("scenes/reference/fog-spot-sphere.toml")).expect("scene");
     let pair = |spp: u32| {
         let shot = |seed: u64| {
             render(&desc, |s| {
@@ -182,7 +183,7 @@ fn error_falls_like_inverse_sqrt_spp() {
 /// agree along rays from `origin` to each target, within 5 combined
 /// standard errors, and that each ray sees light well above its noise.
 fn assert_depth_one_matches_single(
-    desc: &SceneDescription,
+    desc: &Loaded,
     origin: Vec3,
     targets: &[Vec3],
     volpath_samples: u32,
@@ -221,7 +222,7 @@ fn assert_depth_one_matches_single(
 /// fixed rays through a spot's beam, their means agree.
 #[test]
 fn depth_one_matches_single_along_rays() {
-    let desc = native::load(&repo().join("scenes/fig07-spot-sphere.toml")).expect("scene");
+    let desc = common::load_native(&repo().join("scenes/fig07-spot-sphere.toml")).expect("scene");
     let targets = [
         Vec3::new(0.0, 0.5, 0.0),
         Vec3::new(0.4, 2.0, 0.1),
@@ -270,7 +271,7 @@ fn area_light_in_fog_depth_one_matches_single() {
 
 /// The furnace filled by the `[[media]]` volume `medium` (TOML) instead
 /// of its fog.
-fn volume_furnace(sampled: bool, medium: &str) -> SceneDescription {
+fn volume_furnace(sampled: bool, medium: &str) -> Loaded {
     let mut desc = furnace_with(1.0, sampled, medium);
     desc.scene.fog = None;
     desc

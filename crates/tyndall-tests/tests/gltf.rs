@@ -2,9 +2,10 @@
 //! description, renders as the same scene written in TOML does, and bad
 //! files give errors naming the file and the element.
 mod common;
+mod gltf_files;
 
-use common::{MeshData, test_dir, to_glb, write_gltf};
 use glam::Vec3;
+use gltf_files::{MeshData, test_dir, to_glb, write_gltf};
 use serde_json::json;
 use std::f32::consts::FRAC_1_SQRT_2;
 use tyndall::Scene;
@@ -12,7 +13,6 @@ use tyndall::camera::FieldOfView;
 use tyndall::color::Rgb;
 use tyndall::lights::{Light, SpotProfile};
 use tyndall::materials::{Material, Surface};
-use tyndall::scene::native;
 use tyndall::shapes::Shape;
 
 fn triangle(material: usize) -> MeshData {
@@ -87,7 +87,7 @@ fn gltf_loads_into_the_expected_description() {
     });
     let meshes: Vec<MeshData> = (0..6).map(triangle).collect();
     let path = write_gltf(&test_dir("describe"), "describe", &meshes, doc);
-    let desc = tyndall_load::gltf::load(&path).expect("loads");
+    let desc = common::load_gltf(&path).expect("loads");
     let scene = &desc.scene;
 
     // World(v) = (1,0,0) + R_y(90°)·2·(v + (0,0,−1)), R_y(90°)(x,y,z) = (z, y, −x):
@@ -256,12 +256,12 @@ intensity = 1.0
     let toml_path = dir.join("room.toml");
     std::fs::write(&toml_path, toml).expect("write toml");
 
-    let mut from_gltf = tyndall_load::load(&gltf_path, Default::default()).expect("glTF");
+    let mut from_gltf = common::load_any(&gltf_path, Default::default()).expect("glTF");
     // What `tyndall render room.gltf --density 0.1 --albedo 0.9 --g 0.2` does.
     from_gltf.override_fog(Some(0.1), Some(0.9)).expect("fog");
     from_gltf.override_fog_asymmetry(0.2).expect("g");
-    let from_toml = native::load(&toml_path).expect("TOML");
-    let render = |desc: &tyndall::SceneDescription| {
+    let from_toml = common::load_native(&toml_path).expect("TOML");
+    let render = |desc: &common::Loaded| {
         let mut settings = desc.settings;
         settings.width = 40;
         settings.height = 30;
@@ -272,7 +272,7 @@ intensity = 1.0
             .image
     };
     // The same file as binary glTF (.glb) loads into the same scene.
-    let mut from_glb = tyndall_load::load(&to_glb(&dir, "room"), Default::default()).expect("glb");
+    let mut from_glb = common::load_any(&to_glb(&dir, "room"), Default::default()).expect("glb");
     from_glb.override_fog(Some(0.1), Some(0.9)).expect("fog");
     from_glb.override_fog_asymmetry(0.2).expect("g");
     assert_eq!(
@@ -300,7 +300,7 @@ intensity = 1.0
 
 fn load_error(name: &str, meshes: &[MeshData], doc: serde_json::Value) -> String {
     let path = write_gltf(&test_dir(name), name, meshes, doc);
-    match tyndall_load::gltf::load(&path) {
+    match common::load_gltf(&path) {
         Ok(_) => panic!("{name}: a bad file loaded"),
         Err(e) => {
             let message = e.to_string();
@@ -410,7 +410,7 @@ fn toml_includes_gltf() {
     };
     let path = dir.join("with-include.toml");
     std::fs::write(&path, scene("part.gltf")).expect("write");
-    let desc = tyndall_load::load(&path, Default::default()).expect("loads");
+    let desc = common::load_any(&path, Default::default()).expect("loads");
     // (v + (0,0,1))·2 + (1,2,3): (0,0,0) → (1,2,5), (1,0,0) → (3,2,5), (0,1,0) → (1,4,5).
     let [a, b, c] = corners(&desc.scene, 0);
     assert!(close(a, Vec3::new(1.0, 2.0, 5.0)), "{a}");
@@ -422,13 +422,9 @@ fn toml_includes_gltf() {
     assert!(close(point.position, Vec3::new(1.0, 2.0, 3.0)));
     assert!(desc.scene.fog.is_some());
 
-    // The core alone cannot read glTF: a clear error, not a silent skip.
-    let e = native::load(&path).err().expect("needs tyndall-load");
-    assert!(e.to_string().contains("[[include]]"), "{e}");
-
     let path = dir.join("bad-include.toml");
     std::fs::write(&path, scene("bad.gltf")).expect("write");
-    let e = tyndall_load::load(&path, Default::default())
+    let e = common::load_any(&path, Default::default())
         .err()
         .expect("bad include");
     let m = e.to_string();

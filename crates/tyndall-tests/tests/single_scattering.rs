@@ -40,7 +40,7 @@ fn quadrature(light: [f64; 3], intensity: [f64; 3], profile: impl Fn([f64; 3]) -
     [0, 1, 2].map(|c| simpson(|s| f(s, c), 0.0, 250.0, 400_000))
 }
 
-fn fog_scene(light: &str) -> tyndall::SceneDescription {
+fn fog_scene(light: &str) -> common::Loaded {
     scene(&format!(
         r#"
         [camera]
@@ -64,7 +64,7 @@ fn fog_scene(light: &str) -> tyndall::SceneDescription {
 /// of the real one.
 /// `single` is checked with 1, 3 and 8 equiangular samples per ray (the
 /// multi-sample MIS weights must stay unbiased for any count).
-fn check(desc: &tyndall::SceneDescription, expected: [f64; 3], what: &str) {
+fn check(desc: &common::Loaded, expected: [f64; 3], what: &str) {
     let ray = Ray::new(glam::Vec3::ZERO, -glam::Vec3::Z);
     let configs = [
         (IntegratorKind::Single, 1),

@@ -3,22 +3,23 @@
 //! refused with a message naming the file and place, or handled.
 mod common;
 
+use common::Loaded;
 use glam::Vec3;
 use std::time::Instant;
 use tyndall::accel::{Geometry, Primitive};
 use tyndall::lights::Light;
 use tyndall::ray::Ray;
-use tyndall::scene::legacy::{self, LegacyOptions};
-use tyndall::scene::mesh::{MeshTransform, parse_obj_mesh};
-use tyndall::scene::{SceneDescription, SceneError, SourceText, native};
 use tyndall::shapes::{Shape, Sphere};
 use tyndall::visibility::VisibilityMode;
 use tyndall::{IntegratorKind, RenderSettings};
+use tyndall_load::LegacyOptions;
+use tyndall_load::mesh::{MeshTransform, parse_obj_mesh};
+use tyndall_load::{SceneError, SourceText};
 
 const CAMERA: &str = "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\nfov_y_deg = 40\n";
 
-fn parse(text: &str) -> Result<SceneDescription, SceneError> {
-    native::parse(&SourceText::new("scene.toml", text))
+fn parse(text: &str) -> Result<Loaded, SceneError> {
+    common::parse_native(&SourceText::new("scene.toml", text))
 }
 
 fn error(text: &str) -> String {
@@ -38,7 +39,7 @@ fn assert_at(e: &str, line: usize, words: &str) {
 }
 
 fn legacy_error(text: &str) -> String {
-    match legacy::parse(
+    match common::parse_legacy(
         &SourceText::new("scene.obj", text),
         LegacyOptions::default(),
     ) {
@@ -164,11 +165,11 @@ fn endless_files_are_refused_quickly() {
         return;
     }
     let start = Instant::now();
-    let e = native::load(std::path::Path::new("/dev/zero"))
+    let e = common::load_native(std::path::Path::new("/dev/zero"))
         .err()
         .expect("refused");
     assert!(e.to_string().contains("never ends"), "{e}");
-    let e = tyndall::scene::mesh::load_obj_mesh(std::path::Path::new("/dev/zero"), &identity())
+    let e = tyndall_load::mesh::load_obj_mesh(std::path::Path::new("/dev/zero"), &identity())
         .err()
         .expect("refused");
     assert!(e.contains("/dev/zero") && e.contains("never ends"), "{e}");
@@ -282,7 +283,7 @@ fn dense_non_uniform_media_are_refused() {
 
 // --- Memory, threads, samples ------------------------------------------
 
-fn settings(desc: &SceneDescription, f: impl FnOnce(&mut RenderSettings)) -> RenderSettings {
+fn settings(desc: &Loaded, f: impl FnOnce(&mut RenderSettings)) -> RenderSettings {
     let mut s = desc.settings;
     f(&mut s);
     s

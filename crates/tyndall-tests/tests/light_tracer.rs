@@ -8,10 +8,11 @@
 //! vacuous bound: each test also checks that the blocks see light.
 mod common;
 
+use common::Loaded;
 use common::scene;
 use tyndall::camera::Camera;
 use tyndall::integrators::light_tracer::{self, LightPaths};
-use tyndall::{IntegratorKind, Rgb, SceneDescription};
+use tyndall::{IntegratorKind, Rgb};
 
 const W: u32 = 32;
 const H: u32 = 24;
@@ -20,7 +21,7 @@ const SEEDS: u64 = 6;
 
 /// A spot shining down through where a sphere may be, onto a box of fog
 /// below it and a floor. The sphere (if any) is outside the fog.
-fn spot_scene(sphere: &str) -> SceneDescription {
+fn spot_scene(sphere: &str) -> Loaded {
     scene(&format!(
         r#"
         [camera]
@@ -88,7 +89,7 @@ fn block_stats(render: impl Fn(u64) -> Vec<Rgb>) -> Vec<(f64, f64)> {
         .collect()
 }
 
-fn volpath(desc: &SceneDescription, spp: u32) -> impl Fn(u64) -> Vec<Rgb> + '_ {
+fn volpath(desc: &Loaded, spp: u32) -> impl Fn(u64) -> Vec<Rgb> + '_ {
     move |seed| {
         let settings = tyndall::RenderSettings {
             width: W,

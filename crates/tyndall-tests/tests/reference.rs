@@ -7,7 +7,6 @@ use common::{mean_and_stderr, pixel_distances, render, repo};
 use tyndall::Image;
 use tyndall::IntegratorKind;
 use tyndall::metrics::relative_mse;
-use tyndall::scene::native;
 
 /// The references' own relative MSE (shared/reference/README.md).
 const REFERENCE_ERROR: f64 = 1e-4;
@@ -26,7 +25,7 @@ const REFERENCE_ERROR: f64 = 1e-4;
 fn integrators_converge_to_references() {
     for name in ["fog-spot-empty", "fog-spot-sphere", "fog-spot-glass-pair"] {
         let dir = repo().join("scenes/reference");
-        let desc = native::load(&dir.join(format!("{name}.toml"))).expect("scene");
+        let desc = common::load_native(&dir.join(format!("{name}.toml"))).expect("scene");
         let reference =
             tyndall::Image::read_exr(&dir.join(format!("{name}.exr"))).expect("reference");
         // The references' max_depth 2 is one scattering event: volpath's
@@ -82,7 +81,7 @@ fn volpath_converges_to_multiple_scattering_references() {
     ];
     let dir = repo().join("scenes/reference");
     for (name, max_depth, spp) in scenes {
-        let desc = native::load(&dir.join(format!("{name}.toml"))).expect("scene");
+        let desc = common::load_native(&dir.join(format!("{name}.toml"))).expect("scene");
         let full = Image::read_exr(&dir.join(format!("{name}.exr"))).expect("reference");
         let reference = full.box_downsample(4);
         let reference_error = own_error(&dir.join(format!("{name}.ref.json")));

@@ -2,16 +2,95 @@
 #![allow(dead_code)]
 
 use glam::{Vec2, Vec3};
+use std::path::{Path, PathBuf};
 use tyndall::integrators::{Integrator, PixelPosition};
 use tyndall::ray::Ray;
 use tyndall::sampler::PixelSampler;
-use tyndall::scene::{SceneDescription, SourceText, native};
 use tyndall::visibility::{RayCounts, Visibility};
-use tyndall::{Image, IntegratorKind, RenderSettings, Rgb};
+use tyndall::{Image, IntegratorKind, RenderSettings, Rgb, Scene, SceneDesc};
+use tyndall_load::{LegacyOptions, SceneError, SourceText, legacy, native};
+
+/// A loaded scene: its description and the runtime scene built from it,
+/// with the description's settings, output and warnings at hand.
+pub struct Loaded {
+    pub desc: SceneDesc,
+    pub scene: Scene,
+    pub settings: RenderSettings,
+    pub output: Option<PathBuf>,
+    pub warnings: Vec<String>,
+}
+
+impl Loaded {
+    /// Builds the runtime scene of `desc`.
+    pub fn new(desc: SceneDesc) -> Result<Self, SceneError> {
+        let scene = Scene::build(&desc)?;
+        Ok(Self {
+            scene,
+            settings: desc.settings,
+            output: desc.output.clone(),
+            warnings: desc.warnings.clone(),
+            desc,
+        })
+    }
+
+    /// [`SceneDesc::override_fog`], then the scene rebuilt.
+    pub fn override_fog(
+        &mut self,
+        density: Option<f32>,
+        albedo: Option<f32>,
+    ) -> Result<(), String> {
+        self.desc.override_fog(density, albedo)?;
+        self.scene = Scene::build(&self.desc).map_err(|e| e.to_string())?;
+        Ok(())
+    }
+
+    /// [`SceneDesc::override_fog_asymmetry`], then the scene rebuilt.
+    pub fn override_fog_asymmetry(&mut self, g: f32) -> Result<(), String> {
+        self.desc.override_fog_asymmetry(g)?;
+        self.scene = Scene::build(&self.desc).map_err(|e| e.to_string())?;
+        Ok(())
+    }
+}
+
+/// A native scene file, loaded and built.
+pub fn load_native(path: &Path) -> Result<Loaded, SceneError> {
+    Loaded::new(native::load(path)?)
+}
+
+/// Native scene text, parsed and built.
+pub fn parse_native(source: &SourceText) -> Result<Loaded, SceneError> {
+    Loaded::new(native::parse(source)?)
+}
+
+/// A legacy .obj scene file, loaded and built.
+pub fn load_legacy(path: &Path, options: LegacyOptions) -> Result<Loaded, SceneError> {
+    Loaded::new(legacy::load(path, options)?)
+}
+
+/// Legacy .obj scene text, parsed and built.
+pub fn parse_legacy(source: &SourceText, options: LegacyOptions) -> Result<Loaded, SceneError> {
+    Loaded::new(legacy::parse(source, options)?)
+}
+
+/// Any scene file (by its ending, as `tyndall render` reads it), loaded
+/// and built.
+pub fn load_any(path: &Path, options: LegacyOptions) -> Result<Loaded, SceneError> {
+    Loaded::new(tyndall_load::load(path, options)?)
+}
+
+/// A glTF file as a whole scene, loaded and built.
+pub fn load_gltf(path: &Path) -> Result<Loaded, SceneError> {
+    Loaded::new(tyndall_load::gltf::load(path)?)
+}
+
+/// The built-in demo, loaded and built.
+pub fn demo() -> Result<Loaded, SceneError> {
+    Loaded::new(tyndall_load::demo::load()?)
+}
 
 /// Parses a native scene from text.
-pub fn scene(text: &str) -> SceneDescription {
-    native::parse(&SourceText::new("test.toml", text)).unwrap_or_else(|e| panic!("{e}"))
+pub fn scene(text: &str) -> Loaded {
+    parse_native(&SourceText::new("test.toml", text)).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The repository's root directory.
@@ -20,7 +99,7 @@ pub fn repo() -> std::path::PathBuf {
 }
 
 /// Renders with the scene's settings changed by `f`.
-pub fn render(desc: &SceneDescription, f: impl FnOnce(&mut RenderSettings)) -> Image {
+pub fn render(desc: &Loaded, f: impl FnOnce(&mut RenderSettings)) -> Image {
     let mut settings = desc.settings;
     f(&mut settings);
     tyndall::render(&desc.scene, &settings, &|_| {})
@@ -31,7 +110,7 @@ pub fn render(desc: &SceneDescription, f: impl FnOnce(&mut RenderSettings)) -> I
 /// Mean and standard error of the mean of `n` one-sample estimates of the
 /// radiance along one fixed ray.
 pub fn estimate_ray(
-    desc: &SceneDescription,
+    desc: &Loaded,
     kind: IntegratorKind,
     step: f32,
     ray: Ray,
@@ -50,12 +129,7 @@ pub fn estimate_ray(
 }
 
 /// [`estimate_ray`] with explicit settings.
-pub fn estimate_ray_with(
-    desc: &SceneDescription,
-    settings: RenderSettings,
-    ray: Ray,
-    n: u32,
-) -> (Rgb, Rgb) {
+pub fn estimate_ray_with(desc: &Loaded, settings: RenderSettings, ray: Ray, n: u32) -> (Rgb, Rgb) {
     let visibility = Visibility::new(&desc.scene, settings.visibility);
     let integrator = Integrator::new(&settings, &visibility);
     let mut counts = RayCounts::default();

@@ -9,16 +9,19 @@
 //! applies to the emissive faces that follow (until the next `c`). A `c`
 //! that ends a block's fields could be either (`TrailingCutoff`).
 
-use super::{SceneBuilder, SceneDescription, SceneError, SourceText, limits};
-use crate::camera::{CameraSpec, FieldOfView};
-use crate::color::{Rgb, srgb_to_linear};
-use crate::glass::{Glass, GlassModel};
-use crate::lights::{Light, SpotLight, SpotProfile};
-use crate::materials::{Material, Surface};
-use crate::render::RenderSettings;
-use crate::shapes::{Bounds, Shape, Sphere, Triangle};
+use crate::source::{SceneError, SourceText};
 use glam::Vec3;
 use std::path::Path;
+use std::sync::Arc;
+use tyndall::camera::{CameraSpec, FieldOfView};
+use tyndall::color::{Rgb, srgb_to_linear};
+use tyndall::description::{LightDesc, Origin, SceneDesc, Sourced};
+use tyndall::glass::{Glass, GlassModel};
+use tyndall::lights::{SpotLight, SpotProfile};
+use tyndall::materials::{Material, Surface};
+use tyndall::scene::limits;
+use tyndall::settings::{IntegratorKind, RenderSettings};
+use tyndall::shapes::{Bounds, Quad, Shape, Sphere, Triangle};
 
 /// Options for loading legacy files.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -28,7 +31,7 @@ pub struct LegacyOptions {
 }
 
 /// Loads a legacy .obj scene.
-pub fn load(path: &Path, options: LegacyOptions) -> Result<SceneDescription, SceneError> {
+pub fn load(path: &Path, options: LegacyOptions) -> Result<SceneDesc, SceneError> {
     parse(&SourceText::read(path)?, options)
 }
 
@@ -47,6 +50,8 @@ struct LegacyMaterial {
     alpha: f32,
     cutoff_deg: Option<f32>,
     textured: bool,
+    /// Byte offset of its `material` token.
+    offset: usize,
 }
 
 struct Parser<'a> {
@@ -306,12 +311,12 @@ fn face_cutoffs(
 }
 
 /// Parses legacy text. Quads are one-sided unless `options.two_sided`.
-pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescription, SceneError> {
+pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDesc, SceneError> {
     let mut p = Parser::new(source);
     let mut vertices: Vec<Vec3> = Vec::new();
     let mut materials: Vec<LegacyMaterial> = Vec::new();
     let mut faces: Vec<Face> = Vec::new();
-    let mut spheres: Vec<(Sphere, usize)> = Vec::new();
+    let mut spheres: Vec<(Sphere, usize, usize)> = Vec::new();
     let mut active: Option<usize> = None;
     let mut open_block = false;
     let mut cutoffs: Vec<Cutoff> = Vec::new();
@@ -389,6 +394,7 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
             "material" => {
                 materials.push(LegacyMaterial {
                     alpha: 1.0,
+                    offset: tok.offset,
                     ..Default::default()
                 });
                 open_block = true;
@@ -454,7 +460,7 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                         ),
                     ));
                 }
-                spheres.push((Sphere { center, radius }, material));
+                spheres.push((Sphere { center, radius }, material, tok.offset));
             }
             "r" => {
                 return Err(p.error(
@@ -541,7 +547,7 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
             let camera = default_camera(&vertices, &spheres);
             // Far from the origin a small scene's offset camera can round
             // onto its target (issue 11: every ray NaN, a black image).
-            super::check_camera(&camera).map_err(|m| {
+            camera.check().map_err(|m| {
                 source.error(format!(
                     "the default camera (the file has no `PerspectiveCamera`) cannot be placed: {m}; give a `PerspectiveCamera`"
                 ))
@@ -549,14 +555,29 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
             camera
         }
     };
-    let mut builder = SceneBuilder::new(camera);
-    builder.background = background;
-    builder.glass.model = GlassModel::Blend;
+    let file: Arc<Path> = Arc::from(source.path.as_path());
+    let at = |offset: usize| {
+        let (line, column) = source.line_col(offset);
+        Origin::Location {
+            file: file.clone(),
+            line,
+            column,
+        }
+    };
+    let mut desc = SceneDesc::new(Sourced::new(
+        camera,
+        Origin::Element {
+            file: file.clone(),
+            path: "PerspectiveCamera".into(),
+        },
+    ));
+    desc.background = background;
+    desc.glass.model = GlassModel::Blend;
     let one_sided = !options.two_sided;
     let ids: Vec<u32> = materials
         .iter()
         .map(|m| {
-            builder.add_material(if m.emitted.max_element() > 0.0 {
+            let material = if m.emitted.max_element() > 0.0 {
                 Material::Emissive {
                     radiance: m.emitted,
                     two_sided: !one_sided,
@@ -572,7 +593,8 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                     specular: m.reflective,
                     roughness: m.roughness,
                 })
-            })
+            };
+            desc.add_material(material, at(m.offset))
         })
         .collect();
     if materials.iter().any(|m| m.textured) {
@@ -586,19 +608,10 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
     for (face, cutoff) in faces.iter().zip(&face_cutoff) {
         let m = &materials[face.material];
         let c = face.vertices.map(|i| vertices[i]);
-        let at = p.tokens[face.token].offset;
-        let quad = super::parallelogram(c, one_sided);
+        let offset = p.tokens[face.token].offset;
+        let quad = Quad::from_corners(c, one_sided);
         if m.emitted.max_element() > 0.0 {
-            let quad = quad.map_err(|e| source.error_at(at, format!("emissive face: {e}")))?;
-            if builder.lights().len() == limits::MAX_LIGHTS {
-                return Err(source.error_at(
-                    at,
-                    format!(
-                        "a scene may hold at most {} lights (emissive faces)",
-                        limits::MAX_LIGHTS
-                    ),
-                ));
-            }
+            let quad = quad.map_err(|e| source.error_at(offset, format!("emissive face: {e}")))?;
             match *cutoff {
                 Some(cutoff) => {
                     // The spot's intensity is radiance × area (W/sr).
@@ -607,29 +620,31 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                         "the spotlight's intensity (`emitted` × face area)",
                         intensity,
                     )
-                    .map_err(|e| source.error_at(at, format!("emissive face: {e}")))?;
+                    .map_err(|e| source.error_at(offset, format!("emissive face: {e}")))?;
                     // The quad is the lamp seen by the camera; the spot
                     // carries its light into the scene (counted once).
                     let lamp = *lamp_ids[face.material].get_or_insert_with(|| {
-                        builder.add_material(Material::LampFace {
+                        let lamp = Material::LampFace {
                             radiance: m.emitted,
-                        })
+                        };
+                        desc.add_material(lamp, at(m.offset))
                     });
-                    builder.add_shape(Shape::Quad(quad), lamp);
-                    builder.add_light(Light::Spot(SpotLight {
+                    desc.add_shapes(vec![Shape::Quad(quad)], lamp, at(offset));
+                    let spot = SpotLight {
                         position: quad.centroid(),
                         direction: quad.normal,
                         cos_cutoff: cutoff.to_radians().cos(),
                         profile: SpotProfile::Linear,
                         intensity,
-                    }));
+                    };
+                    desc.add_light(LightDesc::Spot(spot), at(offset));
                 }
-                None => builder.add_quad_light(quad, m.emitted, !one_sided),
+                None => desc.add_quad_light(quad, m.emitted, !one_sided, at(offset)),
             }
             continue;
         }
         match quad {
-            Ok(q) => builder.add_shape(Shape::Quad(q), ids[face.material]),
+            Ok(q) => desc.add_shapes(vec![Shape::Quad(q)], ids[face.material], at(offset)),
             Err(_) => {
                 // A planar or non-planar general quad: two triangles.
                 let make = if one_sided {
@@ -640,29 +655,26 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDescrip
                 let tris = [make(c[0], c[1], c[2]), make(c[0], c[2], c[3])];
                 if tris.iter().all(Option::is_none) {
                     return Err(source.error_at(
-                        at,
+                        offset,
                         "the face has no area (its vertices are collinear or repeated)",
                     ));
                 }
-                for t in tris.into_iter().flatten() {
-                    builder.add_shape(Shape::Triangle(t), ids[face.material]);
-                }
+                let triangles = tris.into_iter().flatten().map(Shape::Triangle).collect();
+                desc.add_shapes(triangles, ids[face.material], at(offset));
             }
         }
     }
-    for (sphere, material) in &spheres {
-        builder.add_shape(Shape::Sphere(*sphere), ids[*material]);
+    for &(sphere, material, offset) in &spheres {
+        desc.add_shapes(vec![Shape::Sphere(sphere)], ids[material], at(offset));
     }
-    super::check_lighting(&builder, &mut warnings);
-    Ok(SceneDescription {
-        scene: builder.build(),
-        settings: RenderSettings {
-            integrator: crate::IntegratorKind::March,
-            ..RenderSettings::default()
-        },
-        output: None,
-        warnings,
-    })
+    desc.settings = RenderSettings {
+        integrator: IntegratorKind::March,
+        ..RenderSettings::default()
+    };
+    desc.validate().map_err(SceneError::from)?;
+    warnings.extend(desc.lighting_warnings());
+    desc.warnings = warnings;
+    Ok(desc)
 }
 
 fn cutoff(p: &mut Parser) -> Result<f32, SceneError> {
@@ -722,15 +734,17 @@ fn perspective_camera(p: &mut Parser, tok: Token) -> Result<CameraSpec, SceneErr
         up: up.ok_or_else(|| missing("up"))?,
         fov: FieldOfView::ShorterSide(angle.ok_or_else(|| missing("angle"))?),
     };
-    super::check_camera(&spec).map_err(|m| p.error(Some(tok), m))?;
+    spec.check().map_err(|m| p.error(Some(tok), m))?;
     Ok(spec)
 }
 
 /// LEGACY-OBJ.md: without a camera, look at the centre of the scene's
 /// bounds from 4 × its largest dimension along +z, 20° field of view.
-fn default_camera(vertices: &[Vec3], spheres: &[(Sphere, usize)]) -> CameraSpec {
+fn default_camera(vertices: &[Vec3], spheres: &[(Sphere, usize, usize)]) -> CameraSpec {
     let bounds = vertices.iter().fold(Bounds::EMPTY, |b, v| b.include(*v));
-    let bounds = spheres.iter().fold(bounds, |b, (s, _)| b.union(s.bounds()));
+    let bounds = spheres
+        .iter()
+        .fold(bounds, |b, (s, _, _)| b.union(s.bounds()));
     let (center, size) = if bounds.is_empty() {
         (Vec3::ZERO, 1.0)
     } else {

@@ -9,12 +9,12 @@ use glam::Vec3;
 use std::f64::consts::PI;
 use tyndall::lights::Light;
 use tyndall::ray::Ray;
-use tyndall::scene::SourceText;
-use tyndall::scene::legacy::{self, LegacyOptions};
 use tyndall::{IntegratorKind, RenderSettings};
+use tyndall_load::LegacyOptions;
+use tyndall_load::SourceText;
 
-fn parse(text: &str) -> tyndall::SceneDescription {
-    legacy::parse(&SourceText::new("test.obj", text), LegacyOptions::default())
+fn parse(text: &str) -> common::Loaded {
+    common::parse_legacy(&SourceText::new("test.obj", text), LegacyOptions::default())
         .unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -28,7 +28,7 @@ const CUTOFF_DEG: f64 = 30.0;
 
 /// One spot in fog and nothing else, in the paper's format; the camera
 /// at the origin looks along −z.
-fn spot_in_fog() -> tyndall::SceneDescription {
+fn spot_in_fog() -> common::Loaded {
     let h = LAMP_SIDE / 2.0;
     let text = format!(
         "material
@@ -342,6 +342,7 @@ v 2 3 0.5
 f 5 6 7 8
 ";
     let desc = parse(text);
+    // Lights are numbered area lights first (SceneDesc's order).
     let kinds: Vec<_> = desc
         .scene
         .lights
@@ -355,8 +356,8 @@ f 5 6 7 8
     assert_eq!(
         kinds,
         [
-            format!("spot {:.4}", 30f32.to_radians().cos()),
-            "quad".into()
+            "quad".into(),
+            format!("spot {:.4}", 30f32.to_radians().cos())
         ]
     );
     let at = format!("test.obj:{}:1:", line_of(text, "c 30"));
@@ -369,7 +370,7 @@ f 5 6 7 8
     );
 
     // Unambiguous in effect: no warning about `c`.
-    let fig7 = legacy::load(
+    let fig7 = common::load_legacy(
         &common::repo().join("scenes/legacy/fig07-spot-sphere.obj"),
         LegacyOptions::default(),
     )

@@ -3,6 +3,7 @@
 use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+use tyndall::description::{DescError, Origin};
 
 /// An error in a scene file: where it is and what was expected.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -17,7 +18,9 @@ pub struct SceneError {
 
 impl fmt::Display for SceneError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.line == 0 {
+        if self.path.as_os_str().is_empty() {
+            write!(f, "{}", self.message)
+        } else if self.line == 0 {
             write!(f, "{}: {}", self.path.display(), self.message)
         } else {
             write!(
@@ -33,6 +36,39 @@ impl fmt::Display for SceneError {
 }
 
 impl std::error::Error for SceneError {}
+
+/// A description error outside any text this crate holds: at its origin's
+/// line and column where it has them, else naming the file and element.
+impl From<DescError> for SceneError {
+    fn from(e: DescError) -> Self {
+        match e.origin {
+            Origin::Location { file, line, column } => SceneError {
+                path: file.to_path_buf(),
+                line,
+                column,
+                message: e.message,
+            },
+            Origin::Span { file, .. } => SceneError {
+                path: file.to_path_buf(),
+                line: 0,
+                column: 0,
+                message: format!("`{}`: {}", e.field, e.message),
+            },
+            Origin::Element { file, path } => SceneError {
+                path: file.to_path_buf(),
+                line: 0,
+                column: 0,
+                message: format!("{path}: {}", e.message),
+            },
+            Origin::Code => SceneError {
+                path: PathBuf::new(),
+                line: 0,
+                column: 0,
+                message: e.message,
+            },
+        }
+    }
+}
 
 /// A scene file's text with its path, to turn byte offsets into
 /// line:column positions.
@@ -50,7 +86,7 @@ impl SourceText {
     }
 
     /// Reads a file; the error names the file.
-    /// Files longer than [`super::limits::MAX_SCENE_FILE_BYTES`] are
+    /// Files longer than [`tyndall::scene::limits::MAX_SCENE_FILE_BYTES`] are
     /// refused before they are read whole.
     pub fn read(path: &Path) -> Result<Self, SceneError> {
         let error = |message: String| SceneError {
@@ -59,8 +95,9 @@ impl SourceText {
             column: 0,
             message,
         };
-        let bytes = super::limits::read_capped(path, super::limits::MAX_SCENE_FILE_BYTES)
-            .map_err(|e| error(format!("cannot read the file: {e}")))?;
+        let bytes =
+            tyndall::scene::limits::read_capped(path, tyndall::scene::limits::MAX_SCENE_FILE_BYTES)
+                .map_err(|e| error(format!("cannot read the file: {e}")))?;
         let text = String::from_utf8(bytes).map_err(|e| {
             let offset = e.utf8_error().valid_up_to();
             error(format!(
@@ -119,6 +156,18 @@ impl SourceText {
             .find(|&line| self.text[line..].starts_with('['))
             .unwrap_or(self.text.len());
         after_header..end
+    }
+
+    /// A description error placed in this text: at the key it names in
+    /// the table of a [`Origin::Span`] of this file, or where its origin
+    /// says otherwise.
+    pub fn locate(&self, e: &DescError) -> SceneError {
+        match &e.origin {
+            Origin::Span { file, span } if **file == *self.path => {
+                self.error_at_key(span.clone(), e.field, e.message.clone())
+            }
+            _ => SceneError::from(e.clone()),
+        }
     }
 
     /// An error about the whole file.

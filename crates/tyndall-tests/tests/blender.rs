@@ -4,6 +4,8 @@
 //! P/(4π), the sun's W/m² is kept, spot blend 0 is a hard spot, a
 //! Principled surface with IOR level 0 is pure Lambert.
 
+mod common;
+
 use glam::Vec3;
 use std::f32::consts::PI;
 use std::path::Path;
@@ -15,7 +17,7 @@ use tyndall::materials::{Material, Surface};
 #[test]
 fn blender_export_loads_with_blender_values() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/blender/fog-room.gltf");
-    let desc = tyndall_load::gltf::load(&path).expect("loads");
+    let desc = common::load_gltf(&path).expect("loads");
     let scene = &desc.scene;
     let rel = |a: f32, b: f32| ((a - b) / b).abs() < 1e-5;
     // Values set in make_fog_room.py.

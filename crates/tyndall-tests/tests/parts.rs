@@ -5,13 +5,13 @@
 
 mod common;
 
+use common::Loaded;
 use common::repo;
 use std::ops::ControlFlow;
 use std::path::PathBuf;
 use tyndall::parts::{self, Part, PartCompression, PartIdentity};
 use tyndall::region::{PixelRect, RenderRegion};
 use tyndall::render::{Accumulation, render_region, traces_light_paths};
-use tyndall::scene::{SceneDescription, native};
 use tyndall::visibility::VisibilityMode;
 use tyndall::{Image, IntegratorKind, RenderSettings};
 
@@ -22,8 +22,8 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 /// The glass-sphere scene (caustic light paths) at a tiny size.
-fn focus() -> (SceneDescription, RenderSettings) {
-    let desc = native::load(&repo().join("scenes/glass-sphere-focus.toml")).expect("scene");
+fn focus() -> (Loaded, RenderSettings) {
+    let desc = common::load_native(&repo().join("scenes/glass-sphere-focus.toml")).expect("scene");
     let settings = RenderSettings {
         width: 36,
         height: 28,
@@ -36,8 +36,8 @@ fn focus() -> (SceneDescription, RenderSettings) {
 }
 
 /// The demo under `march` with shadow maps.
-fn demo_march() -> (SceneDescription, RenderSettings) {
-    let desc = tyndall::scene::demo::load().expect("demo");
+fn demo_march() -> (Loaded, RenderSettings) {
+    let desc = common::demo().expect("demo");
     let settings = RenderSettings {
         width: 40,
         height: 22,
@@ -51,7 +51,7 @@ fn demo_march() -> (SceneDescription, RenderSettings) {
     (desc, settings)
 }
 
-fn part(desc: &SceneDescription, settings: &RenderSettings, region: RenderRegion) -> Part {
+fn part(desc: &Loaded, settings: &RenderSettings, region: RenderRegion) -> Part {
     let (accumulation, _) = render_region(
         &desc.scene,
         settings,

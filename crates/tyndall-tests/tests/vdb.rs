@@ -3,6 +3,8 @@
 //! of radius 1 at (0.5, 0.25, −0.25), voxel size h = 1/16, each voxel
 //! holding the fraction of its cell inside the sphere.
 
+mod common;
+
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 use tyndall::media::tracking::VolumeTracker;
@@ -22,7 +24,7 @@ fn data(name: &str) -> PathBuf {
 }
 
 /// Loads a scene holding one medium written by `medium` (TOML lines).
-fn load(name: &str, medium: &str) -> Result<tyndall::SceneDescription, String> {
+fn load(name: &str, medium: &str) -> Result<common::Loaded, String> {
     let dir = std::env::temp_dir().join(format!("tyndall-load-vdb-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let path = dir.join(format!("{name}.toml"));
@@ -32,7 +34,7 @@ fn load(name: &str, medium: &str) -> Result<tyndall::SceneDescription, String> {
          [[media]]\nsigma_t = {SIGMA}\nalbedo = 0.5\ndensity = \"vdb\"\n{medium}\n"
     );
     std::fs::write(&path, text).expect("write scene");
-    tyndall_load::load(&path, Default::default()).map_err(|e| e.to_string())
+    common::load_any(&path, Default::default()).map_err(|e| e.to_string())
 }
 
 /// Optical depth along the line `origin + t·dir` (|dir| = 1) over
@@ -254,9 +256,8 @@ fn box_restricts_a_vdb_medium() {
 #[test]
 fn vdb_plume_matches_the_tgrid_plume() {
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-    let dense = tyndall_load::load(&scenes.join("smoke.toml"), Default::default()).expect("tgrid");
-    let sparse =
-        tyndall_load::load(&scenes.join("smoke-vdb.toml"), Default::default()).expect("vdb");
+    let dense = common::load_any(&scenes.join("smoke.toml"), Default::default()).expect("tgrid");
+    let sparse = common::load_any(&scenes.join("smoke-vdb.toml"), Default::default()).expect("vdb");
     let (a, b) = (&dense.scene.volumes[0], &sparse.scene.volumes[0]);
     let lo = Vec3::new(-1.2, 0.0, -1.2) + 0.025;
     let hi = Vec3::new(1.2, 4.0, 1.2) - 0.025;

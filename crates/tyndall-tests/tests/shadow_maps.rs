@@ -3,11 +3,11 @@ mod common;
 
 use common::{render, repo, scene};
 use glam::Vec3;
+use tyndall::Scene;
 use tyndall::integrators::PixelPosition;
 use tyndall::integrators::march::interleaved_stratum;
 use tyndall::lights::Light;
 use tyndall::metrics::relative_mse;
-use tyndall::scene::{Scene, native};
 use tyndall::shadow_maps::{MapScene, ShadowMaps};
 use tyndall::visibility::{RayCounts, Visibility, VisibilityMode};
 use tyndall::{IntegratorKind, Rgb};
@@ -59,7 +59,7 @@ fn map_visibility_agrees_with_shadow_rays() {
         "fig07-spot-sphere.toml",
         "fig08-glass-pair.toml",
     ] {
-        let desc = native::load(&repo().join("scenes").join(file)).expect("scene");
+        let desc = common::load_native(&repo().join("scenes").join(file)).expect("scene");
         let scene = &desc.scene;
         let maps = maps(scene, RESOLUTION);
         let reach = scene.geometry.bounds().extent().length();
@@ -205,7 +205,7 @@ fn tint_through_two_panes() {
 /// between two seeds) and must shrink as the resolution grows.
 #[test]
 fn image_with_maps_matches_shadow_rays() {
-    let desc = native::load(&repo().join("scenes/fig07-spot-sphere.toml")).expect("scene");
+    let desc = common::load_native(&repo().join("scenes/fig07-spot-sphere.toml")).expect("scene");
     let shot = |visibility: VisibilityMode, seed: u64| {
         render(&desc, |s| {
             s.width = 160;

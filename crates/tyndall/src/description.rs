@@ -1,0 +1,516 @@
+//! The scene description: what a scene is, as plain data, before anything
+//! is built from it.
+//!
+//! Every loader (native TOML, the paper's legacy .obj, glTF, Python
+//! dictionaries) produces a [`SceneDesc`]; none builds runtime objects.
+//! [`SceneDesc::validate`] checks it in one place and reports each error
+//! at the [`Origin`] of the item it concerns, and
+//! [`Scene::build`](crate::scene::Scene::build) makes the runtime scene
+//! from it (BVH, area lights from emissive shapes, volumes with their
+//! majorant grids).
+//!
+//! The description is in physical units (docs/physics.md): positions in
+//! scene units, radiance in W/(m²·sr), intensity in W/sr, irradiance in
+//! W/m², extinction per scene unit, linear RGB.
+
+use crate::camera::CameraSpec;
+use crate::color::Rgb;
+use crate::glass::GlassModel;
+use crate::lights::{DirectionalLight, Light, PointLight, SpotLight};
+use crate::materials::{Material, MaterialId};
+use crate::media::Fog;
+use crate::media::tracking::MAX_VOLUMES;
+use crate::media::volume::Density;
+use crate::phase::PhaseFunction;
+use crate::scene::limits;
+use crate::settings::RenderSettings;
+use crate::shapes::{Bounds, Shape, Triangle};
+use std::fmt;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Where an item of a description came from, so that an error about it
+/// can name the place.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum Origin {
+    /// Made in code (tests, the API): no place to name.
+    #[default]
+    Code,
+    /// A place in a text file, 1-based line and column (in characters).
+    Location {
+        file: Arc<Path>,
+        line: usize,
+        column: usize,
+    },
+    /// A table of a text file, as a byte range: the loader that read the
+    /// text turns it, with the key an error names, into a line and
+    /// column (TOML tables).
+    Span { file: Arc<Path>, span: Range<usize> },
+    /// An element of a structured file or value, by its path:
+    /// `nodes[3].mesh` in a glTF file, `shapes[2]` in a Python dictionary.
+    Element { file: Arc<Path>, path: String },
+}
+
+impl fmt::Display for Origin {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Origin::Code => Ok(()),
+            Origin::Location { file, line, column } => {
+                write!(f, "{}:{line}:{column}", file.display())
+            }
+            Origin::Span { file, span } => write!(f, "{} (byte {})", file.display(), span.start),
+            Origin::Element { file, path } => write!(f, "{}: {path}", file.display()),
+        }
+    }
+}
+
+/// An item of a description with its origin.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sourced<T> {
+    pub value: T,
+    pub origin: Origin,
+}
+
+impl<T> Sourced<T> {
+    pub fn new(value: T, origin: Origin) -> Self {
+        Self { value, origin }
+    }
+
+    /// An item made in code.
+    pub fn code(value: T) -> Self {
+        Self::new(value, Origin::Code)
+    }
+}
+
+/// One shape item of a file — a sphere, a quad, a box's six faces, a
+/// mesh's triangles — with the material they share.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShapeDesc {
+    pub shapes: Vec<Shape>,
+    pub material: MaterialId,
+    pub origin: Origin,
+}
+
+/// A light that is not a shape. Area lights are shapes with an emissive
+/// material ([`Material::Emissive`]), as in Mitsuba, Cycles and pbrt.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightDesc {
+    Point(PointLight),
+    Spot(SpotLight),
+    Directional(DirectionalLight),
+}
+
+impl From<LightDesc> for Light {
+    fn from(light: LightDesc) -> Self {
+        match light {
+            LightDesc::Point(l) => Light::Point(l),
+            LightDesc::Spot(l) => Light::Spot(l),
+            LightDesc::Directional(l) => Light::Directional(l),
+        }
+    }
+}
+
+/// Where a medium is.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RegionDesc {
+    /// All of space (uniform density only).
+    Everywhere,
+    Box(Bounds),
+    /// The inside of a closed triangle mesh.
+    Mesh(Vec<Triangle>),
+}
+
+/// A general medium (`[[media]]`): RGB extinction `sigma_t` (per scene
+/// unit) scaled by a dimensionless `density` field over its region,
+/// single-scattering `albedo`, and a phase function.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MediumDesc {
+    pub sigma_t: Rgb,
+    pub albedo: Rgb,
+    pub phase: PhaseFunction,
+    pub density: Density,
+    pub region: RegionDesc,
+    pub origin: Origin,
+}
+
+impl RegionDesc {
+    /// The region's bounding box (infinite for all of space).
+    pub fn bounds(&self) -> Bounds {
+        match self {
+            RegionDesc::Everywhere => Bounds {
+                min: glam::Vec3::splat(f32::NEG_INFINITY),
+                max: glam::Vec3::splat(f32::INFINITY),
+            },
+            RegionDesc::Box(b) => *b,
+            RegionDesc::Mesh(triangles) => triangles
+                .iter()
+                .fold(Bounds::EMPTY, |b, t| b.union(t.bounds())),
+        }
+    }
+}
+
+impl MediumDesc {
+    /// Refuses a medium that cannot be tracked: a non-uniform density
+    /// without a region to map it to, a flat mesh, a medium filling all
+    /// space so thin that its mean free path passes the coordinate limit,
+    /// or a density whose majorant makes delta tracking take more than
+    /// [`limits::MAX_MAJORANT_DEPTH`] steps across its box.
+    pub fn validate(&self) -> Result<(), DescError> {
+        let fail = |field, message: String| Err(DescError::new(&self.origin, field, message));
+        let uniform = self.density == Density::Uniform;
+        let field_box = self.region.bounds();
+        match self.region {
+            RegionDesc::Everywhere if !uniform => {
+                return fail(
+                    "density",
+                    "a volume with a non-uniform density needs a `box` or a `mesh`".into(),
+                );
+            }
+            RegionDesc::Mesh(_) if field_box.extent().min_element() <= 0.0 => {
+                return fail("mesh", "the mesh is flat: it encloses no volume".into());
+            }
+            _ => {}
+        }
+        let sigma_t = self.sigma_t;
+        if self.region == RegionDesc::Everywhere
+            && sigma_t.max_element() > 0.0
+            && sigma_t.min_element() < limits::MIN_UNBOUNDED_EXTINCTION
+        {
+            return fail(
+                "sigma_t",
+                format!(
+                    "`sigma_t` {:?} is too thin for a medium that fills all space: its mean free path would exceed {:e} units, beyond the coordinate limit; use at least {:e} (or 0), or give the medium a `box`",
+                    sigma_t.to_array(),
+                    limits::MAX_COORDINATE,
+                    limits::MIN_UNBOUNDED_EXTINCTION
+                ),
+            );
+        }
+        if !uniform {
+            // Tracking cost: tentative collisions to cross the box where
+            // the density is far below its majorant.
+            let peak = self.density.max_in(glam::Vec3::ZERO, glam::Vec3::ONE);
+            let depth = peak * sigma_t.max_element() * field_box.extent().length();
+            if depth.is_nan() || depth > limits::MAX_MAJORANT_DEPTH {
+                return fail(
+                    "sigma_t",
+                    format!(
+                        "the medium's largest extinction times its box's diagonal is {depth:.3e}, more than the {:e} a non-uniform density may reach: tracking would take about that many steps per ray",
+                        limits::MAX_MAJORANT_DEPTH
+                    ),
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+/// How glass appears to camera rays and combines along shadow rays.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct GlassSettings {
+    pub model: GlassModel,
+    /// Draw glass as an opaque diffuse surface of its colour to camera
+    /// rays, as the paper did for its figures; shadow rays still pass.
+    pub opaque_to_camera: bool,
+}
+
+/// A whole scene as plain data, with its render settings.
+///
+/// Lights are numbered, for sampling, in a fixed order: the emissive
+/// shapes in the order of [`SceneDesc::shapes`] (a box's faces in its
+/// order), then [`SceneDesc::lights`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneDesc {
+    pub camera: Sourced<CameraSpec>,
+    /// Materials, indexed by [`ShapeDesc::material`].
+    pub materials: Vec<Sourced<Material>>,
+    pub shapes: Vec<ShapeDesc>,
+    pub lights: Vec<Sourced<LightDesc>>,
+    /// Homogeneous grey fog (the paper's medium).
+    pub fog: Option<Sourced<Fog>>,
+    /// General media (RGB, non-uniform, mesh-bounded); only `volpath`
+    /// renders them.
+    pub media: Vec<MediumDesc>,
+    /// Radiance of rays that leave the scene (linear RGB).
+    pub background: Rgb,
+    pub glass: GlassSettings,
+    pub settings: RenderSettings,
+    /// Output file named by the scene, if any.
+    pub output: Option<PathBuf>,
+    /// What the loader accepted but warns about (non-physical values,
+    /// approximated features).
+    pub warnings: Vec<String>,
+}
+
+/// An error in a description: the item's origin, the field (the key a
+/// file gave it by, when the loader knows it) and what is wrong.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct DescError {
+    pub origin: Origin,
+    /// The field of the item the error is about (`radius`, `material`).
+    pub field: &'static str,
+    pub message: String,
+}
+
+impl DescError {
+    pub fn new(origin: &Origin, field: &'static str, message: impl Into<String>) -> Self {
+        Self {
+            origin: origin.clone(),
+            field,
+            message: message.into(),
+        }
+    }
+}
+
+impl fmt::Display for DescError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.origin {
+            Origin::Code => write!(f, "{}", self.message),
+            _ => write!(f, "{}: {}", self.origin, self.message),
+        }
+    }
+}
+
+impl std::error::Error for DescError {}
+
+impl SceneDesc {
+    /// An empty scene seen by `camera`, with default settings.
+    pub fn new(camera: Sourced<CameraSpec>) -> Self {
+        Self {
+            camera,
+            materials: Vec::new(),
+            shapes: Vec::new(),
+            lights: Vec::new(),
+            fog: None,
+            media: Vec::new(),
+            background: Rgb::ZERO,
+            glass: GlassSettings::default(),
+            settings: RenderSettings::default(),
+            output: None,
+            warnings: Vec::new(),
+        }
+    }
+
+    /// Adds a material; its index is what shapes name.
+    pub fn add_material(&mut self, material: Material, origin: Origin) -> MaterialId {
+        self.materials.push(Sourced::new(material, origin));
+        (self.materials.len() - 1) as MaterialId
+    }
+
+    /// Adds shapes sharing one material.
+    pub fn add_shapes(&mut self, shapes: Vec<Shape>, material: MaterialId, origin: Origin) {
+        self.shapes.push(ShapeDesc {
+            shapes,
+            material,
+            origin,
+        });
+    }
+
+    /// Adds a quad area light: an emissive quad, seen, occluding and
+    /// sampled (see [`Scene::build`](crate::scene::Scene::build)).
+    pub fn add_quad_light(
+        &mut self,
+        quad: crate::shapes::Quad,
+        radiance: Rgb,
+        two_sided: bool,
+        origin: Origin,
+    ) {
+        let material = self.add_material(
+            Material::Emissive {
+                radiance,
+                two_sided,
+            },
+            origin.clone(),
+        );
+        self.add_shapes(vec![Shape::Quad(quad)], material, origin);
+    }
+
+    pub fn add_light(&mut self, light: LightDesc, origin: Origin) {
+        self.lights.push(Sourced::new(light, origin));
+    }
+
+    fn is_emissive(&self, material: MaterialId) -> bool {
+        matches!(
+            self.materials.get(material as usize).map(|m| &m.value),
+            Some(Material::Emissive { .. })
+        )
+    }
+
+    /// Checks what no loader can check alone: references between items,
+    /// counts, and the camera. The first error found, at its item's
+    /// origin.
+    pub fn validate(&self) -> Result<(), DescError> {
+        self.camera
+            .value
+            .check()
+            .map_err(|m| DescError::new(&self.camera.origin, "look_at", m))?;
+        let mut lights = 0;
+        for shape in &self.shapes {
+            if shape.material as usize >= self.materials.len() {
+                return Err(DescError::new(
+                    &shape.origin,
+                    "material",
+                    format!(
+                        "material {} does not exist (the scene has {})",
+                        shape.material,
+                        self.materials.len()
+                    ),
+                ));
+            }
+            if self.is_emissive(shape.material) {
+                lights += shape
+                    .shapes
+                    .iter()
+                    .filter(|s| !matches!(s, Shape::Triangle(_)))
+                    .count();
+                if lights > limits::MAX_LIGHTS {
+                    return Err(too_many_lights(&shape.origin, "material"));
+                }
+            }
+        }
+        for light in &self.lights {
+            lights += 1;
+            if lights > limits::MAX_LIGHTS {
+                return Err(too_many_lights(&light.origin, "type"));
+            }
+        }
+        if let Some(medium) = self.media.get(MAX_VOLUMES) {
+            return Err(DescError::new(
+                &medium.origin,
+                "sigma_t",
+                format!("a scene may hold at most {MAX_VOLUMES} media"),
+            ));
+        }
+        for medium in &self.media {
+            medium.validate()?;
+        }
+        self.settings
+            .check_ranges()
+            .map_err(|e| DescError::new(&Origin::Code, e.setting, e.message))?;
+        Ok(())
+    }
+
+    /// Warnings about lighting that will silently produce nothing.
+    pub fn lighting_warnings(&self) -> Vec<String> {
+        let mut warnings = Vec::new();
+        let emissive: Vec<&ShapeDesc> = self
+            .shapes
+            .iter()
+            .filter(|s| self.is_emissive(s.material))
+            .collect();
+        let area_lights = emissive
+            .iter()
+            .flat_map(|s| &s.shapes)
+            .filter(|s| !matches!(s, Shape::Triangle(_)))
+            .count();
+        let unsampled = emissive
+            .iter()
+            .flat_map(|s| &s.shapes)
+            .filter(|s| matches!(s, Shape::Triangle(_)))
+            .count();
+        if self.lights.is_empty() && area_lights == 0 {
+            warnings.push("the scene has no lights: only emissive surfaces will be visible".into());
+        }
+        if unsampled > 0 {
+            warnings.push(format!(
+                "{unsampled} emissive triangle(s) (meshes) glow where seen but are not sampled as lights: \
+                 `march` and `single` get no light from them, `volpath` only by chance; \
+                 emissive quads, boxes and spheres are area lights"
+            ));
+        }
+        let unbounded_fog = self
+            .fog
+            .as_ref()
+            .is_some_and(|fog| fog.value.bounds.is_none() && fog.value.sigma_t > 0.0);
+        let unbounded_volume = self
+            .media
+            .iter()
+            .any(|m| m.region == RegionDesc::Everywhere && m.sigma_t.max_element() > 0.0);
+        if (unbounded_fog || unbounded_volume)
+            && self
+                .lights
+                .iter()
+                .any(|l| matches!(l.value, LightDesc::Directional(_)))
+        {
+            warnings.push(
+                "a directional light shines into fog that fills all space: its light is fully extinguished before it arrives; bound the medium with a box"
+                    .into(),
+            );
+        }
+        warnings
+    }
+
+    /// Applies command-line fog settings (the paper's `--density` and
+    /// `--albedo`): they change the scene's fog, or add fog filling all
+    /// space (albedo 1 unless given) if it has none.
+    pub fn override_fog(
+        &mut self,
+        density: Option<f32>,
+        albedo: Option<f32>,
+    ) -> Result<(), String> {
+        if let Some(d) = density {
+            if !(d >= 0.0 && d.is_finite()) {
+                return Err(format!("--density must be a non-negative number, got {d}"));
+            }
+            limits::check_fog_extinction(d).map_err(|e| format!("--density: {e}"))?;
+        }
+        if let Some(a) = albedo {
+            if !(a >= 0.0 && a.is_finite()) {
+                return Err(format!("--albedo must be a non-negative number, got {a}"));
+            }
+            limits::check_fog_albedo(Rgb::splat(a)).map_err(|e| format!("--albedo: {e}"))?;
+        }
+        match (&mut self.fog, density) {
+            (Some(fog), _) => {
+                if let Some(d) = density {
+                    fog.value.sigma_t = d;
+                }
+                if let Some(a) = albedo {
+                    fog.value.albedo = Rgb::splat(a);
+                }
+            }
+            (None, Some(d)) => {
+                self.fog = Some(Sourced::code(Fog {
+                    sigma_t: d,
+                    albedo: Rgb::splat(albedo.unwrap_or(1.0)),
+                    phase: PhaseFunction::Isotropic,
+                    bounds: None,
+                }));
+            }
+            (None, None) if albedo.is_some() => {
+                return Err(
+                    "--albedo needs fog: this scene has none, so give --density too".into(),
+                );
+            }
+            (None, None) => {}
+        }
+        Ok(())
+    }
+
+    /// Applies a command-line Henyey–Greenstein asymmetry `--g` to the
+    /// scene's fog (after [`Self::override_fog`], so `--density` may have
+    /// added the fog); `g` in (−1, 1), 0 is isotropic.
+    pub fn override_fog_asymmetry(&mut self, g: f32) -> Result<(), String> {
+        if !(g.is_finite() && g.abs() <= 0.999) {
+            return Err(format!("--g must be in [−0.999, 0.999], got {g}"));
+        }
+        let fog = self
+            .fog
+            .as_mut()
+            .ok_or("--g needs fog: this scene has none, so give --density too")?;
+        fog.value.phase = PhaseFunction::from_asymmetry(g);
+        Ok(())
+    }
+}
+
+fn too_many_lights(origin: &Origin, field: &'static str) -> DescError {
+    DescError::new(
+        origin,
+        field,
+        format!(
+            "a scene may hold at most {} lights (emissive quads, box faces and spheres count)",
+            limits::MAX_LIGHTS
+        ),
+    )
+}

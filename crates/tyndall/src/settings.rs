@@ -1,0 +1,211 @@
+//! Render settings: how to render a scene — image size, sampling,
+//! integrator and its parameters — as plain data.
+//!
+//! A leaf of the crate: scene descriptions carry settings and loaders fill
+//! them, and nothing here depends on the scene or the integrators. The
+//! ranges each setting accepts are checked here, once
+//! ([`RenderSettings::check_ranges`]), for every loader and the API; the
+//! checks that need the scene are in [`crate::render`].
+
+pub use crate::integrators::IntegratorKind;
+pub use crate::integrators::Strategies;
+
+/// `max_depth` meaning "no limit".
+pub const UNLIMITED_DEPTH: u32 = u32::MAX;
+
+/// Default equiangular samples per light per camera ray (`single`).
+pub const DEFAULT_VOLUME_SAMPLES: u32 = 8;
+
+/// Largest accepted image side, in pixels.
+pub const MAX_IMAGE_SIDE: u32 = 1 << 15;
+
+/// Most samples per pixel accepted (2²⁰).
+pub const MAX_SPP: u32 = 1 << 20;
+
+/// How to render: image size, sampling and method.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel.
+    pub spp: u32,
+    pub seed: u64,
+    /// Worker threads; `None` uses every core.
+    pub threads: Option<usize>,
+    pub integrator: IntegratorKind,
+    /// March step length (scene units) for [`IntegratorKind::March`].
+    pub step: f32,
+    /// Equiangular samples per light per camera ray for
+    /// [`IntegratorKind::Single`] (stratified along the ray).
+    pub volume_samples: u32,
+    /// Side of the interleaved-sampling tile for [`IntegratorKind::March`]
+    /// (1: off).
+    pub interleave: u32,
+    /// Shadow rays or shadow maps.
+    pub visibility: VisibilityMode,
+    /// Most reflections followed from a camera ray by `march` and `single`
+    /// (glass crossings do not count).
+    pub max_bounces: u32,
+    /// Most scattering events of a `volpath` path ([`UNLIMITED_DEPTH`]:
+    /// no limit, Russian roulette ends paths).
+    pub max_depth: u32,
+    /// Exposure in stops applied when writing display images (PNG).
+    pub exposure: f32,
+    /// The estimators `volpath` combines (all by default; a subset is for
+    /// checking and measuring them, see [`Strategies`]).
+    pub strategies: Strategies,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            width: 640,
+            height: 360,
+            spp: 16,
+            seed: 0,
+            threads: None,
+            integrator: IntegratorKind::Single,
+            step: 0.1,
+            volume_samples: DEFAULT_VOLUME_SAMPLES,
+            interleave: 1,
+            visibility: VisibilityMode::ShadowRays,
+            max_bounces: 4,
+            max_depth: UNLIMITED_DEPTH,
+            exposure: 0.0,
+            strategies: Strategies::ALL,
+        }
+    }
+}
+
+/// Default shadow-map resolution (texels per side of each face).
+pub const DEFAULT_MAP_RESOLUTION: u32 = 512;
+
+/// How visibility towards lights is computed, as chosen by settings.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum VisibilityMode {
+    /// Exact: a shadow ray through the BVH per query.
+    #[default]
+    ShadowRays,
+    /// Shadow and transmittance maps of `resolution`² texels per face.
+    Maps { resolution: u32 },
+}
+
+impl VisibilityMode {
+    pub fn name(&self) -> &'static str {
+        match self {
+            VisibilityMode::ShadowRays => "rays",
+            VisibilityMode::Maps { .. } => "maps",
+        }
+    }
+}
+
+/// Most equiangular samples per light per camera ray.
+pub const MAX_VOLUME_SAMPLES: u32 = 1024;
+
+/// Widest interleaved-sampling tile, in pixels.
+pub const MAX_INTERLEAVE: u32 = 16;
+
+/// Shadow-map resolutions accepted, texels per side.
+pub const MAP_RESOLUTIONS: std::ops::RangeInclusive<u32> = 16..=16384;
+
+/// Exposures accepted, in stops.
+pub const EXPOSURES: std::ops::RangeInclusive<f32> = -64.0..=64.0;
+
+/// A setting out of its range: which one (by its name in scene files and
+/// on the command line, with `_` for `-`) and why.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{message}")]
+pub struct SettingError {
+    pub setting: &'static str,
+    pub message: String,
+}
+
+impl RenderSettings {
+    /// Checks every setting against its range, in one place for every
+    /// loader and the API.
+    pub fn check_ranges(&self) -> Result<(), SettingError> {
+        let fail = |setting: &'static str, message: String| Err(SettingError { setting, message });
+        for (setting, v) in [("width", self.width), ("height", self.height)] {
+            if !(1..=MAX_IMAGE_SIDE).contains(&v) {
+                return fail(
+                    setting,
+                    format!("`{setting}` must be between 1 and {MAX_IMAGE_SIDE} pixels, got {v}"),
+                );
+            }
+        }
+        if self.spp == 0 {
+            return fail("spp", "`spp` (samples per pixel) must be at least 1".into());
+        }
+        if self.spp > MAX_SPP {
+            return fail(
+                "spp",
+                format!(
+                    "`spp` (samples per pixel) must be at most {MAX_SPP}, got {}",
+                    self.spp
+                ),
+            );
+        }
+        if self.max_depth == 0 {
+            return fail(
+                "max_depth",
+                "`max_depth` must be at least 1 (1 = single scattering)".into(),
+            );
+        }
+        if !(1..=MAX_VOLUME_SAMPLES).contains(&self.volume_samples) {
+            return fail(
+                "volume_samples",
+                format!(
+                    "`volume_samples` must be between 1 and {MAX_VOLUME_SAMPLES}, got {}",
+                    self.volume_samples
+                ),
+            );
+        }
+        if !(1..=MAX_INTERLEAVE).contains(&self.interleave) {
+            return fail(
+                "interleave",
+                format!(
+                    "`interleave` must be a tile side between 1 and {MAX_INTERLEAVE} pixels, got {}",
+                    self.interleave
+                ),
+            );
+        }
+        if let VisibilityMode::Maps { resolution } = self.visibility {
+            check_map_resolution(resolution)?;
+        }
+        if !(self.step > 0.0 && self.step.is_finite()) {
+            return fail(
+                "step",
+                format!("`step` must be a positive length, got {}", self.step),
+            );
+        }
+        if !EXPOSURES.contains(&self.exposure) {
+            return fail(
+                "exposure",
+                format!(
+                    "`exposure` must be a number of stops in [−64, 64], got {}",
+                    self.exposure
+                ),
+            );
+        }
+        if self.threads == Some(0) {
+            return fail("threads", "`threads` must be at least 1".into());
+        }
+        Ok(())
+    }
+}
+
+/// Checks a shadow-map resolution (texels per side) against
+/// [`MAP_RESOLUTIONS`].
+pub fn check_map_resolution(resolution: u32) -> Result<(), SettingError> {
+    if MAP_RESOLUTIONS.contains(&resolution) {
+        return Ok(());
+    }
+    Err(SettingError {
+        setting: "shadow_map_resolution",
+        message: format!(
+            "`shadow_map_resolution` must be between {} and {} texels, got {resolution}",
+            MAP_RESOLUTIONS.start(),
+            MAP_RESOLUTIONS.end()
+        ),
+    })
+}
