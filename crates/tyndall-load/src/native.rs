@@ -548,11 +548,14 @@ impl Loader<'_> {
         let mut desc = SceneDesc::new(Sourced::new(camera, self.origin(&file.camera.span())));
         let (settings, output) = self.render(&file.render, &mut desc)?;
         if let Some(fog) = &file.fog {
-            desc.fog = Some(Sourced::new(self.fog(fog)?, self.origin(&fog.span())));
+            desc.fog = Some(Sourced::new(
+                Self::fog(fog.get_ref()),
+                self.origin(&fog.span()),
+            ));
         }
         let mut material_ids: BTreeMap<&str, MaterialId> = BTreeMap::new();
         for (name, table) in &file.materials {
-            let material = self.material(table)?;
+            let material = Self::material(table.get_ref());
             let origin = self.origin(&table.span());
             material_ids.insert(name.as_str(), desc.add_material(material, origin));
         }
@@ -578,21 +581,11 @@ impl Loader<'_> {
     fn camera(&self, desc: &Spanned<CameraTable>) -> Result<CameraSpec, SceneError> {
         let span = desc.span();
         let c = desc.get_ref();
-        let position = self.vec3(&span, "position", c.position)?;
-        let look_at = self.vec3(&span, "look_at", c.look_at)?;
-        let up = self.direction(&span, "up", c.up)?;
-        let fov = self.number(
-            &span,
-            "fov_y_deg",
-            c.fov_y_deg,
-            (1e-3, 179.0),
-            "an angle in (0°, 179°]",
-        )?;
         let spec = CameraSpec {
-            position,
-            look_at,
-            up,
-            fov: FieldOfView::Vertical(fov),
+            position: Vec3::from_array(c.position),
+            look_at: Vec3::from_array(c.look_at),
+            up: self.direction(&span, "up", c.up)?,
+            fov: FieldOfView::Vertical(c.fov_y_deg),
         };
         Ok(spec)
     }
@@ -686,10 +679,9 @@ impl Loader<'_> {
             };
         }
         if let Some(bg) = r.background {
-            scene.background = self.emission(&span, "background", bg)?;
+            scene.background = Rgb::from_array(bg.0);
         }
-        s.check_ranges()
-            .map_err(|e| self.err(&span, e.setting, e.message))?;
+        scene.settings_origin = self.origin(&span);
         let output = r.output.as_ref().map(|o| self.relative(o));
         Ok((s, output))
     }
@@ -699,30 +691,18 @@ impl Loader<'_> {
         dir.join(p)
     }
 
-    fn fog(&mut self, desc: &Spanned<FogTable>) -> Result<Fog, SceneError> {
-        let span = desc.span();
-        let f = desc.get_ref();
-        let sigma_t = self.number(
-            &span,
-            "sigma_t",
-            f.sigma_t,
-            (0.0, f32::MAX),
-            "a non-negative density",
-        )?;
-        limits::check_fog_extinction(sigma_t).map_err(|e| self.err(&span, "sigma_t", e))?;
-        let albedo = self.color(&span, "albedo", f.albedo, false)?;
-        limits::check_fog_albedo(albedo).map_err(|e| self.err(&span, "albedo", e))?;
-        let g = self.number(&span, "g", f.g, (-0.999, 0.999), "in (−1, 1)")?;
-        let bounds = match &f.bounds {
-            None => None,
-            Some(b) => Some(self.bounds(&span, "box", b.min, b.max)?),
-        };
-        Ok(Fog {
-            sigma_t,
-            albedo,
-            phase: PhaseFunction::from_asymmetry(g),
-            bounds,
-        })
+    /// The fog of a `[fog]` table (its values checked by
+    /// [`SceneDesc::validate`]).
+    fn fog(f: &FogTable) -> Fog {
+        Fog {
+            sigma_t: f.sigma_t,
+            albedo: Rgb::from_array(f.albedo.0),
+            phase: PhaseFunction::from_asymmetry(f.g),
+            bounds: f.bounds.as_ref().map(|b| Bounds {
+                min: Vec3::from_array(b.min),
+                max: Vec3::from_array(b.max),
+            }),
+        }
     }
 
     fn bounds(
@@ -744,15 +724,16 @@ impl Loader<'_> {
         }
     }
 
-    fn material(&self, desc: &Spanned<MaterialTable>) -> Result<Material, SceneError> {
-        let span = desc.span();
-        Ok(match *desc.get_ref() {
-            MaterialTable::Diffuse(DiffuseTable { reflectance }) => Material::Opaque(
-                Surface::diffuse(self.color(&span, "reflectance", reflectance, true)?),
-            ),
+    /// The material of a `[materials.NAME]` table (its values checked by
+    /// [`SceneDesc::validate`]).
+    fn material(table: &MaterialTable) -> Material {
+        match *table {
+            MaterialTable::Diffuse(DiffuseTable { reflectance }) => {
+                Material::Opaque(Surface::diffuse(Rgb::from_array(reflectance.0)))
+            }
             MaterialTable::Mirror(MirrorTable { reflectance }) => Material::Opaque(Surface {
                 diffuse: Rgb::ZERO,
-                specular: self.color(&span, "reflectance", reflectance, true)?,
+                specular: Rgb::from_array(reflectance.0),
                 roughness: 0.0,
             }),
             MaterialTable::Glossy(GlossyTable {
@@ -760,34 +741,23 @@ impl Loader<'_> {
                 roughness,
                 diffuse,
             }) => Material::Opaque(Surface {
-                diffuse: match diffuse {
-                    Some(d) => self.color(&span, "diffuse", d, true)?,
-                    None => Rgb::ZERO,
-                },
-                specular: self.color(&span, "reflectance", reflectance, true)?,
-                roughness: self.number(&span, "roughness", roughness, (0.0, 1.0), "in [0, 1]")?,
+                diffuse: diffuse.map_or(Rgb::ZERO, |d| Rgb::from_array(d.0)),
+                specular: Rgb::from_array(reflectance.0),
+                roughness,
             }),
             MaterialTable::Emissive(EmissiveTable {
                 radiance,
                 two_sided,
             }) => Material::Emissive {
-                radiance: self.emission(&span, "radiance", radiance)?,
+                radiance: Rgb::from_array(radiance.0),
                 two_sided,
             },
             MaterialTable::Glass(GlassTable { color, alpha }) => Material::Glass(Glass {
-                color: self.color(&span, "color", color, true)?,
-                alpha: self.number(&span, "alpha", alpha, (0.0, 1.0), "an opacity in [0, 1]")?,
+                color: Rgb::from_array(color.0),
+                alpha,
             }),
-            MaterialTable::Dielectric(DielectricTable { ior }) => Material::Dielectric {
-                ior: self.number(
-                    &span,
-                    "ior",
-                    ior,
-                    (0.01, 10.0),
-                    "an index of refraction in [0.01, 10]",
-                )?,
-            },
-        })
+            MaterialTable::Dielectric(DielectricTable { ior }) => Material::Dielectric { ior },
+        }
     }
 
     fn material_id(
@@ -842,14 +812,8 @@ impl Loader<'_> {
             }) => {
                 let m = self.material_id(&span, material, ids)?;
                 let sphere = Sphere {
-                    center: self.vec3(&span, "center", *center)?,
-                    radius: self.number(
-                        &span,
-                        "radius",
-                        *radius,
-                        (f32::MIN_POSITIVE, limits::MAX_COORDINATE),
-                        "a length between 1.2e-38 and 1e9",
-                    )?,
+                    center: Vec3::from_array(*center),
+                    radius: *radius,
                 };
                 scene.add_shapes(vec![Shape::Sphere(sphere)], m, origin);
             }
@@ -958,10 +922,7 @@ impl Loader<'_> {
     fn medium(&mut self, desc: &Spanned<MediumTable>) -> Result<MediumDesc, SceneError> {
         let span = desc.span();
         let m = desc.get_ref();
-        let sigma_t = self.color(&span, "sigma_t", m.sigma_t, false)?;
-        limits::check_extinction_channels(sigma_t).map_err(|e| self.err(&span, "sigma_t", e))?;
-        let albedo = self.color(&span, "albedo", m.albedo, true)?;
-        let g = self.number(&span, "g", m.g, (-0.999, 0.999), "in (−1, 1)")?;
+        let (sigma_t, albedo) = (Rgb::from_array(m.sigma_t.0), Rgb::from_array(m.albedo.0));
         let placement = (m.translate, m.scale, m.rotate_deg);
         let placed = m.translate.is_some() || m.scale.is_some() || m.rotate_deg.is_some();
         let kind = m.density.as_deref().unwrap_or("uniform");
@@ -1124,7 +1085,7 @@ impl Loader<'_> {
         Ok(MediumDesc {
             sigma_t,
             albedo,
-            phase: PhaseFunction::from_asymmetry(g),
+            phase: PhaseFunction::from_asymmetry(m.g),
             density,
             region,
             origin: self.origin(&span),
@@ -1142,7 +1103,7 @@ impl Loader<'_> {
             }) => {
                 let intensity =
                     match (intensity, power) {
-                        (Some(i), None) => self.emission(&span, "intensity", *i)?,
+                        (Some(i), None) => Rgb::from_array(i.0),
                         (None, Some(p)) => self.emission(&span, "power", *p)? / (4.0 * PI),
                         _ => return Err(self.err(
                             &span,
@@ -1152,7 +1113,7 @@ impl Loader<'_> {
                     };
                 scene.add_light(
                     LightDesc::Point(PointLight {
-                        position: self.vec3(&span, "position", *position)?,
+                        position: Vec3::from_array(*position),
                         intensity,
                     }),
                     origin,
@@ -1219,7 +1180,7 @@ impl Loader<'_> {
                         direction,
                         cos_cutoff,
                         profile,
-                        intensity: self.emission(&span, "intensity", *intensity)?,
+                        intensity: Rgb::from_array(intensity.0),
                     }),
                     origin,
                 );
@@ -1231,7 +1192,7 @@ impl Loader<'_> {
                 scene.add_light(
                     LightDesc::Directional(DirectionalLight {
                         direction: self.direction(&span, "direction", *direction)?,
-                        irradiance: self.emission(&span, "irradiance", *irradiance)?,
+                        irradiance: Rgb::from_array(irradiance.0),
                     }),
                     origin,
                 );
@@ -1242,7 +1203,7 @@ impl Loader<'_> {
                 two_sided,
             }) => {
                 let quad = self.quad(&span, corners, false)?;
-                let radiance = self.emission(&span, "radiance", *radiance)?;
+                let radiance = Rgb::from_array(radiance.0);
                 scene.add_quad_light(quad, radiance, *two_sided, origin);
             }
         }

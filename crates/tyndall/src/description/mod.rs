@@ -13,13 +13,14 @@
 //! scene units, radiance in W/(m²·sr), intensity in W/sr, irradiance in
 //! W/m², extinction per scene unit, linear RGB.
 
+mod validate;
+
 use crate::camera::CameraSpec;
 use crate::color::Rgb;
 use crate::glass::GlassModel;
 use crate::lights::{DirectionalLight, Light, PointLight, SpotLight};
 use crate::materials::{Material, MaterialId};
 use crate::media::Fog;
-use crate::media::tracking::MAX_VOLUMES;
 use crate::media::volume::Density;
 use crate::phase::PhaseFunction;
 use crate::scene::limits;
@@ -150,62 +151,6 @@ impl RegionDesc {
     }
 }
 
-impl MediumDesc {
-    /// Refuses a medium that cannot be tracked: a non-uniform density
-    /// without a region to map it to, a flat mesh, a medium filling all
-    /// space so thin that its mean free path passes the coordinate limit,
-    /// or a density whose majorant makes delta tracking take more than
-    /// [`limits::MAX_MAJORANT_DEPTH`] steps across its box.
-    pub fn validate(&self) -> Result<(), DescError> {
-        let fail = |field, message: String| Err(DescError::new(&self.origin, field, message));
-        let uniform = self.density == Density::Uniform;
-        let field_box = self.region.bounds();
-        match self.region {
-            RegionDesc::Everywhere if !uniform => {
-                return fail(
-                    "density",
-                    "a volume with a non-uniform density needs a `box` or a `mesh`".into(),
-                );
-            }
-            RegionDesc::Mesh(_) if field_box.extent().min_element() <= 0.0 => {
-                return fail("mesh", "the mesh is flat: it encloses no volume".into());
-            }
-            _ => {}
-        }
-        let sigma_t = self.sigma_t;
-        if self.region == RegionDesc::Everywhere
-            && sigma_t.max_element() > 0.0
-            && sigma_t.min_element() < limits::MIN_UNBOUNDED_EXTINCTION
-        {
-            return fail(
-                "sigma_t",
-                format!(
-                    "`sigma_t` {:?} is too thin for a medium that fills all space: its mean free path would exceed {:e} units, beyond the coordinate limit; use at least {:e} (or 0), or give the medium a `box`",
-                    sigma_t.to_array(),
-                    limits::MAX_COORDINATE,
-                    limits::MIN_UNBOUNDED_EXTINCTION
-                ),
-            );
-        }
-        if !uniform {
-            // Tracking cost: tentative collisions to cross the box where
-            // the density is far below its majorant.
-            let peak = self.density.max_in(glam::Vec3::ZERO, glam::Vec3::ONE);
-            let depth = peak * sigma_t.max_element() * field_box.extent().length();
-            if depth.is_nan() || depth > limits::MAX_MAJORANT_DEPTH {
-                return fail(
-                    "sigma_t",
-                    format!(
-                        "the medium's largest extinction times its box's diagonal is {depth:.3e}, more than the {:e} a non-uniform density may reach: tracking would take about that many steps per ray",
-                        limits::MAX_MAJORANT_DEPTH
-                    ),
-                );
-            }
-        }
-        Ok(())
-    }
-}
-
 /// How glass appears to camera rays and combines along shadow rays.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct GlassSettings {
@@ -236,6 +181,9 @@ pub struct SceneDesc {
     pub background: Rgb,
     pub glass: GlassSettings,
     pub settings: RenderSettings,
+    /// Where the settings, [`SceneDesc::background`] and
+    /// [`SceneDesc::glass`] were given (a `[render]` table).
+    pub settings_origin: Origin,
     /// Output file named by the scene, if any.
     pub output: Option<PathBuf>,
     /// What the loader accepted but warns about (non-physical values,
@@ -287,6 +235,7 @@ impl SceneDesc {
             background: Rgb::ZERO,
             glass: GlassSettings::default(),
             settings: RenderSettings::default(),
+            settings_origin: Origin::Code,
             output: None,
             warnings: Vec::new(),
         }
@@ -330,65 +279,11 @@ impl SceneDesc {
         self.lights.push(Sourced::new(light, origin));
     }
 
-    fn is_emissive(&self, material: MaterialId) -> bool {
+    pub(crate) fn is_emissive(&self, material: MaterialId) -> bool {
         matches!(
             self.materials.get(material as usize).map(|m| &m.value),
             Some(Material::Emissive { .. })
         )
-    }
-
-    /// Checks what no loader can check alone: references between items,
-    /// counts, and the camera. The first error found, at its item's
-    /// origin.
-    pub fn validate(&self) -> Result<(), DescError> {
-        self.camera
-            .value
-            .check()
-            .map_err(|m| DescError::new(&self.camera.origin, "look_at", m))?;
-        let mut lights = 0;
-        for shape in &self.shapes {
-            if shape.material as usize >= self.materials.len() {
-                return Err(DescError::new(
-                    &shape.origin,
-                    "material",
-                    format!(
-                        "material {} does not exist (the scene has {})",
-                        shape.material,
-                        self.materials.len()
-                    ),
-                ));
-            }
-            if self.is_emissive(shape.material) {
-                lights += shape
-                    .shapes
-                    .iter()
-                    .filter(|s| !matches!(s, Shape::Triangle(_)))
-                    .count();
-                if lights > limits::MAX_LIGHTS {
-                    return Err(too_many_lights(&shape.origin, "material"));
-                }
-            }
-        }
-        for light in &self.lights {
-            lights += 1;
-            if lights > limits::MAX_LIGHTS {
-                return Err(too_many_lights(&light.origin, "type"));
-            }
-        }
-        if let Some(medium) = self.media.get(MAX_VOLUMES) {
-            return Err(DescError::new(
-                &medium.origin,
-                "sigma_t",
-                format!("a scene may hold at most {MAX_VOLUMES} media"),
-            ));
-        }
-        for medium in &self.media {
-            medium.validate()?;
-        }
-        self.settings
-            .check_ranges()
-            .map_err(|e| DescError::new(&Origin::Code, e.setting, e.message))?;
-        Ok(())
     }
 
     /// Warnings about lighting that will silently produce nothing.
@@ -502,15 +397,4 @@ impl SceneDesc {
         fog.value.phase = PhaseFunction::from_asymmetry(g);
         Ok(())
     }
-}
-
-fn too_many_lights(origin: &Origin, field: &'static str) -> DescError {
-    DescError::new(
-        origin,
-        field,
-        format!(
-            "a scene may hold at most {} lights (emissive quads, box faces and spheres count)",
-            limits::MAX_LIGHTS
-        ),
-    )
 }

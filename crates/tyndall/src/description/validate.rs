@@ -1,0 +1,518 @@
+//! The checks of [`SceneDesc::validate`]: every value of every item in its
+//! physical range, references between items, counts, and media that can
+//! be tracked — one place for every loader and for descriptions made in
+//! code.
+//!
+//! Errors name the field by the key the native format gives it
+//! (docs/scene-format.md), so that a loader that keeps its text can point
+//! at that key.
+
+use super::{DescError, LightDesc, MediumDesc, Origin, RegionDesc, SceneDesc, ShapeDesc};
+use crate::camera::FieldOfView;
+use crate::color::Rgb;
+use crate::materials::{Material, Surface};
+use crate::media::Fog;
+use crate::media::tracking::MAX_VOLUMES;
+use crate::media::volume::Density;
+use crate::phase::PhaseFunction;
+use crate::scene::limits;
+use crate::shapes::{Bounds, Shape};
+use glam::Vec3;
+
+/// Smallest and largest vertical field of view, degrees.
+const FOV_DEG: (f32, f32) = (1e-3, 179.0);
+
+/// Largest |g| of a Henyey–Greenstein phase function.
+const MAX_ASYMMETRY: f32 = 0.999;
+
+/// Indices of refraction accepted.
+const IOR: (f32, f32) = (0.01, 10.0);
+
+/// The checks of one item: its origin, for the errors.
+struct Item<'a> {
+    origin: &'a Origin,
+}
+
+impl Item<'_> {
+    fn fail<T>(&self, field: &'static str, message: String) -> Result<T, DescError> {
+        Err(DescError::new(self.origin, field, message))
+    }
+
+    /// A position within [`limits::MAX_COORDINATE`].
+    fn point(&self, field: &'static str, v: Vec3) -> Result<(), DescError> {
+        limits::check_coordinates(&format!("`{field}`"), v).or_else(|m| self.fail(field, m))
+    }
+
+    /// A unit direction.
+    fn direction(&self, field: &'static str, v: Vec3) -> Result<(), DescError> {
+        if v.is_finite() && (v.length() - 1.0).abs() < 1e-3 {
+            return Ok(());
+        }
+        self.fail(field, format!("`{field}` must be a non-zero direction"))
+    }
+
+    /// A number in `[lo, hi]`, described by `what` in the error.
+    fn number(
+        &self,
+        field: &'static str,
+        v: f32,
+        (lo, hi): (f32, f32),
+        what: &str,
+    ) -> Result<(), DescError> {
+        if v.is_finite() && v >= lo && v <= hi {
+            return Ok(());
+        }
+        self.fail(field, format!("`{field}` must be {what}, got {v}"))
+    }
+
+    /// A non-negative finite colour, at most 1 per channel if `fraction`.
+    fn color(&self, field: &'static str, c: Rgb, fraction: bool) -> Result<(), DescError> {
+        let ok = c
+            .to_array()
+            .iter()
+            .all(|x| x.is_finite() && *x >= 0.0 && (!fraction || *x <= 1.0));
+        if ok {
+            return Ok(());
+        }
+        let what = if fraction {
+            "between 0 and 1"
+        } else {
+            "non-negative and finite"
+        };
+        self.fail(
+            field,
+            format!(
+                "`{field}` must be {what} in every channel, got {:?}",
+                c.to_array()
+            ),
+        )
+    }
+
+    /// An emitted quantity: non-negative, finite, at most
+    /// [`limits::MAX_EMISSION`].
+    fn emission(&self, field: &'static str, c: Rgb) -> Result<(), DescError> {
+        self.color(field, c, false)?;
+        limits::check_emission(&format!("`{field}`"), c).or_else(|m| self.fail(field, m))
+    }
+
+    /// A box with `min` below `max` on every axis.
+    fn bounds(&self, field: &'static str, b: &Bounds) -> Result<(), DescError> {
+        self.point(field, b.min)?;
+        self.point(field, b.max)?;
+        if b.min.cmplt(b.max).all() {
+            return Ok(());
+        }
+        self.fail(
+            field,
+            format!(
+                "box `min` {:?} must be below `max` {:?} on every axis",
+                b.min.to_array(),
+                b.max.to_array()
+            ),
+        )
+    }
+
+    /// A phase function's asymmetry in [−0.999, 0.999].
+    fn phase(&self, phase: &PhaseFunction) -> Result<(), DescError> {
+        match *phase {
+            PhaseFunction::Isotropic => Ok(()),
+            PhaseFunction::HenyeyGreenstein { g } => {
+                self.number("g", g, (-MAX_ASYMMETRY, MAX_ASYMMETRY), "in (−1, 1)")
+            }
+        }
+    }
+}
+
+impl SceneDesc {
+    /// Checks the whole description; the first error found, at its item's
+    /// origin. [`Scene::build`](crate::scene::Scene::build) refuses a
+    /// description that does not pass.
+    pub fn validate(&self) -> Result<(), DescError> {
+        self.validate_camera()?;
+        let item = Item {
+            origin: &self.settings_origin,
+        };
+        item.emission("background", self.background)?;
+        for material in &self.materials {
+            validate_material(&material.value, &material.origin)?;
+        }
+        let mut lights = 0;
+        for shape in &self.shapes {
+            self.validate_shape(shape)?;
+            if self.is_emissive(shape.material) {
+                lights += shape
+                    .shapes
+                    .iter()
+                    .filter(|s| !matches!(s, Shape::Triangle(_)))
+                    .count();
+                if lights > limits::MAX_LIGHTS {
+                    return Err(too_many_lights(&shape.origin, "material"));
+                }
+            }
+        }
+        for light in &self.lights {
+            lights += 1;
+            if lights > limits::MAX_LIGHTS {
+                return Err(too_many_lights(&light.origin, "type"));
+            }
+            validate_light(&light.value, &light.origin)?;
+        }
+        if let Some(fog) = &self.fog {
+            validate_fog(&fog.value, &fog.origin)?;
+        }
+        if let Some(medium) = self.media.get(MAX_VOLUMES) {
+            return Err(DescError::new(
+                &medium.origin,
+                "sigma_t",
+                format!("a scene may hold at most {MAX_VOLUMES} media"),
+            ));
+        }
+        for medium in &self.media {
+            medium.validate()?;
+        }
+        self.settings
+            .check_ranges()
+            .or_else(|e| item.fail(e.setting, e.message))
+    }
+
+    fn validate_camera(&self) -> Result<(), DescError> {
+        let camera = &self.camera.value;
+        let item = Item {
+            origin: &self.camera.origin,
+        };
+        item.point("position", camera.position)?;
+        item.point("look_at", camera.look_at)?;
+        let (FieldOfView::Vertical(fov) | FieldOfView::ShorterSide(fov)) = camera.fov;
+        item.number("fov_y_deg", fov, FOV_DEG, "an angle in (0°, 179°]")?;
+        camera.check().or_else(|m| item.fail("look_at", m))
+    }
+
+    fn validate_shape(&self, shape: &ShapeDesc) -> Result<(), DescError> {
+        let item = Item {
+            origin: &shape.origin,
+        };
+        if shape.material as usize >= self.materials.len() {
+            return item.fail(
+                "material",
+                format!(
+                    "material {} does not exist (the scene has {})",
+                    shape.material,
+                    self.materials.len()
+                ),
+            );
+        }
+        for s in &shape.shapes {
+            match s {
+                Shape::Sphere(sphere) => {
+                    item.point("center", sphere.center)?;
+                    item.number(
+                        "radius",
+                        sphere.radius,
+                        (f32::MIN_POSITIVE, limits::MAX_COORDINATE),
+                        "a length between 1.2e-38 and 1e9",
+                    )?;
+                }
+                Shape::Quad(quad) => {
+                    for corner in [quad.origin, quad.origin + quad.edge_u + quad.edge_v] {
+                        item.point("corners", corner)?;
+                    }
+                }
+                Shape::Triangle(t) => {
+                    for v in [t.v0, t.v0 + t.e1, t.v0 + t.e2] {
+                        item.point("file", v)?;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The names a surface's reflectances go by in the native format: a
+/// diffuse material's `reflectance` is its diffuse albedo, a mirror's and a
+/// glossy one's its specular albedo (with `diffuse` beside it).
+fn validate_surface(s: &Surface, item: &Item) -> Result<(), DescError> {
+    let is_diffuse = s.specular == Rgb::ZERO && s.roughness == 0.0;
+    let diffuse_key = if is_diffuse { "reflectance" } else { "diffuse" };
+    item.color(diffuse_key, s.diffuse, true)?;
+    item.color("reflectance", s.specular, true)?;
+    item.number("roughness", s.roughness, (0.0, 1.0), "in [0, 1]")
+}
+
+fn validate_material(material: &Material, origin: &Origin) -> Result<(), DescError> {
+    let item = Item { origin };
+    match material {
+        Material::Opaque(surface) => validate_surface(surface, &item),
+        Material::Emissive { radiance, .. } | Material::LampFace { radiance } => {
+            item.emission("radiance", *radiance)
+        }
+        Material::Glass(glass) => {
+            item.color("color", glass.color, true)?;
+            item.number("alpha", glass.alpha, (0.0, 1.0), "an opacity in [0, 1]")
+        }
+        Material::Dielectric { ior } => {
+            item.number("ior", *ior, IOR, "an index of refraction in [0.01, 10]")
+        }
+    }
+}
+
+fn validate_light(light: &LightDesc, origin: &Origin) -> Result<(), DescError> {
+    let item = Item { origin };
+    match light {
+        LightDesc::Point(p) => {
+            item.point("position", p.position)?;
+            item.emission("intensity", p.intensity)
+        }
+        LightDesc::Spot(s) => {
+            item.point("position", s.position)?;
+            item.direction("direction", s.direction)?;
+            // cos θc ∈ [0, 1): a half-angle in (0°, 90°].
+            if !(s.cos_cutoff >= 0.0 && s.cos_cutoff < 1.0) {
+                return item.fail(
+                    "cutoff_deg",
+                    format!(
+                        "`cutoff_deg` must be a half-angle in (0°, 90°], got {}°",
+                        s.cos_cutoff.acos().to_degrees()
+                    ),
+                );
+            }
+            if let crate::lights::SpotProfile::Smooth { cos_inner } = s.profile
+                && !(cos_inner > s.cos_cutoff && cos_inner <= 1.0)
+            {
+                return item.fail(
+                    "inner_deg",
+                    format!(
+                        "`inner_deg` must be an angle in [0°, cutoff_deg), got {}°",
+                        cos_inner.clamp(-1.0, 1.0).acos().to_degrees()
+                    ),
+                );
+            }
+            item.emission("intensity", s.intensity)
+        }
+        LightDesc::Directional(d) => {
+            item.direction("direction", d.direction)?;
+            item.emission("irradiance", d.irradiance)
+        }
+    }
+}
+
+fn validate_fog(fog: &Fog, origin: &Origin) -> Result<(), DescError> {
+    let item = Item { origin };
+    item.number(
+        "sigma_t",
+        fog.sigma_t,
+        (0.0, f32::MAX),
+        "a non-negative density",
+    )?;
+    limits::check_fog_extinction(fog.sigma_t).or_else(|e| item.fail("sigma_t", e))?;
+    item.color("albedo", fog.albedo, false)?;
+    limits::check_fog_albedo(fog.albedo).or_else(|e| item.fail("albedo", e))?;
+    item.phase(&fog.phase)?;
+    match &fog.bounds {
+        Some(b) => item.bounds("box", b),
+        None => Ok(()),
+    }
+}
+
+impl MediumDesc {
+    /// Refuses a medium out of range or that cannot be tracked: a
+    /// non-uniform density without a region to map it to, a flat mesh, a
+    /// medium filling all space so thin that its mean free path passes the
+    /// coordinate limit, or a density whose majorant makes delta tracking
+    /// take more than [`limits::MAX_MAJORANT_DEPTH`] steps across its box.
+    pub fn validate(&self) -> Result<(), DescError> {
+        let item = Item {
+            origin: &self.origin,
+        };
+        let sigma_t = self.sigma_t;
+        item.color("sigma_t", sigma_t, false)?;
+        limits::check_extinction_channels(sigma_t).or_else(|e| item.fail("sigma_t", e))?;
+        item.color("albedo", self.albedo, true)?;
+        item.phase(&self.phase)?;
+        let uniform = self.density == Density::Uniform;
+        match &self.region {
+            RegionDesc::Everywhere if !uniform => {
+                return item.fail(
+                    "density",
+                    "a volume with a non-uniform density needs a `box` or a `mesh`".into(),
+                );
+            }
+            RegionDesc::Box(b) => item.bounds("box", b)?,
+            RegionDesc::Mesh(triangles) => {
+                for t in triangles {
+                    for v in [t.v0, t.v0 + t.e1, t.v0 + t.e2] {
+                        item.point("mesh", v)?;
+                    }
+                }
+                if self.region.bounds().extent().min_element() <= 0.0 {
+                    return item.fail("mesh", "the mesh is flat: it encloses no volume".into());
+                }
+            }
+            RegionDesc::Everywhere => {}
+        }
+        if self.region == RegionDesc::Everywhere
+            && sigma_t.max_element() > 0.0
+            && sigma_t.min_element() < limits::MIN_UNBOUNDED_EXTINCTION
+        {
+            return item.fail(
+                "sigma_t",
+                format!(
+                    "`sigma_t` {:?} is too thin for a medium that fills all space: its mean free path would exceed {:e} units, beyond the coordinate limit; use at least {:e} (or 0), or give the medium a `box`",
+                    sigma_t.to_array(),
+                    limits::MAX_COORDINATE,
+                    limits::MIN_UNBOUNDED_EXTINCTION
+                ),
+            );
+        }
+        if !uniform {
+            // Tracking cost: tentative collisions to cross the box where
+            // the density is far below its majorant.
+            let peak = self.density.max_in(Vec3::ZERO, Vec3::ONE);
+            let extent = self.region.bounds().extent().length();
+            let depth = peak * sigma_t.max_element() * extent;
+            if depth.is_nan() || depth > limits::MAX_MAJORANT_DEPTH {
+                return item.fail(
+                    "sigma_t",
+                    format!(
+                        "the medium's largest extinction times its box's diagonal is {depth:.3e}, more than the {:e} a non-uniform density may reach: tracking would take about that many steps per ray",
+                        limits::MAX_MAJORANT_DEPTH
+                    ),
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+fn too_many_lights(origin: &Origin, field: &'static str) -> DescError {
+    DescError::new(
+        origin,
+        field,
+        format!(
+            "a scene may hold at most {} lights (emissive quads, box faces and spheres count)",
+            limits::MAX_LIGHTS
+        ),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::Sourced;
+    use super::*;
+    use crate::camera::CameraSpec;
+    use crate::lights::{PointLight, SpotLight, SpotProfile};
+    use crate::scene::Scene;
+    use crate::shapes::Sphere;
+
+    /// A description made in code, as an API user or a new loader would:
+    /// one diffuse sphere under a point light.
+    fn scene() -> SceneDesc {
+        let camera = CameraSpec {
+            position: Vec3::new(0.0, 0.0, 5.0),
+            look_at: Vec3::ZERO,
+            up: Vec3::Y,
+            fov: FieldOfView::Vertical(40.0),
+        };
+        let mut desc = SceneDesc::new(Sourced::code(camera));
+        let grey = desc.add_material(
+            Material::Opaque(Surface::diffuse(Rgb::splat(0.5))),
+            Origin::Code,
+        );
+        let sphere = Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        };
+        desc.add_shapes(vec![Shape::Sphere(sphere)], grey, Origin::Code);
+        let light = PointLight {
+            position: Vec3::new(0.0, 3.0, 0.0),
+            intensity: Rgb::splat(10.0),
+        };
+        desc.add_light(LightDesc::Point(light), Origin::Code);
+        desc
+    }
+
+    /// The error `Scene::build` gives after `change`, by field.
+    fn refused(change: impl FnOnce(&mut SceneDesc)) -> &'static str {
+        let mut desc = scene();
+        change(&mut desc);
+        let e = Scene::build(&desc).err().expect("refused");
+        assert_eq!(desc.validate(), Err(e.clone()));
+        e.field
+    }
+
+    #[test]
+    fn a_valid_description_builds() {
+        let desc = scene();
+        assert_eq!(desc.validate(), Ok(()));
+        let scene = Scene::build(&desc).expect("builds");
+        assert_eq!(scene.lights.len(), 1);
+    }
+
+    #[test]
+    fn every_kind_of_item_is_checked() {
+        let origin = Origin::Element {
+            file: std::sync::Arc::from(std::path::Path::new("made.py")),
+            path: "shapes[0]".into(),
+        };
+        let mut desc = scene();
+        desc.shapes[0].origin = origin.clone();
+        desc.shapes[0].shapes[0] = Shape::Sphere(Sphere {
+            center: Vec3::ZERO,
+            radius: f32::NAN,
+        });
+        let e = desc.validate().unwrap_err();
+        assert_eq!((e.field, &e.origin), ("radius", &origin));
+        assert!(
+            e.to_string().starts_with("made.py: shapes[0]: `radius`"),
+            "{e}"
+        );
+
+        assert_eq!(refused(|d| d.shapes[0].material = 7), "material");
+        assert_eq!(
+            refused(|d| d.materials[0].value = Material::Dielectric { ior: 0.0 }),
+            "ior"
+        );
+        assert_eq!(
+            refused(|d| d.camera.value.position = Vec3::splat(f32::INFINITY)),
+            "position"
+        );
+        assert_eq!(
+            refused(|d| d.camera.value.look_at = Vec3::new(0.0, 0.0, 5.0)),
+            "look_at"
+        );
+        assert_eq!(refused(|d| d.background = Rgb::splat(-1.0)), "background");
+        assert_eq!(refused(|d| d.settings.spp = 0), "spp");
+        let spot = SpotLight {
+            position: Vec3::Y,
+            direction: -Vec3::Y,
+            cos_cutoff: 1.0,
+            profile: SpotProfile::Linear,
+            intensity: Rgb::ONE,
+        };
+        assert_eq!(
+            refused(|d| d.add_light(LightDesc::Spot(spot), Origin::Code)),
+            "cutoff_deg"
+        );
+        let fog = Fog {
+            sigma_t: 0.1,
+            albedo: Rgb::ONE,
+            phase: PhaseFunction::HenyeyGreenstein { g: 1.0 },
+            bounds: None,
+        };
+        assert_eq!(refused(|d| d.fog = Some(Sourced::code(fog))), "g");
+        let smoke = MediumDesc {
+            sigma_t: Rgb::ONE,
+            albedo: Rgb::splat(0.9),
+            phase: PhaseFunction::Isotropic,
+            density: Density::Noise(crate::media::noise::SmokeNoise {
+                frequency: 3.0,
+                octaves: 2,
+                bias: 0.0,
+                seed: 1,
+            }),
+            region: RegionDesc::Everywhere,
+            origin: Origin::Code,
+        };
+        assert_eq!(refused(|d| d.media.push(smoke)), "density");
+    }
+}
