@@ -1,0 +1,210 @@
+//! `[[media]]` tables: general media (RGB extinction, densities from noise,
+//! `.tgrid` voxel grids or OpenVDB grids, regions bounded by a box or a
+//! mesh).
+
+use super::Loader;
+use super::tables::MediumTable;
+use crate::source::SceneError;
+use glam::Vec3;
+use serde_spanned::Spanned;
+use tyndall::color::Rgb;
+use tyndall::description::{MediumDesc, RegionDesc};
+use tyndall::media::grid::VoxelGrid;
+use tyndall::media::noise::SmokeNoise;
+use tyndall::media::sparse::{SparseDensity, SparseGrid};
+use tyndall::media::volume::Density;
+use tyndall::phase::PhaseFunction;
+use tyndall::shapes::Bounds;
+
+impl Loader<'_> {
+    /// A `[[media]]` volume.
+    pub(super) fn medium(&mut self, desc: &Spanned<MediumTable>) -> Result<MediumDesc, SceneError> {
+        let span = desc.span();
+        let m = desc.get_ref();
+        let (sigma_t, albedo) = (Rgb::from_array(m.sigma_t.0), Rgb::from_array(m.albedo.0));
+        let placement = (m.translate, m.scale, m.rotate_deg);
+        let placed = m.translate.is_some() || m.scale.is_some() || m.rotate_deg.is_some();
+        let kind = m.density.as_deref().unwrap_or("uniform");
+        if m.mesh.is_none() && placed && kind != "vdb" {
+            let key = if m.translate.is_some() {
+                "translate"
+            } else if m.scale.is_some() {
+                "scale"
+            } else {
+                "rotate_deg"
+            };
+            return Err(self.err(
+                &span,
+                key,
+                format!("`{key}` places a `mesh` or a \"vdb\" density; this medium has neither"),
+            ));
+        }
+        // An OpenVDB grid, placed: its index-to-world transform, then the
+        // medium's translate/scale/rotate_deg.
+        let vdb = if kind == "vdb" {
+            let file = m.file.as_ref().ok_or_else(|| {
+                self.err(&span, "density", "density \"vdb\" needs `file = \"….vdb\"`")
+            })?;
+            let name = m.grid.as_deref().unwrap_or("density");
+            let grid = crate::vdb_grid(&self.relative(file), name)
+                .map_err(|e| self.err(&span, "file", e))?;
+            let world = self.placement(&span, placement)?.matrix() * grid.index_to_world();
+            Some((grid, world))
+        } else {
+            None
+        };
+        if m.grid.is_some() && vdb.is_none() {
+            return Err(self.err(&span, "grid", "`grid` applies to density \"vdb\" only"));
+        }
+        let region = match (&m.bounds, &m.mesh) {
+            (Some(_), Some(_)) => {
+                return Err(self.err(&span, "mesh", "give a medium a `box` or a `mesh`, not both"));
+            }
+            (Some(b), None) => RegionDesc::Box(self.bounds(&span, "box", b.min, b.max)?),
+            (None, Some(file)) => RegionDesc::Mesh(self.mesh(&span, "mesh", file, placement)?),
+            (None, None) => match &vdb {
+                Some((grid, world)) => {
+                    RegionDesc::Box(vdb_world_bounds(grid, *world).ok_or_else(|| {
+                        self.err(
+                            &span,
+                            "file",
+                            "the grid has no active voxels: nothing to render",
+                        )
+                    })?)
+                }
+                None => RegionDesc::Everywhere,
+            },
+        };
+        let misplaced = |key: &str, given: bool| {
+            if given {
+                Err(self.err(
+                    &span,
+                    key,
+                    format!("`{key}` does not apply to density \"{kind}\""),
+                ))
+            } else {
+                Ok(())
+            }
+        };
+        let noise_keys = [
+            ("frequency", m.frequency.is_some()),
+            ("octaves", m.octaves.is_some()),
+            ("bias", m.bias.is_some()),
+            ("seed", m.seed.is_some()),
+        ];
+        let density = match kind {
+            "uniform" => {
+                misplaced("file", m.file.is_some())?;
+                for (key, given) in noise_keys {
+                    misplaced(key, given)?;
+                }
+                Density::Uniform
+            }
+            "noise" => {
+                misplaced("file", m.file.is_some())?;
+                Density::Noise(SmokeNoise {
+                    frequency: self.number(
+                        &span,
+                        "frequency",
+                        m.frequency.unwrap_or(3.0),
+                        (0.01, 1024.0),
+                        "between 0.01 and 1024 lattice cells across the box",
+                    )?,
+                    octaves: match m.octaves.unwrap_or(5) {
+                        o @ 1..=8 => o,
+                        o => {
+                            return Err(self.err(
+                                &span,
+                                "octaves",
+                                format!("`octaves` must be between 1 and 8, got {o}"),
+                            ));
+                        }
+                    },
+                    bias: self.number(
+                        &span,
+                        "bias",
+                        m.bias.unwrap_or(0.0),
+                        (-1.0, 1.0),
+                        "in [−1, 1]",
+                    )?,
+                    seed: m.seed.unwrap_or(1),
+                })
+            }
+            "grid" => {
+                for (key, given) in noise_keys {
+                    misplaced(key, given)?;
+                }
+                let file = m.file.as_ref().ok_or_else(|| {
+                    self.err(
+                        &span,
+                        "density",
+                        "density \"grid\" needs `file = \"….tgrid\"`",
+                    )
+                })?;
+                let grid = VoxelGrid::read(&self.relative(file))
+                    .map_err(|e| self.err(&span, "file", e))?;
+                Density::Grid(grid)
+            }
+            "vdb" => {
+                for (key, given) in noise_keys {
+                    misplaced(key, given)?;
+                }
+                let (grid, world) = vdb.expect("read above for density \"vdb\"");
+                // A vdb medium has a box or a mesh (from the grid's
+                // active voxels if not given).
+                let field_box = region.bounds();
+                let unit_to_world = glam::Mat4::from_scale_rotation_translation(
+                    field_box.extent(),
+                    glam::Quat::IDENTITY,
+                    field_box.min,
+                );
+                let unit_to_index = world.inverse() * unit_to_world;
+                if !unit_to_index.is_finite() {
+                    return Err(self.err(
+                        &span,
+                        "file",
+                        "the grid's transform (with the medium's placement) cannot be inverted",
+                    ));
+                }
+                Density::Sparse(Box::new(SparseDensity {
+                    grid,
+                    unit_to_index,
+                }))
+            }
+            other => {
+                return Err(self.err(
+                    &span,
+                    "density",
+                    format!(
+                        "unknown density \"{other}\": expected \"uniform\", \"noise\", \"grid\" or \"vdb\""
+                    ),
+                ));
+            }
+        };
+        Ok(MediumDesc {
+            sigma_t,
+            albedo,
+            phase: PhaseFunction::from_asymmetry(m.g),
+            density,
+            region,
+            origin: self.origin(&span),
+        })
+    }
+}
+
+/// World bounds of a sparse grid's active voxels (their cells, half a
+/// voxel around the outermost centres) under `world`; `None` if empty.
+fn vdb_world_bounds(grid: &SparseGrid, world: glam::Mat4) -> Option<Bounds> {
+    let (lo, hi) = grid.active_bounds()?;
+    let (lo, hi) = (lo.as_vec3() - 0.5, hi.as_vec3() + 0.5);
+    let mut b = Bounds::EMPTY;
+    for k in 0..8 {
+        let corner = Vec3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        );
+        b = b.include(world.transform_point3(corner));
+    }
+    Some(b)
+}

@@ -1,0 +1,371 @@
+//! The TOML tables of the native format, as serde reads them, and the
+//! placing of parse errors at the offending key.
+
+use crate::source::{SceneError, SourceText};
+use serde::Deserialize;
+use serde_spanned::Spanned;
+use std::collections::BTreeMap;
+
+pub(super) type V3 = [f32; 3];
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SceneFile {
+    pub(super) camera: Spanned<CameraTable>,
+    #[serde(default)]
+    pub(super) render: Option<Spanned<RenderTable>>,
+    #[serde(default)]
+    pub(super) fog: Option<Spanned<FogTable>>,
+    #[serde(default)]
+    pub(super) materials: BTreeMap<String, Spanned<MaterialTable>>,
+    #[serde(default)]
+    pub(super) shapes: Vec<Spanned<ShapeTable>>,
+    #[serde(default)]
+    pub(super) lights: Vec<Spanned<LightTable>>,
+    #[serde(default)]
+    pub(super) media: Vec<Spanned<MediumTable>>,
+    #[serde(default)]
+    pub(super) include: Vec<Spanned<IncludeTable>>,
+}
+
+/// `[[include]]`: a scene file in another format (glTF), placed like a mesh.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct IncludeTable {
+    pub(super) file: String,
+    pub(super) translate: Option<V3>,
+    pub(super) scale: Option<ColorValue>,
+    pub(super) rotate_deg: Option<V3>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct MediumTable {
+    pub(super) sigma_t: ColorValue,
+    pub(super) albedo: ColorValue,
+    #[serde(default)]
+    pub(super) g: f32,
+    #[serde(rename = "box")]
+    pub(super) bounds: Option<BoxTable>,
+    pub(super) mesh: Option<String>,
+    pub(super) translate: Option<V3>,
+    pub(super) scale: Option<ColorValue>,
+    pub(super) rotate_deg: Option<V3>,
+    pub(super) density: Option<String>,
+    pub(super) file: Option<String>,
+    pub(super) frequency: Option<f32>,
+    pub(super) octaves: Option<u32>,
+    pub(super) bias: Option<f32>,
+    pub(super) seed: Option<u32>,
+    pub(super) grid: Option<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct CameraTable {
+    pub(super) position: V3,
+    pub(super) look_at: V3,
+    #[serde(default = "default_up")]
+    pub(super) up: V3,
+    pub(super) fov_y_deg: f32,
+}
+
+pub(super) fn default_up() -> V3 {
+    [0.0, 1.0, 0.0]
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RenderTable {
+    pub(super) width: Option<u32>,
+    pub(super) height: Option<u32>,
+    pub(super) spp: Option<u32>,
+    pub(super) seed: Option<u64>,
+    pub(super) integrator: Option<String>,
+    pub(super) step: Option<f32>,
+    pub(super) volume_samples: Option<u32>,
+    pub(super) interleave: Option<u32>,
+    pub(super) max_depth: Option<u32>,
+    pub(super) visibility: Option<String>,
+    pub(super) shadow_map_resolution: Option<u32>,
+    pub(super) max_bounces: Option<u32>,
+    pub(super) exposure: Option<f32>,
+    pub(super) output: Option<String>,
+    pub(super) glass_model: Option<String>,
+    pub(super) glass_opaque: Option<bool>,
+    pub(super) background: Option<ColorValue>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct FogTable {
+    pub(super) sigma_t: f32,
+    pub(super) albedo: ColorValue,
+    #[serde(default)]
+    pub(super) g: f32,
+    #[serde(rename = "box")]
+    pub(super) bounds: Option<BoxTable>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct BoxTable {
+    pub(super) min: V3,
+    pub(super) max: V3,
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub(super) enum MaterialTable {
+    Diffuse(DiffuseTable),
+    Mirror(MirrorTable),
+    Glossy(GlossyTable),
+    Emissive(EmissiveTable),
+    Glass(GlassTable),
+    Dielectric(DielectricTable),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct DielectricTable {
+    pub(super) ior: f32,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct DiffuseTable {
+    pub(super) reflectance: ColorValue,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct MirrorTable {
+    pub(super) reflectance: ColorValue,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct GlossyTable {
+    pub(super) reflectance: ColorValue,
+    pub(super) roughness: f32,
+    #[serde(default)]
+    pub(super) diffuse: Option<ColorValue>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct EmissiveTable {
+    pub(super) radiance: ColorValue,
+    #[serde(default)]
+    pub(super) two_sided: bool,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct GlassTable {
+    pub(super) color: ColorValue,
+    #[serde(default = "one")]
+    pub(super) alpha: f32,
+}
+
+pub(super) fn one() -> f32 {
+    1.0
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub(super) enum ShapeTable {
+    Sphere(SphereTable),
+    Quad(QuadTable),
+    Box(BoxShapeTable),
+    Mesh(MeshTable),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SphereTable {
+    pub(super) center: V3,
+    pub(super) radius: f32,
+    pub(super) material: String,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct QuadTable {
+    pub(super) corners: [V3; 4],
+    pub(super) material: String,
+    #[serde(default)]
+    pub(super) one_sided: bool,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct BoxShapeTable {
+    pub(super) min: V3,
+    pub(super) max: V3,
+    pub(super) material: String,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct MeshTable {
+    pub(super) file: String,
+    pub(super) material: String,
+    #[serde(default)]
+    pub(super) translate: Option<V3>,
+    #[serde(default)]
+    pub(super) scale: Option<ColorValue>,
+    #[serde(default)]
+    pub(super) rotate_deg: Option<V3>,
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub(super) enum LightTable {
+    Point(PointTable),
+    Spot(SpotTable),
+    Directional(DirectionalTable),
+    Quad(QuadLightTable),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct PointTable {
+    pub(super) position: V3,
+    pub(super) intensity: Option<ColorValue>,
+    pub(super) power: Option<ColorValue>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SpotTable {
+    pub(super) position: V3,
+    pub(super) direction: Option<V3>,
+    pub(super) look_at: Option<V3>,
+    pub(super) cutoff_deg: f32,
+    #[serde(default)]
+    pub(super) profile: Option<String>,
+    pub(super) inner_deg: Option<f32>,
+    pub(super) intensity: ColorValue,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct DirectionalTable {
+    pub(super) direction: V3,
+    pub(super) irradiance: ColorValue,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct QuadLightTable {
+    pub(super) corners: [V3; 4],
+    pub(super) radiance: ColorValue,
+    #[serde(default)]
+    pub(super) two_sided: bool,
+}
+
+/// Re-parses the body of a `type`-tagged table as its variant's struct.
+/// serde reports errors inside internally tagged enums at the table's
+/// header only; parsed alone, the body gives toml's exact span.
+pub(super) fn variant_error(section: &str, kind: &str, body: &str) -> Option<toml::de::Error> {
+    fn check<T: serde::de::DeserializeOwned>(body: &str) -> Option<toml::de::Error> {
+        toml::from_str::<T>(body).err()
+    }
+    match (section, kind) {
+        ("materials", "diffuse") => check::<DiffuseTable>(body),
+        ("materials", "mirror") => check::<MirrorTable>(body),
+        ("materials", "glossy") => check::<GlossyTable>(body),
+        ("materials", "emissive") => check::<EmissiveTable>(body),
+        ("materials", "glass") => check::<GlassTable>(body),
+        ("materials", "dielectric") => check::<DielectricTable>(body),
+        ("shapes", "sphere") => check::<SphereTable>(body),
+        ("shapes", "quad") => check::<QuadTable>(body),
+        ("shapes", "box") => check::<BoxShapeTable>(body),
+        ("shapes", "mesh") => check::<MeshTable>(body),
+        ("lights", "point") => check::<PointTable>(body),
+        ("lights", "spot") => check::<SpotTable>(body),
+        ("lights", "directional") => check::<DirectionalTable>(body),
+        ("lights", "quad") => check::<QuadLightTable>(body),
+        _ => None,
+    }
+}
+
+/// The most precise location for a parse error at byte `offset`: inside
+/// a tagged table, the offending key (see [`variant_error`]).
+pub(super) fn locate_parse_error(source: &SourceText, offset: usize, message: &str) -> SceneError {
+    let text = &source.text;
+    let line_start = text[..offset.min(text.len())]
+        .rfind('\n')
+        .map_or(0, |i| i + 1);
+    let header = text[line_start..].lines().next().unwrap_or("").trim();
+    let section = header
+        .trim_matches(['[', ']'])
+        .split('.')
+        .next()
+        .unwrap_or("");
+    if header.starts_with('[') && matches!(section, "materials" | "shapes" | "lights") {
+        let body = source.table_body(line_start);
+        let mut blanked = text[body.clone()].to_string();
+        let kind = toml::from_str::<toml::Table>(&blanked)
+            .ok()
+            .and_then(|t| t.get("type").and_then(|v| v.as_str()).map(str::to_owned));
+        if let Some(kind) = kind {
+            // Blank the `type = …` line, keeping every other offset.
+            if let Some(at) = crate::source::find_key(&blanked, "type") {
+                let end = blanked[at..].find('\n').map_or(blanked.len(), |i| at + i);
+                blanked.replace_range(at..end, &" ".repeat(end - at));
+            }
+            if let Some(e) = variant_error(section, &kind, &blanked)
+                && let Some(span) = e.span()
+            {
+                return source
+                    .error_at(body.start + span.start, e.message().trim_end().to_string());
+            }
+        } else if message.contains("missing field `type`") || message.contains("unknown variant") {
+            return source.error_at_key(body, "type", message.to_string());
+        }
+    }
+    source.error_at(offset, message.to_string())
+}
+
+/// A colour written as one grey number or an `[r, g, b]` array.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ColorValue(pub(super) V3);
+
+impl<'de> Deserialize<'de> for ColorValue {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = ColorValue;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number or an [r, g, b] array of numbers")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<ColorValue, E> {
+                Ok(ColorValue([v as f32; 3]))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<ColorValue, E> {
+                Ok(ColorValue([v as f32; 3]))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<ColorValue, E> {
+                Ok(ColorValue([v as f32; 3]))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<ColorValue, A::Error> {
+                let mut c = [0.0f32; 3];
+                for (i, slot) in c.iter_mut().enumerate() {
+                    *slot = seq
+                        .next_element()?
+                        .ok_or_else(|| serde::de::Error::invalid_length(i, &self))?;
+                }
+                if seq.next_element::<f32>()?.is_some() {
+                    return Err(serde::de::Error::invalid_length(4, &self));
+                }
+                Ok(ColorValue(c))
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
+}
