@@ -12,7 +12,8 @@
 //! Modules follow pbrt's decomposition: [`camera`], [`shapes`], [`accel`],
 //! [`lights`], [`materials`], [`glass`], [`media`], [`phase`], [`sampler`],
 //! [`sampling`], [`visibility`], [`integrators`], [`film`], [`scene`]
-//! loading, and the [`render()`] loop.
+//! loading, the [`render()`] loop and render [`parts`]. Image files (PNG,
+//! OpenEXR, part files) and image metrics are the `tyndall-image` crate's.
 
 pub mod accel;
 pub mod camera;
@@ -24,7 +25,6 @@ pub mod integrators;
 pub mod lights;
 pub mod materials;
 pub mod media;
-pub mod metrics;
 pub mod parts;
 pub mod phase;
 pub mod ray;

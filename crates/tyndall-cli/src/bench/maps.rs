@@ -6,10 +6,10 @@ use super::{BenchArgs, Method, median, settings};
 use anyhow::Result;
 use glam::Vec3;
 use tyndall::lights::{Light, SpotLight};
-use tyndall::metrics::relative_mse;
 use tyndall::scene::{SceneDescription, demo, native};
 use tyndall::visibility::{DEFAULT_MAP_RESOLUTION, VisibilityMode};
 use tyndall::{Image, RenderSettings};
+use tyndall_image::metrics::relative_mse;
 
 const MAPS: VisibilityMode = VisibilityMode::Maps {
     resolution: DEFAULT_MAP_RESOLUTION,

@@ -15,10 +15,11 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use std::path::PathBuf;
 use std::time::Duration;
-use tyndall::metrics::{error_concentration, relative_mse};
 use tyndall::render::DEFAULT_VOLUME_SAMPLES;
 use tyndall::scene::{SceneDescription, demo, native};
 use tyndall::{Image, IntegratorKind, RenderSettings};
+use tyndall_image::metrics::{error_concentration, relative_mse};
+use tyndall_image::read_exr;
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -149,7 +150,7 @@ fn volpath(args: &BenchArgs) -> Result<()> {
     for name in ["fog-room-multi", "cornell-surfaces"] {
         let dir = args.scenes.join("reference");
         let desc = native::load(&dir.join(format!("{name}.toml")))?;
-        let reference = Image::read_exr(&dir.join(format!("{name}.exr")))?.box_downsample(scale);
+        let reference = read_exr(&dir.join(format!("{name}.exr")))?.box_downsample(scale);
         let (w, h) = (reference.width(), reference.height());
         println!(
             "## volpath on `{name}` (scenes/reference/{name}.toml) at {w}×{h}, against Mitsuba 3\n"
@@ -172,7 +173,7 @@ fn equal_error(args: &BenchArgs) -> Result<()> {
     let dir = args.scenes.join("reference");
     let desc = native::load(&dir.join("fog-spot-sphere.toml"))?;
     let reference =
-        Image::read_exr(&dir.join("fog-spot-sphere.exr")).context("reading the reference image")?;
+        read_exr(&dir.join("fog-spot-sphere.exr")).context("reading the reference image")?;
     let (width, height) = if quick {
         (320, 240)
     } else {
@@ -369,7 +370,7 @@ pub(crate) fn long_render(
         method.kind.name(),
         scene_fingerprint(desc, width, height)
     ));
-    if let Ok(image) = Image::read_exr(&path) {
+    if let Ok(image) = read_exr(&path) {
         return Ok(image);
     }
     eprintln!("rendering the reference {} (once; cached)…", path.display());
@@ -377,7 +378,7 @@ pub(crate) fn long_render(
     let r = tyndall::render(&desc.scene, &s, &|_| {})?;
     std::fs::create_dir_all(&args.cache)
         .with_context(|| format!("creating {}", args.cache.display()))?;
-    r.image.write(&path, 0.0)?;
+    tyndall_image::write_image(&r.image, &path, 0.0)?;
     Ok(r.image)
 }
 

@@ -1,9 +1,8 @@
-//! Image error metrics.
+//! Image error metrics: how far a render is from a reference.
 
-use crate::color::Rgb;
-use crate::film::Image;
+use tyndall::{Image, Rgb};
 
-/// The regulariser ε of [`relative_mse`] (shared/reference/README.md).
+/// The regulariser ε of [`relative_mse`] (scenes/reference/REFERENCE-README.md).
 pub const RELATIVE_MSE_EPSILON: f64 = 0.01;
 
 /// Relative mean squared error of `candidate` against `reference`: the
