@@ -39,7 +39,7 @@ enum Command {
     /// Render a scene to an image file (PNG or OpenEXR, by the file ending).
     Render(RenderArgs),
     /// Print the relative MSE of an image against a reference (both OpenEXR),
-    /// the metric of shared/reference: mean of (c − r)²/(r² + 0.01).
+    /// the metric of scenes/reference (docs/physics.md §6): mean of (c − r)²/(r² + 0.01).
     Compare {
         candidate: PathBuf,
         reference: PathBuf,

@@ -2,7 +2,8 @@
 //!
 //! PNG is display-referred: radiance is scaled by `2^exposure`, clamped to
 //! [0, 1] and sRGB-encoded to 8 bits. OpenEXR is scene-referred: linear
-//! float radiance, unscaled. The file ending chooses the format.
+//! float radiance, unscaled (docs/physics.md §1.3). The file ending
+//! chooses the format.
 
 use std::io::{Seek, Write};
 use std::path::{Path, PathBuf};

@@ -1,4 +1,5 @@
-//! The film a render produces: an image of linear-RGB radiance.
+//! The film a render produces: an image of linear-RGB radiance
+//! (docs/physics.md §1.2).
 //!
 //! Plain data, with no file format: writing and reading PNG and OpenEXR
 //! files, and comparing images, are the `tyndall-image` crate's.
@@ -6,7 +7,7 @@
 use crate::color::Rgb;
 
 /// A linear-RGB image, rows top to bottom: each pixel is the box-filtered
-/// mean of the radiance over its footprint.
+/// mean of the radiance over its footprint (docs/physics.md §1.2).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {
     width: u32,
