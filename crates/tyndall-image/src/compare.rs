@@ -27,10 +27,15 @@ pub struct Comparison {
 /// One pixel's relative squared error ([`pixel_relative_se`]) and values.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PixelError {
+    /// Column, from the left.
     pub x: u32,
+    /// Row, from the top.
     pub y: u32,
+    /// The pixel's relative squared error, averaged over its channels.
     pub error: f64,
+    /// The candidate's linear radiance.
     pub candidate: Rgb,
+    /// The reference's linear radiance.
     pub reference: Rgb,
 }
 

@@ -28,7 +28,9 @@ pub const EXR_ENCODING: exr::prelude::Encoding = exr::prelude::Encoding {
 /// Image file formats, chosen by the file ending.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ImageFormat {
+    /// `.png`: display-referred 8-bit sRGB.
     Png,
+    /// `.exr`: scene-referred linear f32 radiance.
     Exr,
 }
 

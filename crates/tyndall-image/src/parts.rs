@@ -10,11 +10,11 @@
 //!   camera samples, each stored exactly as the high and low 32 bits of its
 //!   IEEE-754 bit pattern (OpenEXR has no f64 channels; two f32s would
 //!   round). Merging ([`tyndall::parts::merge`]) adds these exact sums.
-//!   Its text attribute `tyndall` records what
-//!   the part holds, one `key value` per line: `tyndall-part 1` (the
-//!   format), `scene-hash` (see [`tyndall::parts::scene_hash`]), `image W H`,
-//!   `rect x0 y0 x1 y1` (pixels `[x0, x1) × [y0, y1)`), `samples A B`
-//!   (sample indices `A..B`), `seed`, `light-paths 0|1`;
+//!   Its text attribute `tyndall` records what the part holds, one
+//!   `key value` per line: `tyndall-part 1` (the format), `scene-hash`
+//!   (see [`tyndall::parts::scene_hash`]), `image W H`, `rect x0 y0 x1 y1`
+//!   (pixels `[x0, x1) × [y0, y1)`), `samples A B` (sample indices
+//!   `A..B`), `seed`, `light-paths 0|1`;
 //! - `light`, only for renders that trace light paths: the whole image,
 //!   `sum.light.{R,G,B}.{0,1,2,3}` (u32), the exact fixed-point sums
 //!   ([`ExactRgb`]) of the splats of the part's share of the light paths,
