@@ -13,11 +13,13 @@ use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
-use tyndall::parts::{self, Part, PartCompression, PartIdentity};
+use tyndall::parts::{self, Part, PartIdentity};
 use tyndall::region::{PixelRect, RenderRegion};
 use tyndall::render::Accumulation;
 use tyndall::settings::{DEFAULT_MAP_RESOLUTION, VisibilityMode};
 use tyndall::{IntegratorKind, RenderStats, Scene, SceneDesc};
+use tyndall_image::ImageFormat;
+use tyndall_image::parts::{PartCompression, read_part, write_part};
 use tyndall_load::{LegacyOptions, SceneError, demo};
 
 #[derive(Parser)]
@@ -36,7 +38,7 @@ enum Command {
     /// Render a scene to an image file (PNG or OpenEXR, by the file ending).
     Render(RenderArgs),
     /// Print the relative MSE of an image against a reference (both OpenEXR),
-    /// the metric of shared/reference: mean of (c − r)²/(r² + 0.01).
+    /// the metric of scenes/reference (docs/physics.md §6): mean of (c − r)²/(r² + 0.01).
     Compare {
         candidate: PathBuf,
         reference: PathBuf,
@@ -301,9 +303,9 @@ fn render(args: RenderArgs) -> Result<()> {
         .or(desc.output.clone())
         .unwrap_or_else(|| PathBuf::from("tyndall.png"));
     // Fail on a bad output name before spending time on the render.
-    let format = tyndall::film::ImageFormat::from_path(&output)?;
+    let format = ImageFormat::from_path(&output)?;
     let is_part = args.tile.is_some() || args.samples.is_some();
-    if is_part && format != tyndall::film::ImageFormat::Exr {
+    if is_part && format != ImageFormat::Exr {
         bail!(
             "{}: --tile and --samples write a render part for `tyndall merge`, which must be an .exr file",
             output.display()
@@ -319,7 +321,7 @@ fn render(args: RenderArgs) -> Result<()> {
     // Fail on a bad output name or an unwritable destination before
     // spending time on the render: the temporary file beside the target
     // is created now and renamed onto it once the image is complete.
-    let output_file = tyndall::film::OutputFile::create(&output)?;
+    let output_file = tyndall_image::OutputFile::create(&output)?;
     let warnings = desc
         .warnings
         .iter()
@@ -339,7 +341,7 @@ fn render(args: RenderArgs) -> Result<()> {
     let identity = PartIdentity::new(&scene, &settings);
     let resume = match &args.checkpoint {
         Some(path) if path.exists() => {
-            let part = parts::read_part(path)?;
+            let part = read_part(path)?;
             if part.identity != identity {
                 bail!(
                     "{}: this checkpoint is of another scene, settings or seed; delete it to start again",
@@ -374,7 +376,7 @@ fn render(args: RenderArgs) -> Result<()> {
                 identity,
                 accumulation: a.clone(),
             };
-            if let Err(e) = parts::write_part(path, &part, PartCompression::None) {
+            if let Err(e) = write_part(path, &part, PartCompression::None) {
                 save_error = Some(e);
                 return ControlFlow::Break(());
             }
@@ -415,7 +417,7 @@ fn render(args: RenderArgs) -> Result<()> {
         // A part is written (atomically) by the part writer: the early
         // temporary file only proved the destination writable.
         drop(output_file);
-        parts::write_part(&output, &part, PartCompression::Rle)
+        write_part(&output, &part, PartCompression::Rle)
             .with_context(|| "the part was not written")?;
     } else {
         output_file
@@ -444,7 +446,7 @@ fn render(args: RenderArgs) -> Result<()> {
     if let Some(path) = &args.checkpoint {
         if stopped_by_limit {
             // Keep the progress: running again continues the render.
-            parts::write_part(path, &part, PartCompression::None)
+            write_part(path, &part, PartCompression::None)
                 .context("the checkpoint could not be saved")?;
         } else if path.exists() {
             std::fs::remove_file(path)
@@ -455,17 +457,19 @@ fn render(args: RenderArgs) -> Result<()> {
 }
 
 fn merge(paths: &[PathBuf], output: &Path) -> Result<()> {
-    let format = tyndall::film::ImageFormat::from_path(output)?;
+    let format = ImageFormat::from_path(output)?;
     let mut read = Vec::with_capacity(paths.len());
     for path in paths {
-        read.push((path.clone(), parts::read_part(path)?));
+        read.push((path.clone(), read_part(path)?));
     }
     let merged = parts::merge(read)?;
     match format {
-        tyndall::film::ImageFormat::Exr => {
-            parts::write_part(output, &merged, PartCompression::Rle)?;
+        ImageFormat::Exr => {
+            write_part(output, &merged, PartCompression::Rle)?;
         }
-        tyndall::film::ImageFormat::Png => merged.accumulation.resolve().write(output, 0.0)?,
+        ImageFormat::Png => {
+            tyndall_image::write_image(&merged.accumulation.resolve(), output, 0.0)?
+        }
     }
     let a = &merged.accumulation;
     eprintln!(
@@ -540,46 +544,10 @@ fn report(
 }
 
 fn compare(candidate: &Path, reference: &Path, worst: usize) -> Result<()> {
-    let c = tyndall::Image::read_exr(candidate)?;
-    let r = tyndall::Image::read_exr(reference)?;
-    if (c.width(), c.height()) != (r.width(), r.height()) {
-        bail!(
-            "{} is {}×{} but {} is {}×{}",
-            candidate.display(),
-            c.width(),
-            c.height(),
-            reference.display(),
-            r.width(),
-            r.height()
-        );
-    }
-    println!("{:.6e}", tyndall::metrics::relative_mse(&c, &r));
-    let mut pixels: Vec<(f64, u32, u32)> = (0..c.height())
-        .flat_map(|y| (0..c.width()).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            (
-                tyndall::metrics::pixel_relative_se(c.pixel(x, y), r.pixel(x, y)),
-                x,
-                y,
-            )
-        })
-        .collect();
-    pixels.sort_by(|a, b| b.0.total_cmp(&a.0));
-    if worst > 0 {
-        let share = tyndall::metrics::error_concentration(&c, &r, 0.001);
-        println!(
-            "  the worst 0.1% of pixels carry {:.1}% of the error",
-            100.0 * share
-        );
-    }
-    for (e, x, y) in pixels.into_iter().take(worst) {
-        println!(
-            "  pixel ({x}, {y}): {:.3e}  candidate {:?}  reference {:?}",
-            e,
-            c.pixel(x, y).to_array(),
-            r.pixel(x, y).to_array()
-        );
-    }
+    print!(
+        "{}",
+        tyndall_image::compare_files(candidate, reference, worst)?
+    );
     Ok(())
 }
 

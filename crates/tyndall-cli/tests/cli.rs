@@ -25,7 +25,7 @@ fn renders_demo_to_png_and_exr() {
         assert!(o.status.success(), "{}", stderr(&o));
         assert!(out.exists());
     }
-    let image = tyndall::Image::read_exr(&temp_dir().join("demo.exr")).expect("readable EXR");
+    let image = tyndall_image::read_exr(&temp_dir().join("demo.exr")).expect("readable EXR");
     assert_eq!((image.width(), image.height()), (32, 18));
     assert!(image.pixels().iter().any(|p| p.max_element() > 0.0));
 }

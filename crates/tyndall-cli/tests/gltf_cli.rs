@@ -82,7 +82,7 @@ fn renders_gltf_with_fog_from_the_command_line() {
         out.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let image = tyndall::Image::read_exr(&out).expect("readable EXR");
+    let image = tyndall_image::read_exr(&out).expect("readable EXR");
     assert!(image.pixels().iter().any(|p| p.max_element() > 0.0));
 }
 

@@ -40,7 +40,7 @@ fn run(args: &[String]) -> Output {
 }
 
 fn pixel_bits(path: &Path) -> Vec<[u32; 3]> {
-    tyndall::Image::read_exr(path)
+    tyndall_image::read_exr(path)
         .expect("readable EXR")
         .pixels()
         .iter()
@@ -84,9 +84,9 @@ fn tiles_and_sample_ranges_merge_into_the_single_render() {
         s(&merged_samples),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let a = tyndall::Image::read_exr(&merged_samples).expect("merged");
-    let b = tyndall::Image::read_exr(&single).expect("single");
-    let e = tyndall::metrics::relative_mse(&a, &b);
+    let a = tyndall_image::read_exr(&merged_samples).expect("merged");
+    let b = tyndall_image::read_exr(&single).expect("single");
+    let e = tyndall_image::metrics::relative_mse(&a, &b);
     assert!(e <= 1e-12, "merged sample ranges: relMSE {e:e}");
 }
 
@@ -135,7 +135,7 @@ fn a_killed_render_resumes_from_its_checkpoint_to_the_same_file() {
     child.kill().expect("kill");
     child.wait().expect("reap");
     assert!(!out.exists(), "a killed render wrote no image");
-    let saved = tyndall::parts::read_part(&checkpoint).expect("a whole checkpoint");
+    let saved = tyndall_image::parts::read_part(&checkpoint).expect("a whole checkpoint");
     let done = saved.accumulation.region.samples.clone();
     assert!(
         done.start == 0 && done.end >= 1 && done.end < 300,
@@ -198,7 +198,7 @@ fn a_time_limit_renders_whole_passes_and_says_how_many() {
     );
     // The checkpoint keeps the progress: running again without a limit
     // continues from pass 1 to the full render.
-    let part = tyndall::parts::read_part(&checkpoint).expect("checkpoint kept");
+    let part = tyndall_image::parts::read_part(&checkpoint).expect("checkpoint kept");
     assert_eq!(part.accumulation.region.samples, 0..1);
 }
 

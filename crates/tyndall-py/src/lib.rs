@@ -189,9 +189,7 @@ fn write_image(path: PathBuf, data: &[u8], height: u32, width: u32, exposure: f3
 }
 
 fn write(image: &tyndall::Image, path: &Path, exposure: f32) -> PyResult<()> {
-    image
-        .write(path, exposure)
-        .map_err(|e| PyOSError::new_err(e.to_string()))
+    tyndall_image::write_image(image, path, exposure).map_err(|e| PyOSError::new_err(e.to_string()))
 }
 
 #[pymodule]

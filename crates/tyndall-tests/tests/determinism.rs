@@ -67,7 +67,7 @@ fn exr_bytes(
     let dir = std::env::temp_dir().join(format!("tyndall-determinism-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let path = dir.join(format!("{kind:?}-{}-{threads}.exr", visibility.name()));
-    image.write(&path, 0.0).expect("write exr");
+    tyndall_image::write_image(&image, &path, 0.0).expect("write exr");
     let bytes = std::fs::read(&path).expect("read exr");
     let _ = std::fs::remove_file(&path);
     bytes
@@ -144,7 +144,7 @@ fn exr_blocks_are_stored_in_increasing_order() {
         s.spp = 1;
     });
     let path = std::env::temp_dir().join(format!("tyndall-order-{}.exr", std::process::id()));
-    image.write(&path, 0.0).expect("write");
+    tyndall_image::write_image(&image, &path, 0.0).expect("write");
     let meta = exr::meta::MetaData::read_from_file(&path, false).expect("meta");
     let _ = std::fs::remove_file(&path);
     let header = &meta.headers[0];

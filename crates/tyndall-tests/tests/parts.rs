@@ -9,11 +9,12 @@ use common::Loaded;
 use common::repo;
 use std::ops::ControlFlow;
 use std::path::PathBuf;
-use tyndall::parts::{self, Part, PartCompression, PartIdentity};
+use tyndall::parts::{self, Part, PartIdentity};
 use tyndall::region::{PixelRect, RenderRegion};
 use tyndall::render::{Accumulation, render_region, traces_light_paths};
 use tyndall::visibility::VisibilityMode;
 use tyndall::{Image, IntegratorKind, RenderSettings};
+use tyndall_image::parts::{PartCompression, read_part, write_part};
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("tyndall-parts-{}", std::process::id()));
@@ -74,8 +75,8 @@ fn through_files(parts: Vec<Part>, tag: &str) -> Vec<(PathBuf, Part)> {
         .enumerate()
         .map(|(i, p)| {
             let path = scratch(&format!("{tag}-{i}.exr"));
-            parts::write_part(&path, &p, PartCompression::Rle).expect("write part");
-            let back = parts::read_part(&path).expect("read part");
+            write_part(&path, &p, PartCompression::Rle).expect("write part");
+            let back = read_part(&path).expect("read part");
             assert_eq!(back, p, "the file holds the sums exactly");
             (path, back)
         })
@@ -146,7 +147,7 @@ fn merged_sample_ranges_equal_the_single_render_to_rounding() {
             .collect();
         let merged = parts::merge(through_files(pieces, &format!("{name}-s"))).expect("merge");
         assert_eq!(merged.accumulation.region.samples, 0..settings.spp);
-        let e = tyndall::metrics::relative_mse(&merged.accumulation.resolve(), &single.image);
+        let e = tyndall_image::metrics::relative_mse(&merged.accumulation.resolve(), &single.image);
         assert!(e <= 1e-12, "{name}: relMSE {e:e}");
         // And the merged image is not trivially anything: each range alone
         // is a different (noisier) estimate.
@@ -159,7 +160,8 @@ fn merged_sample_ranges_equal_the_single_render_to_rounding() {
             },
         );
         assert!(
-            tyndall::metrics::relative_mse(&alone.accumulation.resolve(), &single.image) > 1e-6
+            tyndall_image::metrics::relative_mse(&alone.accumulation.resolve(), &single.image)
+                > 1e-6
         );
     }
 }
@@ -191,8 +193,8 @@ fn a_resumed_render_is_bit_identical_to_an_uninterrupted_one() {
             identity: PartIdentity::new(&desc.scene, &settings),
             accumulation: stopped,
         };
-        parts::write_part(&path, &checkpoint, PartCompression::None).expect("write");
-        let resume = parts::read_part(&path).expect("read").accumulation;
+        write_part(&path, &checkpoint, PartCompression::None).expect("write");
+        let resume = read_part(&path).expect("read").accumulation;
         let (resumed, stats) = render_region(
             &desc.scene,
             &settings,

@@ -6,7 +6,7 @@ mod common;
 use common::{mean_and_stderr, pixel_distances, render, repo};
 use tyndall::Image;
 use tyndall::IntegratorKind;
-use tyndall::metrics::relative_mse;
+use tyndall_image::metrics::relative_mse;
 
 /// The references' own relative MSE (shared/reference/README.md).
 const REFERENCE_ERROR: f64 = 1e-4;
@@ -27,7 +27,7 @@ fn integrators_converge_to_references() {
         let dir = repo().join("scenes/reference");
         let desc = common::load_native(&dir.join(format!("{name}.toml"))).expect("scene");
         let reference =
-            tyndall::Image::read_exr(&dir.join(format!("{name}.exr"))).expect("reference");
+            tyndall_image::read_exr(&dir.join(format!("{name}.exr"))).expect("reference");
         // The references' max_depth 2 is one scattering event: volpath's
         // max_depth 1.
         for kind in IntegratorKind::ALL {
@@ -82,7 +82,7 @@ fn volpath_converges_to_multiple_scattering_references() {
     let dir = repo().join("scenes/reference");
     for (name, max_depth, spp) in scenes {
         let desc = common::load_native(&dir.join(format!("{name}.toml"))).expect("scene");
-        let full = Image::read_exr(&dir.join(format!("{name}.exr"))).expect("reference");
+        let full = tyndall_image::read_exr(&dir.join(format!("{name}.exr"))).expect("reference");
         let reference = full.box_downsample(4);
         let reference_error = own_error(&dir.join(format!("{name}.ref.json")));
         let shot = |seed: u64| {

@@ -7,10 +7,10 @@ use tyndall::Scene;
 use tyndall::integrators::PixelPosition;
 use tyndall::integrators::march::interleaved_stratum;
 use tyndall::lights::Light;
-use tyndall::metrics::relative_mse;
 use tyndall::shadow_maps::{MapScene, ShadowMaps};
 use tyndall::visibility::{RayCounts, Visibility, VisibilityMode};
 use tyndall::{IntegratorKind, Rgb};
+use tyndall_image::metrics::relative_mse;
 
 const RESOLUTION: u32 = 512;
 

@@ -13,8 +13,10 @@
 //! [`lights`], [`materials`], [`glass`], [`media`], [`phase`], [`sampler`],
 //! [`sampling`], [`visibility`], [`integrators`], [`film`], the
 //! [`description`] of a scene that loaders produce, the runtime [`scene`]
-//! built from it, the render [`settings`], and the [`render()`] loop. File
-//! formats live in the `tyndall-load` crate.
+//! built from it, the render [`settings`], the [`render()`] loop and
+//! render [`parts`]. Scene files are the `tyndall-load` crate's; image
+//! files (PNG, OpenEXR, part files) and image metrics the
+//! `tyndall-image` crate's.
 
 pub mod accel;
 pub mod camera;
@@ -27,7 +29,6 @@ pub mod integrators;
 pub mod lights;
 pub mod materials;
 pub mod media;
-pub mod metrics;
 pub mod parts;
 pub mod phase;
 pub mod ray;

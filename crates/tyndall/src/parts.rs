@@ -1,61 +1,27 @@
-//! Render parts on disk: OpenEXR files holding a tile, a sample range or a
-//! checkpoint of a render, and merging them into the whole.
+//! Render parts: a tile, a sample range or a checkpoint of a render, and
+//! merging them into the whole.
 //!
-//! A part file is an OpenEXR image in the full image's display window with
-//! two layers:
-//! - `part`, the part's pixel rectangle (its data window placed at the
-//!   rectangle's origin): `R`, `G`, `B` (f32), the part's own image (the
-//!   mean of the samples it holds; see [`Accumulation::resolve`]), and
-//!   `sum.camera.{R,G,B}.{hi,lo}` (u32), the f64 per-pixel sums of the
-//!   camera samples, each stored exactly as the high and low 32 bits of its
-//!   IEEE-754 bit pattern (OpenEXR has no f64 channels; two f32s would
-//!   round). Merging adds these exact sums, so merged sample ranges differ
-//!   from the single render only by the f64 rounding of the additions,
-//!   and merged tiles not at all. Its text attribute `tyndall` records what
-//!   the part holds, one `key value` per line: `tyndall-part 1` (the
-//!   format), `scene-hash` (see [`scene_hash`]), `image W H`,
-//!   `rect x0 y0 x1 y1` (pixels `[x0, x1) × [y0, y1)`), `samples A B`
-//!   (sample indices `A..B`), `seed`, `light-paths 0|1`;
-//! - `light`, only for renders that trace light paths: the whole image,
-//!   `sum.light.{R,G,B}.{0,1,2,3}` (u32), the exact fixed-point sums
-//!   ([`ExactRgb`]) of the splats of the part's share of the light paths,
-//!   each i128 as four 32-bit words, least significant first.
-//!
-//! Files are written atomically: to a temporary file in the same folder,
-//! synced, then renamed over the target, so a reader (or a render killed
-//! mid-write) never sees a partial file.
+//! A [`Part`] is an [`Accumulation`] (the exact per-pixel sums of the
+//! samples it holds) with the [`PartIdentity`] of the render it belongs
+//! to. [`merge`] adds the sums of parts of the same render: merged sample
+//! ranges differ from the single render only by the f64 rounding of the
+//! additions, merged tiles not at all. Parts are stored in OpenEXR files
+//! by the `tyndall-image` crate (`tyndall_image::parts`), which keeps the
+//! sums exact.
 
 use crate::camera::CameraSpec;
-use crate::exact_sum::ExactRgb;
-use crate::film::EXR_ENCODING;
-use crate::region::{PixelRect, RenderRegion};
+use crate::region::PixelRect;
 use crate::render::Accumulation;
 use crate::scene::Scene;
-use crate::settings::{MAX_IMAGE_SIDE, RenderSettings};
-use glam::DVec3;
+use crate::settings::RenderSettings;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-/// Name of the layer of the part's pixels (data window: its rectangle).
-const PART_LAYER: &str = "part";
-/// Name of the layer of the light-path sums (data window: the image).
-const LIGHT_LAYER: &str = "light";
-/// Name of the header attribute that records what a part holds.
-const ATTRIBUTE: &str = "tyndall";
-/// First line of the attribute: the format and its version.
-const FORMAT: &str = "tyndall-part 1";
-
-/// Why a part could not be written, read or merged.
+/// Why parts could not be merged: they do not fit together.
 #[derive(Debug, thiserror::Error)]
-pub enum PartError {
-    #[error("{path}: {message}")]
-    Io { path: PathBuf, message: String },
-    #[error("{path}: not a Tyndall render part: {message}")]
-    Format { path: PathBuf, message: String },
-    #[error("the parts do not fit together: {0}")]
-    Mismatch(String),
-}
+#[error("the parts do not fit together: {0}")]
+pub struct MergeError(pub String);
 
 /// What identifies the render a part belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,7 +40,7 @@ impl PartIdentity {
     }
 }
 
-/// A part read from a file.
+/// A part of a render: its sums and the render it belongs to.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Part {
     pub identity: PartIdentity,
@@ -135,293 +101,14 @@ impl std::fmt::Write for Fnv1a {
     }
 }
 
-/// How a part file is compressed: run-length encoded (as every EXR Tyndall
-/// writes, [`EXR_ENCODING`]) for parts, none for checkpoints written often.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PartCompression {
-    Rle,
-    None,
-}
-
-/// Writes `part` to `path` atomically (see the module docs).
-pub fn write_part(
-    path: &Path,
-    part: &Part,
-    compression: PartCompression,
-) -> std::result::Result<(), PartError> {
-    use exr::prelude::*;
-    let a = &part.accumulation;
-    let rect = a.region.rect;
-    let image = a.resolve();
-    let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::new();
-    for (c, name) in ["R", "G", "B"].iter().enumerate() {
-        let values = image.pixels().iter().map(|p| p[c]).collect();
-        channels.push(AnyChannel::new(*name, FlatSamples::F32(values)));
-    }
-    for (c, name) in ["R", "G", "B"].iter().enumerate() {
-        let bits = || a.camera.iter().map(move |s| s[c].to_bits());
-        let hi = bits().map(|b| (b >> 32) as u32).collect();
-        let lo = bits().map(|b| b as u32).collect();
-        channels.push(AnyChannel::new(
-            format!("sum.camera.{name}.hi").as_str(),
-            FlatSamples::U32(hi),
-        ));
-        channels.push(AnyChannel::new(
-            format!("sum.camera.{name}.lo").as_str(),
-            FlatSamples::U32(lo),
-        ));
-    }
-    let encoding = match compression {
-        PartCompression::Rle => EXR_ENCODING,
-        PartCompression::None => Encoding {
-            compression: Compression::Uncompressed,
-            ..EXR_ENCODING
-        },
-    };
-    let mut attributes = LayerAttributes {
-        layer_position: Vec2(rect.x0 as i32, rect.y0 as i32),
-        ..LayerAttributes::named(PART_LAYER)
-    };
-    let text = describe(part);
-    attributes.other.insert(
-        Text::from(ATTRIBUTE),
-        AttributeValue::Text(Text::new_or_none(&text).expect("ASCII")),
-    );
-    let mut layers: SmallVec<[Layer<AnyChannels<FlatSamples>>; 2]> = SmallVec::new();
-    layers.push(Layer::new(
-        (rect.width() as usize, rect.height() as usize),
-        attributes,
-        encoding,
-        AnyChannels::sort(channels),
-    ));
-    if let Some(light) = &a.light {
-        // Each i128 fixed-point channel as four u32 words, least
-        // significant first.
-        let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::new();
-        for (c, name) in ["R", "G", "B"].iter().enumerate() {
-            for word in 0..4 {
-                let values = light
-                    .iter()
-                    .map(|s| (s.0[c] as u128 >> (32 * word)) as u32)
-                    .collect();
-                channels.push(AnyChannel::new(
-                    format!("sum.light.{name}.{word}").as_str(),
-                    FlatSamples::U32(values),
-                ));
-            }
-        }
-        layers.push(Layer::new(
-            (a.width as usize, a.height as usize),
-            LayerAttributes::named(LIGHT_LAYER),
-            encoding,
-            AnyChannels::sort(channels),
-        ));
-    }
-    let display = IntegerBounds::from_dimensions((a.width as usize, a.height as usize));
-    let exr_image = Image::from_layers(ImageAttributes::new(display), layers);
-    write_atomically(path, |tmp| {
-        exr_image.write().to_file(tmp).map_err(|e| e.to_string())
-    })
-}
-
-/// The `tyndall` attribute's text.
-fn describe(part: &Part) -> String {
-    let a = &part.accumulation;
-    let r = a.region.rect;
-    format!(
-        "{FORMAT}\nscene-hash {:016x}\nimage {} {}\nrect {} {} {} {}\nsamples {} {}\nseed {}\nlight-paths {}\n",
-        part.identity.scene_hash,
-        a.width,
-        a.height,
-        r.x0,
-        r.y0,
-        r.x1,
-        r.y1,
-        a.region.samples.start,
-        a.region.samples.end,
-        part.identity.seed,
-        a.light.is_some() as u8,
-    )
-}
-
-/// Reads a part written by [`write_part`].
-pub fn read_part(path: &Path) -> std::result::Result<Part, PartError> {
-    use exr::prelude::*;
-    let format = |message: String| PartError::Format {
-        path: path.to_owned(),
-        message,
-    };
-    let image = read_all_flat_layers_from_file(path).map_err(|e| PartError::Io {
-        path: path.to_owned(),
-        message: e.to_string(),
-    })?;
-    let layer_named = |name: &str| {
-        image
-            .layer_data
-            .iter()
-            .find(|l| l.attributes.layer_name.as_ref() == Some(&Text::from(name)))
-    };
-    let layer =
-        layer_named(PART_LAYER).ok_or_else(|| format(format!("no `{PART_LAYER}` layer")))?;
-    let text = match layer.attributes.other.get(&Text::from(ATTRIBUTE)) {
-        Some(AttributeValue::Text(t)) => t.to_string(),
-        _ => return Err(format(format!("no `{ATTRIBUTE}` header attribute"))),
-    };
-    let header = parse_description(&text).map_err(format)?;
-    let rect = header.rect;
-    let size = (rect.width() as usize, rect.height() as usize);
-    let side_ok = |s: u32| (1..=MAX_IMAGE_SIDE).contains(&s);
-    if !side_ok(header.width)
-        || !side_ok(header.height)
-        || header.rect.check(header.width, header.height).is_err()
-        || (layer.size.width(), layer.size.height()) != size
-        || header.samples.start > header.samples.end
-    {
-        return Err(format(format!(
-            "the header's rectangle {rect} of a {}×{} image, samples {:?}, does not fit its {}×{} pixels",
-            header.width,
-            header.height,
-            header.samples,
-            layer.size.width(),
-            layer.size.height()
-        )));
-    }
-    fn u32_channel<'l>(
-        layer: &'l Layer<AnyChannels<FlatSamples>>,
-        name: &str,
-    ) -> std::result::Result<&'l [u32], String> {
-        layer
-            .channel_data
-            .list
-            .iter()
-            .find(|c| c.name == *name)
-            .and_then(|c| match &c.sample_data {
-                FlatSamples::U32(v) => Some(v.as_slice()),
-                _ => None,
-            })
-            .ok_or_else(|| format!("no u32 channel `{name}`"))
-    }
-    let channel = |layer, name: &str| u32_channel(layer, name).map_err(format);
-    let mut camera = vec![DVec3::ZERO; rect.area()];
-    for (c, name) in ["R", "G", "B"].iter().enumerate() {
-        let hi = channel(layer, &format!("sum.camera.{name}.hi"))?;
-        let lo = channel(layer, &format!("sum.camera.{name}.lo"))?;
-        for ((o, h), l) in camera.iter_mut().zip(hi).zip(lo) {
-            o[c] = f64::from_bits((*h as u64) << 32 | *l as u64);
-        }
-    }
-    let light = if header.light {
-        let full = header.width as usize * header.height as usize;
-        let layer = layer_named(LIGHT_LAYER)
-            .filter(|l| l.size.width() * l.size.height() == full)
-            .ok_or_else(|| format(format!("no full-image `{LIGHT_LAYER}` layer")))?;
-        let mut light = vec![ExactRgb::ZERO; full];
-        for (c, name) in ["R", "G", "B"].iter().enumerate() {
-            for word in 0..4 {
-                let values = channel(layer, &format!("sum.light.{name}.{word}"))?;
-                for (o, v) in light.iter_mut().zip(values) {
-                    o.0[c] = (o.0[c] as u128 | (*v as u128) << (32 * word)) as i128;
-                }
-            }
-        }
-        Some(light)
-    } else {
-        None
-    };
-    Ok(Part {
-        identity: PartIdentity {
-            scene_hash: header.scene_hash,
-            seed: header.seed,
-        },
-        accumulation: Accumulation {
-            width: header.width,
-            height: header.height,
-            region: RenderRegion {
-                rect,
-                samples: header.samples,
-            },
-            camera,
-            light,
-        },
-    })
-}
-
-/// The parsed `tyndall` attribute.
-struct Description {
-    scene_hash: u64,
-    width: u32,
-    height: u32,
-    rect: PixelRect,
-    samples: std::ops::Range<u32>,
-    seed: u64,
-    light: bool,
-}
-
-fn parse_description(text: &str) -> Result<Description, String> {
-    let mut fields: BTreeMap<&str, Vec<&str>> = BTreeMap::new();
-    for line in text.lines().filter(|l| !l.trim().is_empty()) {
-        let mut words = line.split_whitespace();
-        let key = words.next().unwrap_or_default();
-        fields.insert(key, words.collect());
-    }
-    if fields.get("tyndall-part").map(Vec::as_slice) != Some(&["1"]) {
-        return Err(format!(
-            "the `{ATTRIBUTE}` attribute does not start with `{FORMAT}`"
-        ));
-    }
-    fn numbers<T: TryFrom<u64>>(
-        fields: &BTreeMap<&str, Vec<&str>>,
-        key: &str,
-        n: usize,
-        radix16: bool,
-    ) -> Result<Vec<T>, String> {
-        let words = fields
-            .get(key)
-            .filter(|w| w.len() == n)
-            .ok_or_else(|| format!("the header needs `{key}` with {n} number(s)"))?;
-        words
-            .iter()
-            .map(|w| {
-                let v = if radix16 {
-                    u64::from_str_radix(w, 16).ok()
-                } else {
-                    w.parse::<u64>().ok()
-                };
-                v.and_then(|v| T::try_from(v).ok())
-                    .ok_or_else(|| format!("`{key}`: `{w}` is not a valid number"))
-            })
-            .collect()
-    }
-    let hash: Vec<u64> = numbers(&fields, "scene-hash", 1, true)?;
-    let image: Vec<u32> = numbers(&fields, "image", 2, false)?;
-    let rect: Vec<u32> = numbers(&fields, "rect", 4, false)?;
-    let samples: Vec<u32> = numbers(&fields, "samples", 2, false)?;
-    let seed: Vec<u64> = numbers(&fields, "seed", 1, false)?;
-    let light: Vec<u8> = numbers(&fields, "light-paths", 1, false)?;
-    Ok(Description {
-        scene_hash: hash[0],
-        width: image[0],
-        height: image[1],
-        rect: PixelRect {
-            x0: rect[0],
-            y0: rect[1],
-            x1: rect[2],
-            y1: rect[3],
-        },
-        samples: samples[0]..samples[1],
-        seed: seed[0],
-        light: light[0] != 0,
-    })
-}
-
 /// Assembles parts into one: all must come from the same render (scene
 /// hash, seed, image size, light paths); parts of the same rectangle must
 /// hold consecutive sample ranges (no gap, no overlap), added in order;
 /// the rectangles must not overlap, must cover the whole image, and must
 /// all end up with the same sample range. Each part comes with its path,
 /// which errors name. Parts of one rectangle are summed in sample order.
-pub fn merge(parts: Vec<(PathBuf, Part)>) -> Result<Part, PartError> {
-    let mismatch = PartError::Mismatch;
+pub fn merge(parts: Vec<(PathBuf, Part)>) -> Result<Part, MergeError> {
+    let mismatch = MergeError;
     let Some((first_path, first)) = parts.first() else {
         return Err(mismatch("no parts given".into()));
     };
@@ -570,73 +257,4 @@ pub fn merge(parts: Vec<(PathBuf, Part)>) -> Result<Part, PartError> {
         identity,
         accumulation: whole,
     })
-}
-
-/// Writes a file through `write(temporary path)`, then renames the
-/// temporary over `path`: readers see the old file or the whole new one.
-pub fn write_atomically(
-    path: &Path,
-    write: impl FnOnce(&Path) -> Result<(), String>,
-) -> Result<(), PartError> {
-    let io = |message: String| PartError::Io {
-        path: path.to_owned(),
-        message,
-    };
-    let name = path
-        .file_name()
-        .ok_or_else(|| io("not a file name".into()))?
-        .to_string_lossy();
-    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
-    let result = write(&tmp)
-        .and_then(|()| {
-            std::fs::File::open(&tmp)
-                .and_then(|f| f.sync_all())
-                .map_err(|e| e.to_string())
-        })
-        .and_then(|()| std::fs::rename(&tmp, path).map_err(|e| e.to_string()));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.map_err(io)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    const GOOD: &str = "tyndall-part 1\nscene-hash 00ff\nimage 8 6\nrect 0 2 8 4\nsamples 3 5\nseed 7\nlight-paths 1\n";
-
-    #[test]
-    fn descriptions_parse_and_bad_ones_say_what_is_wrong() {
-        let d = parse_description(GOOD).expect("good");
-        assert_eq!((d.scene_hash, d.width, d.height, d.seed), (0xff, 8, 6, 7));
-        assert_eq!(
-            d.rect,
-            PixelRect {
-                x0: 0,
-                y0: 2,
-                x1: 8,
-                y1: 4
-            }
-        );
-        assert_eq!((d.samples, d.light), (3..5, true));
-        for (bad, says) in [
-            (
-                GOOD.replace("tyndall-part 1", "tyndall-part 2"),
-                "does not start",
-            ),
-            (GOOD.replace("image 8 6", "image 8"), "`image` with 2"),
-            (GOOD.replace("seed 7", "seed -7"), "`seed`: `-7`"),
-            (GOOD.replace("samples 3 5\n", ""), "`samples`"),
-            (
-                GOOD.replace("light-paths 1", "light-paths 300"),
-                "`light-paths`",
-            ),
-        ] {
-            match parse_description(&bad) {
-                Err(e) => assert!(e.contains(says), "{e} should say {says}"),
-                Ok(_) => panic!("accepted {bad:?}"),
-            }
-        }
-    }
 }

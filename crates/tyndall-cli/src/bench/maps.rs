@@ -8,9 +8,9 @@ use glam::Vec3;
 use tyndall::SceneDesc;
 use tyndall::description::{LightDesc, Origin};
 use tyndall::lights::SpotLight;
-use tyndall::metrics::relative_mse;
 use tyndall::settings::{DEFAULT_MAP_RESOLUTION, VisibilityMode};
 use tyndall::{Image, RenderSettings};
+use tyndall_image::metrics::relative_mse;
 use tyndall_load::{demo, native};
 
 const MAPS: VisibilityMode = VisibilityMode::Maps {

@@ -16,9 +16,10 @@ use clap::Args;
 use std::path::PathBuf;
 use std::time::Duration;
 use tyndall::SceneDesc;
-use tyndall::metrics::{error_concentration, relative_mse};
 use tyndall::settings::DEFAULT_VOLUME_SAMPLES;
 use tyndall::{Image, IntegratorKind, RenderSettings};
+use tyndall_image::metrics::{error_concentration, relative_mse};
+use tyndall_image::read_exr;
 use tyndall_load::{demo, native};
 
 #[derive(Args)]
@@ -150,7 +151,7 @@ fn volpath(args: &BenchArgs) -> Result<()> {
     for name in ["fog-room-multi", "cornell-surfaces"] {
         let dir = args.scenes.join("reference");
         let desc = native::load(&dir.join(format!("{name}.toml")))?;
-        let reference = Image::read_exr(&dir.join(format!("{name}.exr")))?.box_downsample(scale);
+        let reference = read_exr(&dir.join(format!("{name}.exr")))?.box_downsample(scale);
         let (w, h) = (reference.width(), reference.height());
         println!(
             "## volpath on `{name}` (scenes/reference/{name}.toml) at {w}×{h}, against Mitsuba 3\n"
@@ -173,7 +174,7 @@ fn equal_error(args: &BenchArgs) -> Result<()> {
     let dir = args.scenes.join("reference");
     let desc = native::load(&dir.join("fog-spot-sphere.toml"))?;
     let reference =
-        Image::read_exr(&dir.join("fog-spot-sphere.exr")).context("reading the reference image")?;
+        read_exr(&dir.join("fog-spot-sphere.exr")).context("reading the reference image")?;
     let (width, height) = if quick {
         (320, 240)
     } else {
@@ -370,7 +371,7 @@ pub(crate) fn long_render(
         method.kind.name(),
         scene_fingerprint(desc, width, height)
     ));
-    if let Ok(image) = Image::read_exr(&path) {
+    if let Ok(image) = read_exr(&path) {
         return Ok(image);
     }
     eprintln!("rendering the reference {} (once; cached)…", path.display());
@@ -378,7 +379,7 @@ pub(crate) fn long_render(
     let r = tyndall::render(&crate::build_scene(desc)?, &s, &|_| {})?;
     std::fs::create_dir_all(&args.cache)
         .with_context(|| format!("creating {}", args.cache.display()))?;
-    r.image.write(&path, 0.0)?;
+    tyndall_image::write_image(&r.image, &path, 0.0)?;
     Ok(r.image)
 }
 

@@ -1,14 +1,15 @@
-//! Image error metrics.
+//! Image error metrics: how far a render is from a reference.
 
-use crate::color::Rgb;
-use crate::film::Image;
+use tyndall::{Image, Rgb};
 
-/// The regulariser ε of [`relative_mse`] (shared/reference/README.md).
+/// The regulariser ε of [`relative_mse`] (docs/physics.md §6,
+/// scenes/reference/REFERENCE-README.md).
 pub const RELATIVE_MSE_EPSILON: f64 = 0.01;
 
 /// Relative mean squared error of `candidate` against `reference`: the
 /// mean over pixels and channels of `(c − r)² / (r² + ε)` with ε = 0.01,
-/// the metric the reference images are published with.
+/// the metric the reference images are published with (docs/physics.md
+/// §6).
 ///
 /// # Panics
 /// If the images differ in size.
