@@ -8,7 +8,7 @@
 //!
 //! * `native`: the TOML scene parser ([`native::parse`]);
 //! * `legacy`: the paper's .obj scene parser ([`legacy::parse`]);
-//! * `grid`: the `.tgrid` reader ([`VoxelGrid::from_bytes`]);
+//! * `grid`: the `.tgrid` reader ([`tgrid::from_bytes`]);
 //! * `mesh`: the .obj mesh reader ([`mesh::parse_obj_mesh`]);
 //! * `render`: scenes the native or legacy parser accepted, rendered at
 //!   8×8 pixels, 1 spp, with each integrator whose settings validate.
@@ -27,12 +27,11 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
-use tyndall::media::grid::VoxelGrid;
 use tyndall::settings::VisibilityMode;
 use tyndall::{IntegratorKind, RenderSettings, Scene, SceneDesc};
 use tyndall_load::legacy::{self, LegacyOptions};
 use tyndall_load::mesh::{self, MeshTransform};
-use tyndall_load::{SourceText, native};
+use tyndall_load::{SourceText, native, tgrid};
 
 /// With every target running, one input in this many is a render.
 const RENDER_SHARE: usize = 16;
@@ -487,7 +486,7 @@ fn main() -> std::process::ExitCode {
         let outcome = catch_unwind(AssertUnwindSafe(|| match target {
             Target::Native => (parse_scene(scenes, &input, false).is_some(), 0, 0),
             Target::Legacy => (parse_scene(scenes, &input, true).is_some(), 0, 0),
-            Target::Grid => (VoxelGrid::from_bytes(&input).is_ok(), 0, 0),
+            Target::Grid => (tgrid::from_bytes(&input).is_ok(), 0, 0),
             Target::Mesh => {
                 let transform = MeshTransform {
                     translate: glam::Vec3::ZERO,

@@ -1,7 +1,8 @@
 //! Scene loaders for Tyndall: every file format the core keeps out.
 //!
 //! - the native TOML format ([`native`], docs/scene-format.md), with
-//!   Wavefront .obj meshes ([`mesh`]) and `.tgrid` voxel grids;
+//!   Wavefront .obj meshes ([`mesh`]) and `.tgrid` voxel grids
+//!   ([`tgrid`]), every file read with a size limit ([`files`]);
 //! - the paper's legacy .obj format ([`legacy`], shared LEGACY-OBJ.md);
 //! - glTF 2.0 ([`gltf`], cargo feature `gltf`) and OpenVDB grids ([`vdb`],
 //!   cargo feature `vdb`), both on by default;
@@ -13,6 +14,7 @@
 //! [`load`] picks a loader by the file ending.
 
 pub mod demo;
+pub mod files;
 #[cfg(feature = "gltf")]
 pub mod gltf;
 pub mod legacy;
@@ -20,6 +22,7 @@ pub mod mesh;
 pub mod native;
 pub mod photometry;
 mod source;
+pub mod tgrid;
 #[cfg(feature = "vdb")]
 pub mod vdb;
 

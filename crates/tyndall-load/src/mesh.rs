@@ -1,8 +1,9 @@
 //! Triangle meshes from Wavefront .obj files (via tobj).
 
+use crate::files::{MAX_MESH_FILE_BYTES, read_capped};
 use glam::{EulerRot, Mat4, Quat, Vec3};
 use std::path::Path;
-use tyndall::scene::limits::{MAX_MESH_FILE_BYTES, check_coordinates, read_capped};
+use tyndall::scene::limits::check_coordinates;
 use tyndall::shapes::Triangle;
 
 /// Placement of a mesh: scale, then rotate (X, then Y, then Z, degrees),

@@ -3,7 +3,7 @@
 //!
 //! glTF gives point and spot lights in candela (lm/sr) and directional
 //! lights in lux (lm/m²). Tyndall's lights are radiometric: intensity in
-//! W/sr, irradiance in W/m² (DESIGN §1). A luminous efficacy converts
+//! W/sr, irradiance in W/m² (docs/physics.md §3.1). A luminous efficacy converts
 //! between them; we use the one Blender's glTF exporter uses in its
 //! default "Standard" lighting mode (`PBR_WATTS_TO_LUMENS = 683` in
 //! `io_scene_gltf2/blender/com/conversion.py`), so that a light exported

@@ -86,7 +86,7 @@ impl SourceText {
     }
 
     /// Reads a file; the error names the file.
-    /// Files longer than [`tyndall::scene::limits::MAX_SCENE_FILE_BYTES`] are
+    /// Files longer than [`crate::files::MAX_SCENE_FILE_BYTES`] are
     /// refused before they are read whole.
     pub fn read(path: &Path) -> Result<Self, SceneError> {
         let error = |message: String| SceneError {
@@ -95,9 +95,8 @@ impl SourceText {
             column: 0,
             message,
         };
-        let bytes =
-            tyndall::scene::limits::read_capped(path, tyndall::scene::limits::MAX_SCENE_FILE_BYTES)
-                .map_err(|e| error(format!("cannot read the file: {e}")))?;
+        let bytes = crate::files::read_capped(path, crate::files::MAX_SCENE_FILE_BYTES)
+            .map_err(|e| error(format!("cannot read the file: {e}")))?;
         let text = String::from_utf8(bytes).map_err(|e| {
             let offset = e.utf8_error().valid_up_to();
             error(format!(

@@ -174,8 +174,7 @@ fn endless_files_are_refused_quickly() {
         .expect("refused");
     assert!(e.contains("/dev/zero") && e.contains("never ends"), "{e}");
     // A grid reads its header first: `/dev/zero` has none.
-    let e = tyndall::media::grid::VoxelGrid::read(std::path::Path::new("/dev/zero"))
-        .expect_err("refused");
+    let e = tyndall_load::tgrid::read(std::path::Path::new("/dev/zero")).expect_err("refused");
     assert!(e.contains("/dev/zero") && e.contains("header"), "{e}");
     assert!(start.elapsed().as_secs_f32() < 10.0);
 }

@@ -8,7 +8,7 @@ use tyndall::Image;
 use tyndall::IntegratorKind;
 use tyndall_image::metrics::relative_mse;
 
-/// The references' own relative MSE (shared/reference/README.md).
+/// The references' own relative MSE (scenes/reference/REFERENCE-README.md; docs/physics.md §6).
 const REFERENCE_ERROR: f64 = 1e-4;
 
 /// For two independent renders C₁, C₂ and the reference R (all relative
@@ -53,7 +53,7 @@ fn integrators_converge_to_references() {
 }
 
 /// `volpath` against the multiple-scattering references (Mitsuba 3,
-/// shared/reference/README.md): surface interreflection in a Cornell-like
+/// scenes/reference/REFERENCE-README.md): surface interreflection in a Cornell-like
 /// box (unlimited, and one indirect bounce), and a fog-filled room
 /// (unlimited, and two scattering events).
 ///

@@ -1,5 +1,5 @@
 //! Unoccluded single scattering from point and spot lights against the
-//! 1-D integral of DESIGN §1, evaluated by Simpson quadrature written here,
+//! 1-D integral of docs/physics.md §5.1, evaluated by Simpson quadrature written here,
 //! independently of the renderer:
 //!
 //! `L = ∫₀^∞ e^{−σt s} · σs · I(dir)/d(s)² · e^{−σt d(s)} · p(cos θ(s)) ds`.

@@ -1,4 +1,4 @@
-//! Fog transmittance to an emitter: `exp(−σt·d)` (DESIGN §5).
+//! Fog transmittance to an emitter: `exp(−σt·d)` (docs/physics.md §2.3).
 mod common;
 
 use common::{estimate_ray, scene};

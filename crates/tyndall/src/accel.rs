@@ -3,8 +3,11 @@
 //! Wraps obvhs's compressed wide BVH (CWBVH, 8-wide; Ylitie et al. 2017)
 //! built by PLOC with reinsertion, whose collapse to 8-wide nodes uses the
 //! surface area heuristic. We use obvhs rather than our own BVH because it
-//! was measured 1.6–7× faster than a binary BVH here (ENGINEERING.md); it
-//! stays behind this module so another backend (Embree) can replace it.
+//! was the fastest maintained option measured here: one thread, a
+//! 100k-triangle soup, 1M rays, CWBVH 1.3 / 2.7 Mrays/s (incoherent /
+//! coherent) against 0.8 / 2.3 for obvhs's binary BVH and 0.18 / 0.44 for
+//! the `bvh` crate (Embree 3: 2.9 / 4.8). It stays behind this module so
+//! another backend (Embree) can replace it.
 
 use crate::materials::MaterialId;
 use crate::ray::Ray;

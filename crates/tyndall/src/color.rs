@@ -1,7 +1,7 @@
 //! Linear RGB radiometry and the sRGB transfer function.
 //!
 //! Radiance, intensity and reflectance are linear RGB triples: three
-//! independent channels (DESIGN §1). [`Rgb`] is glam's `Vec3`, so colour
+//! independent channels (docs/physics.md §1.2). [`Rgb`] is glam's `Vec3`, so colour
 //! arithmetic is component-wise.
 
 /// A linear-RGB triple: radiance (W·sr⁻¹·m⁻²), intensity (W/sr), irradiance

@@ -3,7 +3,7 @@
 //! Beams from spotlights in fog, volumetric shadows and light coloured by
 //! stained glass, after Bonnecaze & Stuart, "Ray Tracing in Participating
 //! Media" — done correctly and fast. The physical conventions shared by
-//! every module are those of DESIGN §1: radiance is linear RGB, fog has a
+//! every module are those of docs/physics.md: radiance is linear RGB, fog has a
 //! grey extinction `sigma_t` and an RGB albedo, transmittance is
 //! `exp(−sigma_t·d)`, lights are given by intensity (W/sr), irradiance or
 //! radiance. General media ([`media::volume`]) add RGB extinction and

@@ -9,7 +9,6 @@ use glam::Vec3;
 use serde_spanned::Spanned;
 use tyndall::color::Rgb;
 use tyndall::description::{MediumDesc, RegionDesc};
-use tyndall::media::grid::VoxelGrid;
 use tyndall::media::noise::SmokeNoise;
 use tyndall::media::sparse::{SparseDensity, SparseGrid};
 use tyndall::media::volume::Density;
@@ -141,7 +140,7 @@ impl Loader<'_> {
                         "density \"grid\" needs `file = \"….tgrid\"`",
                     )
                 })?;
-                let grid = VoxelGrid::read(&self.relative(file))
+                let grid = crate::tgrid::read(&self.relative(file))
                     .map_err(|e| self.err(&span, "file", e))?;
                 Density::Grid(grid)
             }

@@ -1,11 +1,8 @@
 //! Limits on what a scene may ask for, so that hostile or corrupt input
 //! is refused with a clear message instead of crashing, hanging or
 //! exhausting memory. Every limit is listed in docs/scene-format.md
-//! ("Limits"); the render-setting limits live beside
-//! [`crate::render::RenderSettings::validate`].
-
-use std::io::Read;
-use std::path::Path;
+//! ("Limits"); the render-setting limits are in [`crate::settings`], the
+//! file-size limits in `tyndall-load`.
 
 /// Largest absolute value of any coordinate (positions, corners, centres,
 /// radii, mesh vertices after placement). Shapes square products of
@@ -81,53 +78,6 @@ pub const MAX_MAJORANT_DEPTH: f32 = 1e5;
 /// their number; 1024 keeps an 8×8, 1 spp render within seconds.
 pub const MAX_LIGHTS: usize = 1024;
 
-/// Largest scene file read (native TOML or legacy .obj), in bytes.
-pub const MAX_SCENE_FILE_BYTES: u64 = 64 << 20;
-
-/// Largest mesh (.obj) file read, in bytes.
-pub const MAX_MESH_FILE_BYTES: u64 = 256 << 20;
-
-/// Largest grid (.tgrid) file read, in bytes: the most voxels a grid may
-/// hold ([`crate::media::grid::MAX_VOXELS`], 4 bytes each) and its header.
-/// The reader reads the header first and then no more than the voxels it
-/// announces (and one byte to spot a longer file), so `/dev/zero` fails
-/// after 256 bytes.
-pub const MAX_GRID_FILE_BYTES: u64 = (crate::media::grid::MAX_VOXELS << 2) + 256;
-
-/// Reads at most `limit` bytes of a file. A file that is longer (or a
-/// device such as `/dev/zero` that never ends) is refused after reading
-/// `limit + 1` bytes; the message says what the limit is. The error is
-/// returned without the path: callers name the file.
-pub fn read_capped(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
-    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
-    let metadata = file.metadata().map_err(|e| e.to_string())?;
-    if metadata.is_dir() {
-        return Err("it is a directory".into());
-    }
-    if metadata.is_file() && metadata.len() > limit {
-        return Err(too_large(metadata.len(), limit));
-    }
-    let mut bytes = Vec::new();
-    file.take(limit + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| e.to_string())?;
-    if bytes.len() as u64 > limit {
-        return Err(format!(
-            "it is longer than the {} this reader accepts (or never ends)",
-            describe_bytes(limit)
-        ));
-    }
-    Ok(bytes)
-}
-
-fn too_large(len: u64, limit: u64) -> String {
-    format!(
-        "it is {} long, more than the {} this reader accepts",
-        describe_bytes(len),
-        describe_bytes(limit)
-    )
-}
-
 /// A byte count for messages: "12.3 GiB", "640 KiB", "17 bytes".
 pub fn describe_bytes(n: u64) -> String {
     const UNITS: [&str; 4] = ["KiB", "MiB", "GiB", "TiB"];
@@ -189,15 +139,6 @@ pub fn check_extinction_channels(sigma_t: crate::color::Rgb) -> Result<(), Strin
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn dev_zero_is_refused_quickly() {
-        let path = Path::new("/dev/zero");
-        if path.exists() {
-            let e = read_capped(path, 1 << 20).unwrap_err();
-            assert!(e.contains("never ends"), "{e}");
-        }
-    }
 
     #[test]
     fn byte_counts_read_well() {

@@ -1,7 +1,7 @@
 //! Writes the voxel smoke plume of `scenes/smoke.toml`:
 //!
 //! ```text
-//! cargo run --release -p tyndall --example smoke_plume -- scenes/smoke/plume.tgrid
+//! cargo run --release -p tyndall-load --example smoke_plume -- scenes/smoke/plume.tgrid
 //! ```
 //!
 //! A rising column of smoke: a widening, drifting cone whose density is
@@ -68,7 +68,8 @@ fn main() -> Result<(), String> {
         }
     }
     let grid = VoxelGrid::new(SIZE, values).ok_or("the plume produced an invalid grid")?;
-    std::fs::write(&path, grid.to_bytes()).map_err(|e| format!("cannot write `{path}`: {e}"))?;
+    std::fs::write(&path, tyndall_load::tgrid::to_bytes(&grid))
+        .map_err(|e| format!("cannot write `{path}`: {e}"))?;
     eprintln!("wrote {path}: {} voxels", SIZE.element_product());
     Ok(())
 }

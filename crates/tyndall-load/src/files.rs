@@ -1,0 +1,69 @@
+//! Reading files with a size limit, so that a corrupt or hostile file (or
+//! a device such as `/dev/zero`) is refused with a clear message instead
+//! of exhausting memory. The limits are listed in docs/scene-format.md
+//! ("Limits").
+
+use std::io::Read;
+use std::path::Path;
+use tyndall::scene::limits::describe_bytes;
+
+/// Largest scene file read (native TOML or legacy .obj), in bytes.
+pub const MAX_SCENE_FILE_BYTES: u64 = 64 << 20;
+
+/// Largest mesh (.obj) file read, in bytes.
+pub const MAX_MESH_FILE_BYTES: u64 = 256 << 20;
+
+/// Largest grid (.tgrid) file read, in bytes: the most voxels a grid may
+/// hold ([`tyndall::media::grid::MAX_VOXELS`], 4 bytes each) and its header.
+/// The reader reads the header first and then no more than the voxels it
+/// announces (and one byte to spot a longer file), so `/dev/zero` fails
+/// after 256 bytes.
+pub const MAX_GRID_FILE_BYTES: u64 = (tyndall::media::grid::MAX_VOXELS << 2) + 256;
+
+/// Reads at most `limit` bytes of a file. A file that is longer (or a
+/// device such as `/dev/zero` that never ends) is refused after reading
+/// `limit + 1` bytes; the message says what the limit is. The error is
+/// returned without the path: callers name the file.
+pub fn read_capped(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let metadata = file.metadata().map_err(|e| e.to_string())?;
+    if metadata.is_dir() {
+        return Err("it is a directory".into());
+    }
+    if metadata.is_file() && metadata.len() > limit {
+        return Err(too_large(metadata.len(), limit));
+    }
+    let mut bytes = Vec::new();
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| e.to_string())?;
+    if bytes.len() as u64 > limit {
+        return Err(format!(
+            "it is longer than the {} this reader accepts (or never ends)",
+            describe_bytes(limit)
+        ));
+    }
+    Ok(bytes)
+}
+
+fn too_large(len: u64, limit: u64) -> String {
+    format!(
+        "it is {} long, more than the {} this reader accepts",
+        describe_bytes(len),
+        describe_bytes(limit)
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dev_zero_is_refused_quickly() {
+        let path = Path::new("/dev/zero");
+        if path.exists() {
+            let e = read_capped(path, 1 << 20).unwrap_err();
+            assert!(e.contains("never ends"), "{e}");
+        }
+    }
+}
