@@ -22,7 +22,7 @@
 //! lights seen in mirrors — connections through specular surfaces.
 
 use super::volpath::{MAX_PATH_EVENTS, survives_roulette};
-use super::{MAX_GLASS_CROSSINGS, SolidDepth, TRACKING_STREAM, refract_or_reflect};
+use super::{MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, TRACKING_STREAM, refract_or_reflect};
 use crate::camera::Camera;
 use crate::color::{Rgb, luminance};
 use crate::exact_sum::ExactRgb;
@@ -38,7 +38,7 @@ use crate::scene::Scene;
 use crate::visibility::RayCounts;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
-use std::f32::consts::{FRAC_1_PI, PI};
+use std::f32::consts::PI;
 use std::ops::{ControlFlow, Range};
 
 /// Which light paths to trace.
@@ -196,17 +196,6 @@ struct Tracer<'a> {
     which: LightPaths,
 }
 
-/// How light leaves a scattering event, for the camera connection.
-enum Scatterer<'a> {
-    Medium(&'a PhaseFunction),
-    /// A Lambertian surface of reflectance `rho` with unit normal `normal`
-    /// facing the side the light arrived from.
-    Diffuse {
-        rho: Rgb,
-        normal: Vec3,
-    },
-}
-
 impl Tracer<'_> {
     fn trace_path(
         &self,
@@ -245,15 +234,11 @@ impl Tracer<'_> {
                 }
                 depth += 1;
                 let x = ray.at(t);
-                self.connect(
-                    x,
-                    ray.direction,
-                    &Scatterer::Medium(phase),
-                    beta,
-                    &mut tracker,
-                    splats,
-                    counts,
-                );
+                let scatterer = Scatterer::Medium {
+                    phase,
+                    arriving: ray.direction,
+                };
+                self.connect(x, &scatterer, beta, &mut tracker, splats, counts);
                 let (direction, _) = phase.sample(ray.direction, sampler.next_2d());
                 ray = Ray {
                     origin: x,
@@ -300,15 +285,7 @@ impl Tracer<'_> {
                             rho: surface.diffuse,
                             normal,
                         };
-                        self.connect(
-                            p,
-                            ray.direction,
-                            &diffuse,
-                            beta,
-                            &mut tracker,
-                            splats,
-                            counts,
-                        );
+                        self.connect(p, &diffuse, beta, &mut tracker, splats, counts);
                     }
                     // Continue by the lobes, as `volpath` does.
                     let (d, s) = (luminance(surface.diffuse), luminance(surface.specular));
@@ -354,7 +331,6 @@ impl Tracer<'_> {
     fn connect(
         &self,
         x: Vec3,
-        arriving: Vec3,
         scatterer: &Scatterer,
         beta: Rgb,
         tracker: &mut VolumeTracker,
@@ -365,20 +341,10 @@ impl Tracer<'_> {
             return;
         };
         let to_camera = projection.to_camera;
-        let (f, origin) = match scatterer {
-            // Light travelling along `arriving` turns towards the camera.
-            Scatterer::Medium(phase) => (Rgb::splat(phase.eval(arriving.dot(to_camera))), x),
-            Scatterer::Diffuse { rho, normal } => {
-                let cos = normal.dot(to_camera);
-                if cos <= 0.0 {
-                    return;
-                }
-                (
-                    *rho * (FRAC_1_PI * cos),
-                    offset_origin(x, *normal, to_camera),
-                )
-            }
+        let Some((f, _)) = scatterer.scatter(to_camera) else {
+            return;
         };
+        let origin = scatterer.origin(x, to_camera);
         counts.shadow += 1;
         let distance = projection.distance;
         let glass = self.glass_towards_camera(origin, to_camera, distance);

@@ -29,12 +29,14 @@ use crate::lights::{Incident, Light};
 use crate::materials::{Material, Surface, dielectric_scatter};
 use crate::media::Fog;
 use crate::media::tracking::VolumeTracker;
+use crate::phase::PhaseFunction;
 use crate::ray::{Ray, offset_origin};
 use crate::render::RenderSettings;
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
 use crate::visibility::{RayCounts, Visibility};
 use glam::{Vec2, Vec3};
+use std::f32::consts::FRAC_1_PI;
 
 /// The integrators, selectable by name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -532,4 +534,47 @@ pub(crate) fn light_arriving(
     };
     let volumes_t = tracker.transmittance(&scene.volumes, &to_light, 0.0, incident.distance);
     incident.irradiance * glass * volumes_t * fog_t
+}
+
+/// A scattering vertex that a connection joins to another vertex (a
+/// light vertex in `volpath`, the camera in the light tracer): how it
+/// turns light towards the connection, and where a ray leaving it starts.
+pub(crate) enum Scatterer<'a> {
+    /// A real scattering event in a medium, reached by a path travelling
+    /// along unit `arriving`.
+    Medium {
+        phase: &'a PhaseFunction,
+        arriving: Vec3,
+    },
+    /// A Lambertian surface of reflectance `rho` with unit normal `normal`
+    /// facing the side the path arrived from.
+    Diffuse { rho: Rgb, normal: Vec3 },
+}
+
+impl Scatterer<'_> {
+    /// For a connection leaving along unit `omega`: the scattering
+    /// `p(θ)` (cos θ = arriving·omega) or `ρ/π·cos θ`, and the density
+    /// with which continuing the path by phase sampling, or by cosine
+    /// sampling of a surface with no reflective layer, picks `omega`.
+    /// `None` if a surface does not scatter that way.
+    pub fn scatter(&self, omega: Vec3) -> Option<(Rgb, f32)> {
+        match *self {
+            Scatterer::Medium { phase, arriving } => {
+                let p = phase.eval(omega.dot(arriving));
+                Some((Rgb::splat(p), p))
+            }
+            Scatterer::Diffuse { rho, normal } => {
+                let cos = normal.dot(omega);
+                (cos > 0.0).then(|| (rho * (FRAC_1_PI * cos), cos * FRAC_1_PI))
+            }
+        }
+    }
+
+    /// Where a ray from `x` along `omega` starts: just off a surface.
+    pub fn origin(&self, x: Vec3, omega: Vec3) -> Vec3 {
+        match *self {
+            Scatterer::Medium { .. } => x,
+            Scatterer::Diffuse { normal, .. } => offset_origin(x, normal, omega),
+        }
+    }
 }
