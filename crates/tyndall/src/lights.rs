@@ -10,10 +10,11 @@
 //! that no march step or distance sample is spent outside the beam.
 
 use crate::color::Rgb;
-use crate::ray::Ray;
-use crate::sampling::{uniform_cone, uniform_cone_pdf};
+use crate::ray::{Ray, offset_origin};
+use crate::sampling::{cosine_hemisphere, uniform_cone, uniform_cone_pdf};
 use crate::shapes::{Quad, Sphere};
 use glam::{Vec2, Vec3};
+use std::f32::consts::PI;
 
 /// How a spotlight's intensity falls off from its axis to its cutoff.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -172,7 +173,7 @@ pub struct SphereLight {
 
 impl SphereLight {
     fn area(&self) -> f32 {
-        4.0 * std::f32::consts::PI * self.sphere.radius * self.sphere.radius
+        4.0 * PI * self.sphere.radius * self.sphere.radius
     }
 
     /// A point uniform over the surface (density 1/A) from `u ∈ [0,1)²`:
@@ -341,6 +342,226 @@ impl Light {
         match self {
             Light::Spot(s) => s.clip_ray(ray, t0, t1),
             _ => (t0 < t1).then_some((t0, t1)),
+        }
+    }
+}
+
+/// An emitted ray chosen by [`Light::sample_le`], for paths traced from
+/// the light (the light tracer, `volpath`'s light subpaths).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LeSample {
+    /// The emitting point y₀: the light's position, or a point of an area
+    /// light's surface.
+    pub point: Vec3,
+    /// The emitted ray along the sampled direction, from y₀ (moved just
+    /// off an area light's surface).
+    pub ray: Ray,
+    /// The light subpath's initial throughput
+    /// `Le(y₀, ω)·|cos θ₀| / (p_pos(y₀)·p_dir(ω))` (Veach 1997 §10.2):
+    /// `I(ω)/p_dir` (W) for point and spot lights, `L·A·π·s` for a
+    /// Lambertian quad of area A emitting from s sides.
+    pub beta: Rgb,
+}
+
+impl Light {
+    /// Whether the light is a Dirac delta in position or direction (point,
+    /// spot, directional): no sampled direction can hit it, so only light
+    /// sampling ([`Light::sample_li`]) reaches it, and choosing its
+    /// emitting point takes no random numbers.
+    #[inline]
+    pub fn is_delta(&self) -> bool {
+        matches!(
+            self,
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_)
+        )
+    }
+
+    /// The position of a light that emits from one point (point and spot
+    /// lights); `None` for distant and area lights.
+    #[inline]
+    pub fn position(&self) -> Option<Vec3> {
+        match self {
+            Light::Point(p) => Some(p.position),
+            Light::Spot(s) => Some(s.position),
+            Light::Directional(_) | Light::Quad(_) | Light::Sphere(_) => None,
+        }
+    }
+
+    /// Whether the light is an area light with a flat emitting surface (a
+    /// quad): [`Light::sample_le`] starts rays on it, and its geometry
+    /// term has one normal.
+    #[inline]
+    pub fn is_flat_emitter(&self) -> bool {
+        matches!(self, Light::Quad(_))
+    }
+
+    /// Surface area (m²) of an area light's emitting surface; 0 for delta
+    /// lights.
+    #[inline]
+    pub fn area(&self) -> f32 {
+        match self {
+            Light::Quad(q) => q.quad.area(),
+            Light::Sphere(s) => s.area(),
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 0.0,
+        }
+    }
+
+    /// Unit normal of an area light's surface at its point `y` (the side
+    /// a one-sided light emits from); `None` for delta lights.
+    #[inline]
+    pub fn normal(&self, y: Vec3) -> Option<Vec3> {
+        match self {
+            Light::Quad(q) => Some(q.quad.normal),
+            Light::Sphere(s) => Some((y - s.sphere.center) / s.sphere.radius),
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => None,
+        }
+    }
+
+    /// Light reaching the receiver `x` from a point of this light chosen
+    /// for it (next event estimation), divided by the point's density:
+    /// uniform in solid angle for a rectangle and from outside a sphere,
+    /// uniform in area otherwise (`u ∈ [0,1)²`; delta lights use their
+    /// fixed point and ignore `u`). Also returns the choice's solid-angle
+    /// density for MIS ([`Light::pdf_li`]), `None` for delta lights, which
+    /// no sampled direction can hit.
+    #[inline]
+    pub fn sample_li(&self, x: Vec3, u: Vec2) -> Option<(Incident, Option<f32>)> {
+        match self {
+            Light::Quad(q) => q
+                .sample_incident(x, u)
+                .map(|(incident, pdf)| (incident, Some(pdf))),
+            Light::Sphere(s) => s
+                .sample_incident(x, u)
+                .map(|(incident, pdf)| (incident, Some(pdf))),
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => self
+                .incident(x, self.sample_point(Vec2::ZERO))
+                .map(|i| (i, None)),
+        }
+    }
+
+    /// Density per unit solid angle, seen from `x`, with which
+    /// [`Light::sample_li`] picks the point `y` of an area light in the
+    /// unit direction `direction` from `x`; 0 for delta lights.
+    #[inline]
+    pub fn pdf_li(&self, x: Vec3, y: Vec3, direction: Vec3) -> f32 {
+        match self {
+            Light::Quad(q) => q.pdf(x, y, direction),
+            Light::Sphere(s) => s.pdf(x, y, direction),
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 0.0,
+        }
+    }
+
+    /// A ray leaving the light, for paths traced from it: a point light
+    /// emits uniformly over the sphere and a spot uniformly over its cone
+    /// (both from `u_direction`); a quad from a point uniform in area
+    /// (`u_point`) with a cosine-distributed direction (`u_direction`),
+    /// on its back side if it is two-sided and `u_side ≥ ½`. `None` where
+    /// the sampled ray carries nothing (a spot's profile is 0 at its cut)
+    /// and for lights whose emission is not sampled (directional lights,
+    /// emissive spheres).
+    pub fn sample_le(&self, u_point: Vec2, u_direction: Vec2, u_side: f32) -> Option<LeSample> {
+        match self {
+            Light::Point(p) => {
+                let direction = uniform_cone(Vec3::Z, -1.0, u_direction);
+                Some(LeSample {
+                    point: p.position,
+                    ray: Ray {
+                        origin: p.position,
+                        direction,
+                    },
+                    beta: p.intensity * (4.0 * PI),
+                })
+            }
+            Light::Spot(s) => {
+                let direction = uniform_cone(s.direction, s.cos_cutoff, u_direction);
+                let falloff = s.falloff(direction.dot(s.direction));
+                if falloff <= 0.0 {
+                    return None;
+                }
+                let solid_angle = 2.0 * PI * (1.0 - s.cos_cutoff);
+                Some(LeSample {
+                    point: s.position,
+                    ray: Ray {
+                        origin: s.position,
+                        direction,
+                    },
+                    beta: s.intensity * (falloff * solid_angle),
+                })
+            }
+            Light::Quad(q) => {
+                let (normal, sides) = if q.two_sided {
+                    let back = u_side >= 0.5;
+                    (if back { -q.quad.normal } else { q.quad.normal }, 2.0)
+                } else {
+                    (q.quad.normal, 1.0)
+                };
+                let point = q.quad.point(u_point.x, u_point.y);
+                let direction = cosine_hemisphere(normal, u_direction);
+                Some(LeSample {
+                    point,
+                    ray: Ray {
+                        origin: offset_origin(point, normal, direction),
+                        direction,
+                    },
+                    // L·cos θ₀ / ((1/A)·(cos θ₀/(π·s))).
+                    beta: q.radiance * (q.quad.area() * PI * sides),
+                })
+            }
+            Light::Directional(_) | Light::Sphere(_) => None,
+        }
+    }
+
+    /// The density with which [`Light::sample_le`] emits a ray along the
+    /// unit `direction`, per unit area at its emitting point and per unit
+    /// projected solid angle of the direction (`p_pos·p_dir/|cos θ₀|`,
+    /// Veach 1997 §4.1): `1/(A·π·s)` for a quad of area A emitting from s
+    /// sides (uniform over its surface, so the point does not matter), 0
+    /// behind a one-sided quad. 0 for lights that no other strategy meets
+    /// at a sampled point (point and spot lights, whose p_pos is a Dirac
+    /// delta) and for lights whose emission is not sampled.
+    pub fn pdf_le(&self, direction: Vec3) -> f32 {
+        match self {
+            Light::Quad(q) => {
+                if !(q.two_sided || direction.dot(q.quad.normal) > 0.0) {
+                    return 0.0;
+                }
+                let sides = if q.two_sided { 2.0 } else { 1.0 };
+                1.0 / (q.quad.area() * PI * sides)
+            }
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Sphere(_) => 0.0,
+        }
+    }
+
+    /// Total emitted power Φ (W). A directional light's is the flux
+    /// through a disk of radius `scene_radius` (the scene's bounding
+    /// sphere) facing it, `E·π·r²`, as pbrt-v4's `DistantLight`; emitters
+    /// count `L·π·A` per emitting side (pbrt-v4's `DiffuseAreaLight::Phi`).
+    pub fn power(&self, scene_radius: f32) -> Rgb {
+        match self {
+            Light::Point(p) => p.intensity * (4.0 * PI),
+            // ∫ falloff dω over the cone, in closed form per profile.
+            Light::Spot(s) => {
+                let cos_c = s.cos_cutoff;
+                let integral = match s.profile {
+                    // 2π ∫ (1 − (1 − c)/(1 − c_c)) dc over [c_c, 1].
+                    SpotProfile::Linear => PI * (1.0 - cos_c),
+                    SpotProfile::Hard => 2.0 * PI * (1.0 - cos_c),
+                    // The smoothstep averages ½ over [c_c, c_i].
+                    SpotProfile::Smooth { cos_inner } => {
+                        2.0 * PI * ((1.0 - cos_inner) + 0.5 * (cos_inner - cos_c))
+                    }
+                };
+                s.intensity * integral
+            }
+            Light::Directional(d) => d.irradiance * (PI * scene_radius * scene_radius),
+            Light::Quad(q) => {
+                let sides = if q.two_sided { 2.0 } else { 1.0 };
+                q.radiance * (PI * q.quad.area() * sides)
+            }
+            Light::Sphere(s) => {
+                let sides = if s.two_sided { 2.0 } else { 1.0 };
+                s.radiance * (PI * s.area() * sides)
+            }
         }
     }
 }
@@ -631,5 +852,83 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The emitted rays' mean throughput is the light's power,
+    /// `E[β] = ∫∫ Le·cos θ₀ dA dω = Φ`: checks `sample_le`'s weights
+    /// against `power`'s closed forms (spot profiles included).
+    #[test]
+    fn emitted_throughput_averages_to_power() {
+        let inner = 20f32.to_radians().cos();
+        let quad = Quad::new(
+            Vec3::new(-0.5, 2.0, -0.3),
+            Vec3::new(1.2, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, 0.8),
+            false,
+        )
+        .unwrap();
+        let lights = [
+            Light::Point(PointLight {
+                position: Vec3::ONE,
+                intensity: Rgb::new(1.0, 2.0, 3.0),
+            }),
+            Light::Spot(spot(SpotProfile::Linear, 35.0)),
+            Light::Spot(spot(SpotProfile::Hard, 35.0)),
+            Light::Spot(spot(SpotProfile::Smooth { cos_inner: inner }, 35.0)),
+            Light::Quad(QuadLight {
+                quad,
+                radiance: Rgb::splat(2.0),
+                two_sided: true,
+            }),
+        ];
+        for light in lights {
+            let n = 256;
+            let mut sum = Rgb::ZERO;
+            for i in 0..n {
+                for j in 0..n {
+                    let u = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                    if let Some(sample) = light.sample_le(u, Vec2::new(u.y, u.x), u.x) {
+                        sum += sample.beta;
+                    }
+                }
+            }
+            let mean = sum / (n * n) as f32;
+            let power = light.power(1.0);
+            assert!(
+                (mean - power).abs().max_element() < 1e-3 * power.max_element(),
+                "{light:?}: {mean} vs {power}"
+            );
+        }
+    }
+
+    /// A quad's emission density is `1/(A·π·s)` on its emitting sides and
+    /// 0 behind a one-sided quad; its emitted rays leave from the front.
+    #[test]
+    fn quad_emission_density() {
+        let quad = Quad::new(Vec3::ZERO, Vec3::X * 2.0, Vec3::Z, false).unwrap();
+        let front = QuadLight {
+            quad,
+            radiance: Rgb::ONE,
+            two_sided: false,
+        };
+        let one_sided = Light::Quad(front);
+        let n = quad.normal;
+        let area = quad.area();
+        assert!((one_sided.pdf_le(n) - 1.0 / (area * PI)).abs() < 1e-7);
+        assert_eq!(one_sided.pdf_le(-n), 0.0);
+        let sample = one_sided
+            .sample_le(Vec2::splat(0.3), Vec2::new(0.2, 0.7), 0.9)
+            .unwrap();
+        assert!(sample.ray.direction.dot(n) > 0.0);
+        assert!(sample.ray.origin.dot(n) > 0.0);
+        let two_sided = Light::Quad(QuadLight {
+            two_sided: true,
+            ..front
+        });
+        assert!((two_sided.pdf_le(-n) - 1.0 / (area * PI * 2.0)).abs() < 1e-7);
+        let back = two_sided
+            .sample_le(Vec2::splat(0.3), Vec2::new(0.2, 0.7), 0.9)
+            .unwrap();
+        assert!(back.ray.direction.dot(n) < 0.0);
     }
 }

@@ -26,19 +26,17 @@ use super::{MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, TRACKING_STREAM, refract
 use crate::camera::Camera;
 use crate::color::{Rgb, luminance};
 use crate::exact_sum::ExactRgb;
-use crate::lights::Light;
 use crate::materials::Material;
 use crate::media::free_flight;
 use crate::media::tracking::{Collision, VolumeTracker};
 use crate::phase::PhaseFunction;
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
-use crate::sampling::{cosine_hemisphere, uniform_cone};
+use crate::sampling::cosine_hemisphere;
 use crate::scene::Scene;
 use crate::visibility::RayCounts;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
-use std::f32::consts::PI;
 use std::ops::{ControlFlow, Range};
 
 /// Which light paths to trace.
@@ -68,10 +66,7 @@ const LIGHT_SEED: u64 = 0x5eed_1197;
 /// Whether the scene has light that only light tracing delivers: a point
 /// or spot light and a dielectric.
 pub fn has_caustics(scene: &Scene) -> bool {
-    scene
-        .lights
-        .iter()
-        .any(|l| matches!(l, Light::Point(_) | Light::Spot(_)))
+    scene.lights.iter().any(|l| l.position().is_some())
         && scene
             .materials
             .iter()
@@ -130,7 +125,7 @@ pub fn trace_paths(
     sums: &mut [ExactRgb],
 ) -> (RayCounts, u64) {
     let emitters: Vec<usize> = (0..scene.lights.len())
-        .filter(|&i| matches!(scene.lights[i], Light::Point(_) | Light::Spot(_)))
+        .filter(|&i| scene.lights[i].position().is_some())
         .collect();
     let mut counts = RayCounts::default();
     let mut dropped = 0u64;
@@ -207,9 +202,11 @@ impl Tracer<'_> {
         let n = self.emitters.len();
         let pick = ((sampler.next_1d() * n as f32) as usize).min(n - 1);
         let u = sampler.next_2d();
-        let Some((mut ray, mut beta)) = emit(&scene.lights[self.emitters[pick]], u) else {
+        // Point and spot lights take only the direction's dimensions.
+        let Some(emitted) = scene.lights[self.emitters[pick]].sample_le(Vec2::ZERO, u, 0.0) else {
             return;
         };
+        let (mut ray, mut beta) = (emitted.ray, emitted.beta);
         beta *= n as f32;
         let mut tracker = VolumeTracker::new(sampler.stream(TRACKING_STREAM));
         let mut solids = SolidDepth::default();
@@ -390,35 +387,6 @@ impl Tracer<'_> {
                 }
             });
         tint
-    }
-}
-
-/// A ray leaving a point or spot light and its weight `I(ω)/p(ω)` (W):
-/// uniform directions over the sphere, or over the spot's cone.
-fn emit(light: &Light, u: Vec2) -> Option<(Ray, Rgb)> {
-    match light {
-        Light::Point(p) => {
-            let direction = uniform_cone(Vec3::Z, -1.0, u);
-            let ray = Ray {
-                origin: p.position,
-                direction,
-            };
-            Some((ray, p.intensity * (4.0 * PI)))
-        }
-        Light::Spot(s) => {
-            let direction = uniform_cone(s.direction, s.cos_cutoff, u);
-            let falloff = s.falloff(direction.dot(s.direction));
-            if falloff <= 0.0 {
-                return None;
-            }
-            let solid_angle = 2.0 * PI * (1.0 - s.cos_cutoff);
-            let ray = Ray {
-                origin: s.position,
-                direction,
-            };
-            Some((ray, s.intensity * (falloff * solid_angle)))
-        }
-        _ => None,
     }
 }
 

@@ -413,39 +413,34 @@ impl MediumQuery<'_> {
     }
 }
 
-/// The point on `light` a receiver connects to: area lights need two
-/// sample dimensions, other lights none.
+/// The sample dimensions for choosing a point on `light`: two for an
+/// area light, none for a delta light (whose point is fixed).
 #[inline]
-fn light_point(light: &Light, sampler: &mut PixelSampler) -> Option<Vec3> {
-    let u = match light {
-        Light::Quad(_) | Light::Sphere(_) => sampler.next_2d(),
-        _ => Vec2::ZERO,
-    };
-    light.sample_point(u)
+fn light_sample_u(light: &Light, sampler: &mut PixelSampler) -> Vec2 {
+    if light.is_delta() {
+        Vec2::ZERO
+    } else {
+        sampler.next_2d()
+    }
 }
 
-/// Light reaching receiver `x` from `light` for next event estimation: a
-/// quad light's point is chosen for this receiver (uniform in solid angle
-/// for a rectangle), other lights use their fixed point. Also returns the
-/// solid-angle density of the choice for MIS (`None` for delta lights,
-/// which no sampled direction can hit).
+/// The point on `light` a receiver connects to (the light's
+/// `sample_point`).
+#[inline]
+fn light_point(light: &Light, sampler: &mut PixelSampler) -> Option<Vec3> {
+    light.sample_point(light_sample_u(light, sampler))
+}
+
+/// Light reaching receiver `x` from `light` for next event estimation,
+/// with the solid-angle density of the light's point for MIS (the
+/// light's `sample_li`).
 #[inline]
 pub(crate) fn sample_light(
     light: &Light,
     x: Vec3,
     sampler: &mut PixelSampler,
 ) -> Option<(Incident, Option<f32>)> {
-    match light {
-        Light::Quad(q) => q
-            .sample_incident(x, sampler.next_2d())
-            .map(|(incident, pdf)| (incident, Some(pdf))),
-        Light::Sphere(s) => s
-            .sample_incident(x, sampler.next_2d())
-            .map(|(incident, pdf)| (incident, Some(pdf))),
-        _ => light
-            .incident(x, light.sample_point(Vec2::ZERO))
-            .map(|i| (i, None)),
-    }
+    light.sample_li(x, light_sample_u(light, sampler))
 }
 
 /// Radiance scattered at fog point `x` of the query's ray towards the

@@ -6,16 +6,13 @@ use super::mis::{FogEventDensities, segment_term};
 use super::segment::{Connections, FogSegment};
 use crate::color::Rgb;
 use crate::integrators::{Integrator, MAX_GLASS_CROSSINGS, Scatterer};
-use crate::lights::Light;
 use crate::materials::Material;
 use crate::media::Fog;
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
-use crate::sampling::cosine_hemisphere;
 use crate::scene::Scene;
 use crate::visibility::RayCounts;
 use glam::Vec3;
-use std::f32::consts::PI;
 
 /// Light-vertex connections at the camera-path vertex `at.x` (a fog event
 /// or a Lambertian surface point): a light subpath is started on a quad
@@ -56,48 +53,36 @@ pub(super) fn connect_light_vertex(
     let (u_point, u_direction, u_flight) =
         (sampler.next_2d(), sampler.next_2d(), sampler.next_1d());
     let (u_turn, u_flight2) = (sampler.next_2d(), sampler.next_1d());
-    let Some((index, q)) = scene
+    let Some(light) = scene
         .lights
         .iter()
-        .enumerate()
-        .filter_map(|(i, l)| match l {
-            Light::Quad(q) => Some((i, q)),
-            _ => None,
-        })
+        .filter(|l| l.is_flat_emitter())
         .nth((choice as usize).min(lights - 1))
     else {
         return Rgb::ZERO;
     };
     // A two-sided light picks its side with the choice's fraction.
-    let (normal, sides) = if q.two_sided {
-        let back = choice.fract() >= 0.5;
-        (if back { -q.quad.normal } else { q.quad.normal }, 2.0)
-    } else {
-        (q.quad.normal, 1.0)
-    };
-    let y0 = q.quad.point(u_point.x, u_point.y);
-    let direction = cosine_hemisphere(normal, u_direction);
-    let first_flight = Ray {
-        origin: offset_origin(y0, normal, direction),
-        direction,
-    };
-    // The first flight may cross thin glass (it is not a camera segment).
-    let Some((y1, tint)) = light_flight(scene, fog, first_flight, u_flight, true, counts) else {
+    let Some(emission) = light.sample_le(u_point, u_direction, choice.fract()) else {
         return Rgb::ZERO;
     };
-    let light = &scene.lights[index];
-    // Le·n_q·A·π·s: the light vertex's density cancels T(y0, y1), cos θ₀
-    // and 1/|y1 − y0|² of the path's contribution.
-    let emitted = q.radiance * tint * (lights as f32 * q.quad.area() * PI * sides);
+    let (y0, direction) = (emission.point, emission.ray.direction);
+    // The first flight may cross thin glass (it is not a camera segment).
+    let Some((y1, tint)) = light_flight(scene, fog, emission.ray, u_flight, true, counts) else {
+        return Rgb::ZERO;
+    };
+    // β·n_q = Le·cos θ₀·n_q/(p_pos·p_dir): the light vertex's density
+    // cancels T(y0, y1), cos θ₀ and 1/|y1 − y0|² of the path's
+    // contribution.
+    let emitted = emission.beta * tint * lights as f32;
     let mut sum = Rgb::ZERO;
     if let Some(first) = at.join(integrator, scene, fog, y1, counts) {
-        // f/p of x → y1 → y0: f(x)·T(x, y1)/t² · σs/σt · p(y1) · Le·n_q·A·π·s.
+        // f/p of x → y1 → y0: f(x)·T(x, y1)/t² · σs/σt · p(y1) · β·n_q.
         let to_light = -direction;
         let phase_y1 = fog.phase.eval(to_light.dot(first.omega));
         let t = first.distance;
         let p_connect = first.segment.light_vertex_terms(t, light, y0);
-        let p_omega = q.pdf(y1, y0, to_light);
-        let samples = strategies.later_equiangular().area;
+        let p_omega = light.pdf_li(y1, y0, to_light);
+        let samples = strategies.later_equiangular();
         let equiangular = segment_term(&first.segment, t, samples, light, y0);
         let weight = first.segment.connection_term(t, light, y0)
             / FogEventDensities::new(strategies, p_omega, phase_y1, equiangular, p_connect).total();
@@ -158,13 +143,13 @@ pub(super) fn connect_light_vertex(
     let to_light = -direction;
     let phase_y1 = fog.phase.eval(to_light.dot(back));
     let p_connect = segment.light_vertex_terms(t12, light, y0);
-    let p_omega = q.pdf(y1, y0, to_light);
-    let samples = strategies.later_equiangular().area;
+    let p_omega = light.pdf_li(y1, y0, to_light);
+    let samples = strategies.later_equiangular();
     let equiangular = segment_term(&segment, t12, samples, light, y0);
     let weight = segment.second_vertex_term(t12, light, y0)
         / FogEventDensities::new(strategies, p_omega, phase_y1, equiangular, p_connect).total();
     // f/p of x → y2 → y1 → y0: f(x)·T(x, y2)/t² · (σs/σt)² · p(y2) ·
-    // Le·n_q·A·π·s (the second flight's density cancels p(y1), T(y1, y2)
+    // β·n_q (the second flight's density cancels p(y1), T(y1, y2)
     // and 1/|y2 − y1|²).
     sum + emitted * fog.albedo * fog.albedo * second.value * (p_dir_y2 * weight)
 }

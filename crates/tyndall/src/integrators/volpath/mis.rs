@@ -19,7 +19,6 @@ use crate::lights::Light;
 use crate::sampling::EquiangularSampler;
 use crate::scene::Scene;
 use glam::Vec3;
-use std::f32::consts::PI;
 
 /// The estimators `volpath` combines by the balance heuristic, each of
 /// which can produce the last connection of a path to a light on its own.
@@ -115,10 +114,12 @@ impl EquiangularCounts {
     /// Emissive spheres take none: their light is shared by NEE and
     /// phase or BSDF sampling alone.
     pub(super) fn of(self, light: &Light) -> u32 {
-        match light {
-            Light::Quad(_) => self.area,
-            Light::Sphere(_) => 0,
-            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => self.delta,
+        if light.is_delta() {
+            self.delta
+        } else if light.is_flat_emitter() {
+            self.area
+        } else {
+            0
         }
     }
 }
@@ -152,11 +153,12 @@ const CAMERA_AREA_EQUIANGULAR_SAMPLES: u32 = 1;
 pub(super) fn segment_term(
     segment: &FogSegment,
     t: f32,
-    samples: u32,
+    counts: EquiangularCounts,
     light: &Light,
     y: Vec3,
 ) -> f32 {
-    let Light::Quad(q) = light else {
+    let samples = counts.of(light);
+    let Some(normal) = light.normal(y) else {
         return 0.0;
     };
     if samples == 0 {
@@ -168,22 +170,12 @@ pub(super) fn segment_term(
     };
     let d = y - ray.at(t);
     let d2 = d.length_squared();
-    let g = q.quad.normal.dot(d).abs() / (d2 * d2.sqrt());
+    let g = normal.dot(d).abs() / (d2 * d2.sqrt());
     let p_flight = segment.flight_pdf(t);
     if !(g > 0.0 && p_flight > 0.0) {
         return 0.0;
     }
-    samples as f32 * eq.pdf(t) / q.quad.area() / (p_flight * g)
-}
-
-/// Solid-angle density with which NEE picks the point `p` of the area
-/// light `light` from a point `from` (see [`sample_light`]).
-fn light_pdf(light: &Light, from: Vec3, p: Vec3, direction: Vec3) -> f32 {
-    match light {
-        Light::Quad(q) => q.pdf(from, p, direction),
-        Light::Sphere(s) => s.pdf(from, p, direction),
-        _ => 0.0,
-    }
+    samples as f32 * eq.pdf(t) / light.area() / (p_flight * g)
 }
 
 /// MIS weight of emission found by a sampled direction: the balance
@@ -214,7 +206,7 @@ pub(super) fn emission_weight(
             if !hits {
                 return 0.0;
             }
-            let p_light = light_pdf(&scene.lights[index], from, p, direction);
+            let p_light = scene.lights[index].pdf_li(from, p, direction);
             pdf / (pdf + on(nee, p_light))
         }
         (
@@ -222,7 +214,7 @@ pub(super) fn emission_weight(
                 pdf,
                 segment,
                 t,
-                area_samples,
+                samples,
             },
             Some(index),
         ) => {
@@ -230,8 +222,8 @@ pub(super) fn emission_weight(
                 return 0.0;
             }
             let light = &scene.lights[index];
-            let p_light = light_pdf(light, segment.medium.ray.at(t), p, direction);
-            let q = segment_term(&segment, t, area_samples, light, p);
+            let p_light = light.pdf_li(segment.medium.ray.at(t), p, direction);
+            let q = segment_term(&segment, t, samples, light, p);
             let p_connect = segment.light_vertex_terms(t, light, p);
             pdf / FogEventDensities::new(strategies, p_light, pdf, q, p_connect).total()
         }
@@ -290,24 +282,29 @@ impl FogSegment<'_> {
         self.connection_term(t, light, y0) + self.second_vertex_term(t, light, y0)
     }
 
-    /// For a quad light, the light-vertex connection's density for the
-    /// event at `t` lit from the light point `y0`, relative to the
-    /// free-flight event's (see [`connect_light_vertex`]), in the
-    /// solid-angle terms of the balance heuristic at a fog event:
-    /// `p₄ / (p_dir·p_flight(t)/t² · G)`, where
-    /// `p₄ = σt·T(y0, y)·cos θ₀ / (n_q·A·π·s·|y − y0|²)` is the volume
-    /// density of the light vertex y, `p_dir` the density of the ray's
-    /// direction at its origin and `G = cos θ₀/|y − y0|²`. Zero unless the
-    /// ray starts at a vertex that connected.
+    /// The light-vertex connection's density for the event at `t` lit
+    /// from the light point `y0`, relative to the free-flight event's
+    /// (see [`connect_light_vertex`]), in the solid-angle terms of the
+    /// balance heuristic at a fog event: `p₄ / (p_dir·p_flight(t)/t² · G)`,
+    /// where `p₄ = σt·T(y0, y)·p_le·cos θ₀ / (n_q·|y − y0|²)` is the volume
+    /// density of the light vertex y (n_q lights start subpaths, `p_le` is
+    /// the light's `pdf_le`), `p_dir` the density of the ray's direction at
+    /// its origin and `G = cos θ₀/|y − y0|²`. Zero unless the ray starts at
+    /// a vertex that connected, and for lights that start no subpaths.
     pub(super) fn connection_term(&self, t: f32, light: &Light, y0: Vec3) -> f32 {
-        let (Some(p_dir), Light::Quad(q)) = (self.connected_from.first, light) else {
+        let Some(p_dir) = self.connected_from.first else {
             return 0.0;
         };
         let medium = &self.medium;
         let y = medium.ray.at(t);
         let to_y = y - y0;
         let d = to_y.length();
-        if d.is_nan() || d <= 0.0 || !(q.two_sided || to_y.dot(q.quad.normal) > 0.0) {
+        if d.is_nan() || d <= 0.0 {
+            return 0.0;
+        }
+        let direction = to_y / d;
+        let p_le = light.pdf_le(direction);
+        if p_le == 0.0 {
             return 0.0;
         }
         let p_flight = self.flight_pdf(t);
@@ -315,47 +312,41 @@ impl FogSegment<'_> {
             return 0.0;
         }
         let fog = medium.fog;
-        let t_light = fog.transmittance_along(y0, to_y / d, d);
+        let t_light = fog.transmittance_along(y0, direction, d);
         let lights = medium.scene.quad_light_count() as f32;
-        let sides = if q.two_sided { 2.0 } else { 1.0 };
-        finite_density(
-            fog.sigma_t * t_light * t * t
-                / (lights * q.quad.area() * PI * sides * p_dir * p_flight),
-        )
+        finite_density(fog.sigma_t * t_light * t * t * p_le / (lights * p_dir * p_flight))
     }
 
-    /// For a quad light, the second-light-vertex strategy's density for
-    /// the path (x, y₂, y₁ = ray.at(t), y0) relative to the camera path's
-    /// common factor at y₁, where y₂ is the ray's origin and x the vertex
-    /// before it: `σt·T(y0, y₁)·p(y₁) / (n_q·A·π·s·P_x(y₂)·p_dir(y₂))`
-    /// (the light subpath's densities of y₁ and y₂ over the camera's of
-    /// y₂ and of the event at y₁; see [`connect_light_vertex`]). Zero
-    /// unless the origin was reached from a vertex that connected to
-    /// second light vertices.
+    /// The second-light-vertex strategy's density for the path
+    /// (x, y₂, y₁ = ray.at(t), y0) relative to the camera path's common
+    /// factor at y₁, where y₂ is the ray's origin and x the vertex before
+    /// it: `σt·T(y0, y₁)·p(y₁)·p_le / (n_q·P_x(y₂)·p_dir(y₂))` (the light
+    /// subpath's densities of y₁ and y₂ over the camera's of y₂ and of the
+    /// event at y₁; see [`connect_light_vertex`]). Zero unless the origin
+    /// was reached from a vertex that connected to second light vertices,
+    /// and for lights that start no subpaths.
     pub(super) fn second_vertex_term(&self, t: f32, light: &Light, y0: Vec3) -> f32 {
-        let (Some(reached), Light::Quad(q)) = (self.connected_from.reached, light) else {
+        let Some(reached) = self.connected_from.reached else {
             return 0.0;
         };
         let medium = &self.medium;
         let y1 = medium.ray.at(t);
         let to_y1 = y1 - y0;
         let d = to_y1.length();
-        if d.is_nan()
-            || d <= 0.0
-            || !(q.two_sided || to_y1.dot(q.quad.normal) > 0.0)
-            || reached <= 0.0
-        {
+        if d.is_nan() || d <= 0.0 || reached <= 0.0 {
+            return 0.0;
+        }
+        let direction = to_y1 / d;
+        let p_le = light.pdf_le(direction);
+        if p_le == 0.0 {
             return 0.0;
         }
         let fog = medium.fog;
-        let t_light = fog.transmittance_along(y0, to_y1 / d, d);
+        let t_light = fog.transmittance_along(y0, direction, d);
         // Light arrives along to_y1 and turns back along −ray.direction.
-        let phase = fog.phase.eval(-(to_y1 / d).dot(medium.ray.direction));
+        let phase = fog.phase.eval(-direction.dot(medium.ray.direction));
         let lights = medium.scene.quad_light_count() as f32;
-        let sides = if q.two_sided { 2.0 } else { 1.0 };
-        finite_density(
-            fog.sigma_t * t_light * phase / (lights * q.quad.area() * PI * sides * reached),
-        )
+        finite_density(fog.sigma_t * t_light * phase * p_le / (lights * reached))
     }
 }
 

@@ -79,7 +79,7 @@ use crate::scene::Scene;
 use crate::visibility::RayCounts;
 use connections::{LightVertexOrigin, connect_light_vertex};
 use glam::Vec3;
-use mis::{emission_weight, on};
+use mis::{EquiangularCounts, emission_weight, on};
 use nee::{PathVertex, medium_nee};
 use segment::{Connections, EquiangularNee, FogSegment};
 use std::f32::consts::FRAC_1_PI;
@@ -110,13 +110,13 @@ enum Arrival<'a> {
         in_volume: bool,
     },
     /// Phase-sampled (density `pdf`) at the free-flight event at `t` on
-    /// `segment`, whose equiangular estimator took `area_samples` per
-    /// area light: three strategies can produce the light it hits.
+    /// `segment`, whose equiangular estimator took `samples` per light:
+    /// three strategies can produce the light it hits.
     Medium {
         pdf: f32,
         segment: FogSegment<'a>,
         t: f32,
-        area_samples: u32,
+        samples: EquiangularCounts,
     },
 }
 
@@ -166,9 +166,7 @@ pub(crate) fn radiance(
                 radiance +=
                     throughput * equiangular.estimate(&segment, strategies, counts, &mut tracker);
             }
-            fog_event = segment
-                .free_flight(u_flight)
-                .map(|t| (segment, t, samples.area));
+            fog_event = segment.free_flight(u_flight).map(|t| (segment, t, samples));
         }
         // The volumes' first collision before the fog's event or the
         // surface: the first of independent events is the nearest.
@@ -210,7 +208,7 @@ pub(crate) fn radiance(
                 }
             }
         }
-        if let Some((segment, t, area_samples)) = fog_event {
+        if let Some((segment, t, samples)) = fog_event {
             // A real scattering event in the fog.
             if depth >= max_events {
                 return radiance;
@@ -259,7 +257,7 @@ pub(crate) fn radiance(
                 pdf,
                 segment,
                 t,
-                area_samples,
+                samples,
             };
             ray = Ray {
                 origin: x,

@@ -43,7 +43,7 @@ pub(super) fn medium_nee(
             Some(p_light) => {
                 let y = x + incident.direction * incident.distance;
                 let q = if equiangular.covers(index) {
-                    segment_term(segment, t, equiangular.counts.area, light, y)
+                    segment_term(segment, t, equiangular.counts, light, y)
                 } else {
                     0.0
                 };

@@ -6,7 +6,6 @@
 use super::mis::{EquiangularCounts, FogEventDensities, Strategies, on};
 use crate::color::Rgb;
 use crate::integrators::{Integrator, MediumQuery, scattered_light};
-use crate::lights::Light;
 use crate::media::tracking::VolumeTracker;
 use crate::media::{Fog, free_flight, transmittance};
 use crate::ray::Ray;
@@ -147,14 +146,10 @@ impl EquiangularNee {
                     return None;
                 }
                 let u = sampler.next_1d();
-                let point = match light {
-                    Light::Point(p) => p.position,
-                    Light::Spot(s) => s.position,
-                    Light::Quad(q) => {
-                        let v = sampler.next_2d();
-                        q.quad.point(v.x, v.y)
-                    }
-                    Light::Directional(_) | Light::Sphere(_) => return None,
+                let point = if light.is_delta() {
+                    light.position()?
+                } else {
+                    light.sample_point(sampler.next_2d())?
                 };
                 let (ea, eb) = light.reach(ray, segment.a, segment.b)?;
                 let sampler = EquiangularSampler::new(ray, point, ea, eb)?;
@@ -207,13 +202,14 @@ impl EquiangularNee {
                 }
                 let p_flight = segment.flight_pdf(t);
                 // The integrand T(a, t)·σs·(eq. 1) over the summed densities.
-                let denominator = match light {
-                    Light::Quad(q) => {
+                let denominator = match light.normal(entry.point) {
+                    // An area light.
+                    Some(normal) => {
                         // E = L·A·G (area sampling), so the (t, y)
                         // densities appear here multiplied by A.
-                        let g = q.quad.normal.dot(incident.direction).abs()
+                        let g = normal.dot(incident.direction).abs()
                             / (incident.distance * incident.distance);
-                        let p_omega = q.pdf(x, entry.point, incident.direction);
+                        let p_omega = light.pdf_li(x, entry.point, incident.direction);
                         let p_connect = segment.light_vertex_terms(t, light, entry.point);
                         // This estimator's own density is n·p_e, above.
                         let others = FogEventDensities::new(
@@ -223,9 +219,9 @@ impl EquiangularNee {
                             0.0,
                             p_connect,
                         );
-                        n * p_e + q.quad.area() * p_flight * g * others.total()
+                        n * p_e + light.area() * p_flight * g * others.total()
                     }
-                    _ => n * p_e + on(strategies.medium_nee, p_flight),
+                    None => n * p_e + on(strategies.medium_nee, p_flight),
                 };
                 let camera_t = transmittance(fog.sigma_t, t - segment.a)
                     * tracker.transmittance(&medium.scene.volumes, &medium.ray, 0.0, t);
