@@ -22,9 +22,12 @@
 //! lights seen in mirrors — connections through specular surfaces.
 
 use super::volpath::{MAX_PATH_EVENTS, survives_roulette};
-use super::{MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, TRACKING_STREAM, refract_or_reflect};
+use super::{
+    MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, TRACKING_STREAM, media_transmittance,
+    refract_or_reflect,
+};
 use crate::camera::Camera;
-use crate::color::{Rgb, luminance};
+use crate::color::Rgb;
 use crate::exact_sum::ExactRgb;
 use crate::materials::Material;
 use crate::media::free_flight;
@@ -32,7 +35,6 @@ use crate::media::tracking::{Collision, VolumeTracker};
 use crate::phase::PhaseFunction;
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
-use crate::sampling::cosine_hemisphere;
 use crate::scene::Scene;
 use crate::visibility::RayCounts;
 use glam::{Vec2, Vec3};
@@ -278,30 +280,20 @@ impl Tracer<'_> {
                         -geometric_normal
                     };
                     if surface.diffuse != Rgb::ZERO {
-                        let diffuse = Scatterer::Diffuse {
-                            rho: surface.diffuse,
-                            normal,
-                        };
+                        let diffuse = Scatterer::Surface { surface, normal };
                         self.connect(p, &diffuse, beta, &mut tracker, splats, counts);
                     }
                     // Continue by the lobes, as `volpath` does.
-                    let (d, s) = (luminance(surface.diffuse), luminance(surface.specular));
-                    if d + s <= 0.0 {
+                    if surface.diffuse_probability().is_none() {
                         return;
                     }
-                    let p_diffuse = d / (d + s);
                     let choice = sampler.next_1d();
                     let u = sampler.next_2d();
-                    let direction = if choice < p_diffuse {
-                        beta *= surface.diffuse / p_diffuse;
-                        cosine_hemisphere(normal, u)
-                    } else {
-                        let Some(direction) = surface.reflect(ray.direction, normal, u) else {
-                            return;
-                        };
-                        beta *= surface.specular / (1.0 - p_diffuse);
-                        direction
+                    let Some(sample) = surface.sample(ray.direction, normal, choice, u) else {
+                        return;
                     };
+                    beta *= sample.weight;
+                    let direction = sample.direction;
                     ray = Ray {
                         origin: offset_origin(p, geometric_normal, direction),
                         direction,
@@ -323,7 +315,8 @@ impl Tracer<'_> {
 
     /// Splats the light scattered at `x` towards the camera:
     /// `β·f·T·W/d²`, f the phase function or `ρ/π·cos` towards the camera,
-    /// T everything between (fog, volumes, thin glass; zero if blocked).
+    /// T everything between (thin glass, and the media by
+    /// [`media_transmittance`]; zero if blocked).
     #[allow(clippy::too_many_arguments)]
     fn connect(
         &self,
@@ -348,18 +341,8 @@ impl Tracer<'_> {
         if glass == Rgb::ZERO {
             return;
         }
-        let scene = self.scene;
-        let fog_t = scene
-            .fog
-            .as_ref()
-            .map_or(1.0, |fog| fog.transmittance_along(x, to_camera, distance));
-        let ray = Ray {
-            origin,
-            direction: to_camera,
-        };
-        let volumes_t = tracker.transmittance(&scene.volumes, &ray, 0.0, distance);
-        let value =
-            beta * f * glass * volumes_t * (fog_t * projection.importance / (distance * distance));
+        let media = media_transmittance(self.scene, tracker, x, origin, to_camera, distance);
+        let value = beta * f * glass * media * (projection.importance / (distance * distance));
         let pixel = projection.film.floor().as_uvec2();
         splats.push((pixel.y * self.width + pixel.x, value));
     }

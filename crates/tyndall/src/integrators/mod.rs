@@ -36,7 +36,6 @@ use crate::sampler::PixelSampler;
 use crate::scene::Scene;
 use crate::visibility::{RayCounts, Visibility};
 use glam::{Vec2, Vec3};
-use std::f32::consts::FRAC_1_PI;
 
 /// The integrators, selectable by name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -271,8 +270,9 @@ impl<'a> Integrator<'a> {
 /// Direct lighting of the Lambertian lobe of `surface` at point `p` with
 /// unit normal `normal` facing the viewer, one sample per light:
 /// `Σ ρ/π · E · cos θ · V · Tr_glass · T_media · w`, where
-/// `w = weight(p_light, cos θ)` is the caller's MIS weight given the
-/// light sample's solid-angle density (`None` for delta lights).
+/// `w = weight(p_light, ω)` is the caller's MIS weight given the light
+/// sample's solid-angle density (`None` for delta lights) and unit
+/// direction ω towards it.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn lambert_direct_lighting(
     scene: &Scene,
@@ -283,7 +283,7 @@ pub(crate) fn lambert_direct_lighting(
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
     tracker: &mut VolumeTracker,
-    weight: impl Fn(Option<f32>, f32) -> f32,
+    weight: impl Fn(Option<f32>, Vec3) -> f32,
 ) -> Rgb {
     if surface.diffuse == Rgb::ZERO {
         return Rgb::ZERO;
@@ -307,7 +307,7 @@ pub(crate) fn lambert_direct_lighting(
             counts,
             tracker,
         );
-        sum += arriving * (cos * weight(p_light, cos));
+        sum += arriving * (cos * weight(p_light, incident.direction));
     }
     sum * surface.diffuse_brdf()
 }
@@ -517,18 +517,40 @@ pub(crate) fn light_arriving(
     if glass == Rgb::ZERO {
         return Rgb::ZERO;
     }
-    let fog_t = scene.fog.as_ref().map_or(1.0, |fog| {
-        fog.transmittance_along(x, incident.direction, incident.distance)
-    });
+    let media = media_transmittance(
+        scene,
+        tracker,
+        x,
+        origin,
+        incident.direction,
+        incident.distance,
+    );
+    incident.irradiance * glass * media
+}
+
+/// Transmittance of the scene's media from `x` over `distance` along the
+/// unit `direction`: the fog's in closed form (from `x`), times the
+/// volumes' by ratio tracking (one estimate, along the ray from `origin`:
+/// `x` moved off a surface, where a shadow ray starts). Zero without
+/// tracking where the fog alone already blocks the light. Every
+/// connection to a light or the camera takes its transmittance here.
+pub(crate) fn media_transmittance(
+    scene: &Scene,
+    tracker: &mut VolumeTracker,
+    x: Vec3,
+    origin: Vec3,
+    direction: Vec3,
+    distance: f32,
+) -> Rgb {
+    let fog_t = scene
+        .fog
+        .as_ref()
+        .map_or(1.0, |fog| fog.transmittance_along(x, direction, distance));
     if fog_t == 0.0 {
         return Rgb::ZERO;
     }
-    let to_light = Ray {
-        origin,
-        direction: incident.direction,
-    };
-    let volumes_t = tracker.transmittance(&scene.volumes, &to_light, 0.0, incident.distance);
-    incident.irradiance * glass * volumes_t * fog_t
+    let ray = Ray { origin, direction };
+    tracker.transmittance(&scene.volumes, &ray, 0.0, distance) * fog_t
 }
 
 /// A scattering vertex that a connection joins to another vertex (a
@@ -541,27 +563,25 @@ pub(crate) enum Scatterer<'a> {
         phase: &'a PhaseFunction,
         arriving: Vec3,
     },
-    /// A Lambertian surface of reflectance `rho` with unit normal `normal`
-    /// facing the side the path arrived from.
-    Diffuse { rho: Rgb, normal: Vec3 },
+    /// An opaque surface with unit normal `normal` facing the side the
+    /// path arrived from; connections join its Lambertian lobe.
+    Surface { surface: Surface, normal: Vec3 },
 }
 
 impl Scatterer<'_> {
     /// For a connection leaving along unit `omega`: the scattering
-    /// `p(θ)` (cos θ = arriving·omega) or `ρ/π·cos θ`, and the density
-    /// with which continuing the path by phase sampling, or by cosine
-    /// sampling of a surface with no reflective layer, picks `omega`.
-    /// `None` if a surface does not scatter that way.
+    /// `p(θ)` (cos θ = arriving·omega) or the surface's Lambertian
+    /// `ρ/π·cos θ` ([`Surface::eval`]), and the density with which
+    /// continuing the path picks `omega` (phase sampling, or
+    /// [`Surface::pdf`]). `None` if a surface does not scatter that way.
     pub fn scatter(&self, omega: Vec3) -> Option<(Rgb, f32)> {
         match *self {
             Scatterer::Medium { phase, arriving } => {
                 let p = phase.eval(omega.dot(arriving));
                 Some((Rgb::splat(p), p))
             }
-            Scatterer::Diffuse { rho, normal } => {
-                let cos = normal.dot(omega);
-                (cos > 0.0).then(|| (rho * (FRAC_1_PI * cos), cos * FRAC_1_PI))
-            }
+            Scatterer::Surface { surface, normal } => (normal.dot(omega) > 0.0)
+                .then(|| (surface.eval(normal, omega), surface.pdf(normal, omega))),
         }
     }
 
@@ -569,7 +589,7 @@ impl Scatterer<'_> {
     pub fn origin(&self, x: Vec3, omega: Vec3) -> Vec3 {
         match *self {
             Scatterer::Medium { .. } => x,
-            Scatterer::Diffuse { normal, .. } => offset_origin(x, normal, omega),
+            Scatterer::Surface { normal, .. } => offset_origin(x, normal, omega),
         }
     }
 }

@@ -69,12 +69,11 @@ use super::{
     Integrator, MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, SurfaceHit, TRACKING_STREAM,
     lambert_direct_lighting, refract_or_reflect,
 };
-use crate::color::{Rgb, luminance};
-use crate::materials::{Material, Surface};
+use crate::color::Rgb;
+use crate::materials::{Lobe, Material, Surface};
 use crate::media::tracking::{Collision, VolumeTracker};
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
-use crate::sampling::cosine_hemisphere;
 use crate::scene::Scene;
 use crate::visibility::RayCounts;
 use connections::{LightVertexOrigin, connect_light_vertex};
@@ -82,7 +81,6 @@ use glam::Vec3;
 use mis::{EquiangularCounts, emission_weight, on};
 use nee::{PathVertex, medium_nee};
 use segment::{Connections, EquiangularNee, FogSegment};
-use std::f32::consts::FRAC_1_PI;
 
 /// Scattering events before Russian roulette may end a path.
 const ROULETTE_DEPTH: u32 = 3;
@@ -337,17 +335,14 @@ pub(crate) fn radiance(
             return radiance;
         }
         depth += 1;
-        let (diffuse_weight, specular_weight) =
-            (luminance(surface.diffuse), luminance(surface.specular));
-        if diffuse_weight + specular_weight <= 0.0 {
+        if surface.diffuse_probability().is_none() {
             return radiance;
         }
-        let p_diffuse = diffuse_weight / (diffuse_weight + specular_weight);
         // NEE for the Lambertian lobe, MIS against its cosine sampling
         // (chosen with probability P_d).
-        let mis = |p_light: Option<f32>, cos: f32| {
+        let mis = |p_light: Option<f32>, direction: Vec3| {
             p_light.map_or(1.0, |p_light| {
-                p_light / (p_light + on(strategies.surface_hits, p_diffuse * cos * FRAC_1_PI))
+                p_light / (p_light + on(strategies.surface_hits, surface.pdf(normal, direction)))
             })
         };
         let visibility = integrator.visibility;
@@ -370,10 +365,7 @@ pub(crate) fn radiance(
         let connects = connections && depth < max_events && !surface.has_specular();
         let twice = connects && depth + 1 < max_events;
         if connects && let Some(fog) = &scene.fog {
-            let vertex = Scatterer::Diffuse {
-                rho: surface.diffuse,
-                normal,
-            };
+            let vertex = Scatterer::Surface { surface, normal };
             let at = LightVertexOrigin {
                 x: p,
                 vertex: &vertex,
@@ -385,32 +377,30 @@ pub(crate) fn radiance(
         }
         let choice = sampler.next_1d();
         let u = sampler.next_2d();
-        let direction = if choice < p_diffuse {
-            let direction = cosine_hemisphere(normal, u);
-            // f·cos/pdf = (ρ/π)·cos / (P_d·cos/π) = ρ/P_d.
-            throughput *= surface.diffuse / p_diffuse;
-            let pdf = p_diffuse * normal.dot(direction).max(0.0) * FRAC_1_PI;
-            arrival = Arrival::Sampled {
-                from: p,
-                pdf,
-                in_volume: false,
-            };
-            let connects = connects && scene.fog.is_some();
-            connected_from = Connections {
-                first: connects.then_some(pdf),
-                second: twice && connects,
-                reached: None,
-            };
-            direction
-        } else {
-            let Some(direction) = surface.reflect(ray.direction, normal, u) else {
-                return radiance;
-            };
-            throughput *= surface.specular / (1.0 - p_diffuse);
-            arrival = Arrival::Unweighted;
-            connected_from = Connections::default();
-            direction
+        let Some(sample) = surface.sample(ray.direction, normal, choice, u) else {
+            return radiance;
         };
+        throughput *= sample.weight;
+        let direction = sample.direction;
+        match sample.lobe {
+            Lobe::Diffuse => {
+                arrival = Arrival::Sampled {
+                    from: p,
+                    pdf: sample.pdf,
+                    in_volume: false,
+                };
+                let connects = connects && scene.fog.is_some();
+                connected_from = Connections {
+                    first: connects.then_some(sample.pdf),
+                    second: twice && connects,
+                    reached: None,
+                };
+            }
+            Lobe::Specular => {
+                arrival = Arrival::Unweighted;
+                connected_from = Connections::default();
+            }
+        }
         ray = Ray {
             origin: offset_origin(p, geometric_normal, direction),
             direction,
