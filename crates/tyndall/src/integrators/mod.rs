@@ -21,7 +21,9 @@ pub mod march;
 pub mod single;
 pub mod volpath;
 
-pub use volpath::Strategies;
+pub use march::March;
+pub use single::Single;
+pub use volpath::{Strategies, Volpath};
 
 use crate::accel::Hit;
 use crate::color::Rgb;
@@ -78,17 +80,16 @@ impl IntegratorKind {
 /// against degenerate scenes of stacked coincident panes).
 const MAX_GLASS_CROSSINGS: u32 = 64;
 
-/// A configured integrator, borrowing the render's visibility.
+/// A configured integrator, borrowing the render's visibility: the method
+/// with its own parameters.
 #[derive(Clone, Copy)]
-pub struct Integrator<'a> {
-    kind: IntegratorKind,
-    step: f32,
-    volume_samples: u32,
-    interleave: u32,
-    max_bounces: u32,
-    max_depth: u32,
-    strategies: Strategies,
-    visibility: &'a Visibility,
+pub enum Integrator<'a> {
+    /// The paper's ray march ([`march`]).
+    March(March<'a>),
+    /// Unbiased single scattering ([`single`]).
+    Single(Single<'a>),
+    /// Volumetric path tracing ([`volpath`]).
+    Volpath(Volpath<'a>),
 }
 
 /// The pixel a camera sample belongs to, for methods that correlate
@@ -100,16 +101,35 @@ pub struct PixelPosition {
 }
 
 impl<'a> Integrator<'a> {
+    /// The integrator `settings` choose, with its parameters from them.
     pub fn new(settings: &RenderSettings, visibility: &'a Visibility) -> Self {
-        Self {
-            kind: settings.integrator,
-            step: settings.step,
-            volume_samples: settings.volume_samples,
-            interleave: settings.interleave,
-            max_bounces: settings.max_bounces,
-            max_depth: settings.max_depth,
-            strategies: settings.strategies,
-            visibility,
+        match settings.integrator {
+            IntegratorKind::March => Integrator::March(March {
+                step: settings.step,
+                interleave: settings.interleave,
+                max_bounces: settings.max_bounces,
+                visibility,
+            }),
+            IntegratorKind::Single => Integrator::Single(Single {
+                volume_samples: settings.volume_samples,
+                max_bounces: settings.max_bounces,
+                visibility,
+            }),
+            IntegratorKind::Volpath => Integrator::Volpath(Volpath {
+                max_depth: settings.max_depth,
+                strategies: settings.strategies,
+                volume_samples: settings.volume_samples,
+                visibility,
+            }),
+        }
+    }
+
+    /// Which integrator this is.
+    pub fn kind(&self) -> IntegratorKind {
+        match self {
+            Integrator::March(_) => IntegratorKind::March,
+            Integrator::Single(_) => IntegratorKind::Single,
+            Integrator::Volpath(_) => IntegratorKind::Volpath,
         }
     }
 
@@ -118,14 +138,78 @@ impl<'a> Integrator<'a> {
     pub fn radiance(
         &self,
         scene: &Scene,
-        mut ray: Ray,
+        ray: Ray,
         pixel: PixelPosition,
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
     ) -> Rgb {
-        if self.kind == IntegratorKind::Volpath {
-            return volpath::radiance(self, scene, ray, sampler, counts);
+        match self {
+            Integrator::March(march) => {
+                let stratum = march::interleaved_stratum(pixel, march.interleave);
+                let in_scattered =
+                    |medium: &MediumQuery,
+                     sampler: &mut PixelSampler,
+                     counts: &mut RayCounts,
+                     tracker: &mut VolumeTracker| {
+                        march::in_scattered(medium, march.step, stratum, sampler, counts, tracker)
+                    };
+                let path = CameraPath {
+                    visibility: march.visibility,
+                    max_bounces: march.max_bounces,
+                };
+                path.radiance(scene, ray, sampler, counts, in_scattered)
+            }
+            Integrator::Single(single) => {
+                let in_scattered =
+                    |medium: &MediumQuery,
+                     sampler: &mut PixelSampler,
+                     counts: &mut RayCounts,
+                     tracker: &mut VolumeTracker| {
+                        single::in_scattered(
+                            medium,
+                            single.volume_samples,
+                            sampler,
+                            counts,
+                            tracker,
+                        )
+                    };
+                let path = CameraPath {
+                    visibility: single.visibility,
+                    max_bounces: single.max_bounces,
+                };
+                path.radiance(scene, ray, sampler, counts, in_scattered)
+            }
+            Integrator::Volpath(volpath) => volpath::radiance(volpath, scene, ray, sampler, counts),
         }
+    }
+}
+
+/// The camera path the single-scattering integrators share: followed
+/// through thin glass, dielectrics and specular reflections (at most
+/// `max_bounces` of the latter two), adding on each fog segment the
+/// in-scattered radiance that the integrator estimates, and at the
+/// surface it ends on direct lighting.
+struct CameraPath<'a> {
+    visibility: &'a Visibility,
+    max_bounces: u32,
+}
+
+impl CameraPath<'_> {
+    /// Radiance arriving along `ray`; `in_scattered` estimates a fog
+    /// segment's in-scattering relative to the radiance at its origin.
+    fn radiance(
+        &self,
+        scene: &Scene,
+        mut ray: Ray,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+        mut in_scattered: impl FnMut(
+            &MediumQuery,
+            &mut PixelSampler,
+            &mut RayCounts,
+            &mut VolumeTracker,
+        ) -> Rgb,
+    ) -> Rgb {
         let mut radiance = Rgb::ZERO;
         let mut throughput = Rgb::ONE;
         let (mut bounces, mut crossings) = (0u32, 0u32);
@@ -145,8 +229,7 @@ impl<'a> Integrator<'a> {
                     ray,
                     t_hit,
                 };
-                radiance +=
-                    throughput * self.in_scattered(&medium, pixel, sampler, counts, &mut tracker);
+                radiance += throughput * in_scattered(&medium, sampler, counts, &mut tracker);
                 throughput *= fog.transmittance(&ray, 0.0, t_hit);
             }
             let Some(hit) = hit else {
@@ -217,25 +300,6 @@ impl<'a> Integrator<'a> {
                 origin: offset_origin(p, geometric_normal, direction),
                 direction,
             };
-        }
-    }
-
-    /// Fog radiance scattered towards the camera along the query's segment,
-    /// with transmittance measured from the ray origin.
-    fn in_scattered(
-        &self,
-        medium: &MediumQuery,
-        pixel: PixelPosition,
-        sampler: &mut PixelSampler,
-        counts: &mut RayCounts,
-        tracker: &mut VolumeTracker,
-    ) -> Rgb {
-        // `volpath` samples its own free flights and never gets here.
-        if self.kind == IntegratorKind::March {
-            let stratum = march::interleaved_stratum(pixel, self.interleave);
-            march::in_scattered(medium, self.step, stratum, sampler, counts, tracker)
-        } else {
-            single::in_scattered(medium, self.volume_samples, sampler, counts, tracker)
         }
     }
 
@@ -590,6 +654,46 @@ impl Scatterer<'_> {
         match *self {
             Scatterer::Medium { .. } => x,
             Scatterer::Surface { normal, .. } => offset_origin(x, normal, omega),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each integrator is built with its own parameters from the settings.
+    #[test]
+    fn integrator_takes_its_parameters_from_the_settings() {
+        let visibility = Visibility::ShadowRays;
+        let settings = RenderSettings {
+            step: 0.25,
+            interleave: 4,
+            max_bounces: 3,
+            volume_samples: 5,
+            max_depth: 7,
+            strategies: Strategies::NONE,
+            ..RenderSettings::default()
+        };
+        for kind in IntegratorKind::ALL {
+            let integrator = Integrator::new(
+                &RenderSettings {
+                    integrator: kind,
+                    ..settings
+                },
+                &visibility,
+            );
+            assert_eq!(integrator.kind(), kind);
+            match integrator {
+                Integrator::March(m) => {
+                    assert_eq!((m.step, m.interleave, m.max_bounces), (0.25, 4, 3))
+                }
+                Integrator::Single(s) => assert_eq!((s.volume_samples, s.max_bounces), (5, 3)),
+                Integrator::Volpath(v) => assert_eq!(
+                    (v.max_depth, v.strategies, v.volume_samples),
+                    (7, Strategies::NONE, 5)
+                ),
+            }
         }
     }
 }

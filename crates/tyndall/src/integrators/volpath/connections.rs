@@ -2,10 +2,11 @@
 //! first (and second) fog events are joined to a camera-path vertex
 //! ([`connect_light_vertex`]).
 
+use super::Volpath;
 use super::mis::{FogEventDensities, segment_term};
 use super::segment::{Connections, FogSegment};
 use crate::color::Rgb;
-use crate::integrators::{Integrator, MAX_GLASS_CROSSINGS, Scatterer};
+use crate::integrators::{MAX_GLASS_CROSSINGS, Scatterer};
 use crate::materials::Material;
 use crate::media::Fog;
 use crate::ray::{Ray, offset_origin};
@@ -40,7 +41,7 @@ use glam::Vec3;
 /// 1/|x − y|² is tamed the same way: near x, sampling the continuation
 /// from x dominates the weights.
 pub(super) fn connect_light_vertex(
-    integrator: &Integrator,
+    integrator: &Volpath,
     scene: &Scene,
     fog: &Fog,
     at: &LightVertexOrigin,
@@ -182,7 +183,7 @@ impl LightVertexOrigin<'_> {
     /// or x does not scatter that way.
     fn join<'s>(
         &self,
-        integrator: &Integrator<'s>,
+        integrator: &Volpath<'s>,
         scene: &'s Scene,
         fog: &'s Fog,
         y: Vec3,

@@ -66,7 +66,7 @@ mod segment;
 pub use mis::Strategies;
 
 use super::{
-    Integrator, MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, SurfaceHit, TRACKING_STREAM,
+    MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, SurfaceHit, TRACKING_STREAM,
     lambert_direct_lighting, refract_or_reflect,
 };
 use crate::color::Rgb;
@@ -75,7 +75,7 @@ use crate::media::tracking::{Collision, VolumeTracker};
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
-use crate::visibility::RayCounts;
+use crate::visibility::{RayCounts, Visibility};
 use connections::{LightVertexOrigin, connect_light_vertex};
 use glam::Vec3;
 use mis::{EquiangularCounts, emission_weight, on};
@@ -92,6 +92,19 @@ const ROULETTE_DEPTH: u32 = 3;
 /// scene that absorbs at all; in one that absorbs nothing the cut is a bias
 /// and the only one in `volpath`.
 pub(crate) const MAX_PATH_EVENTS: u32 = 65_536;
+
+/// The volumetric path tracer's parameters.
+#[derive(Clone, Copy)]
+pub struct Volpath<'a> {
+    /// Most scattering events of a path (pbrt-v4's depth: 1 is single
+    /// scattering).
+    pub max_depth: u32,
+    /// The estimators combined by MIS.
+    pub strategies: Strategies,
+    /// Equiangular samples per point or spot light on a camera segment.
+    pub volume_samples: u32,
+    pub(crate) visibility: &'a Visibility,
+}
 
 /// How the current path segment was sampled, for the MIS weight of the
 /// emitter it may hit.
@@ -120,7 +133,7 @@ enum Arrival<'a> {
 
 /// Radiance along a camera ray: one path sample.
 pub(crate) fn radiance(
-    integrator: &Integrator,
+    integrator: &Volpath,
     scene: &Scene,
     mut ray: Ray,
     sampler: &mut PixelSampler,

@@ -3,9 +3,10 @@
 //! equiangular sampling towards each light on it ([`EquiangularNee`],
 //! Kulla & Fajardo 2012).
 
+use super::Volpath;
 use super::mis::{EquiangularCounts, FogEventDensities, Strategies, on};
 use crate::color::Rgb;
-use crate::integrators::{Integrator, MediumQuery, scattered_light};
+use crate::integrators::{MediumQuery, scattered_light};
 use crate::media::tracking::VolumeTracker;
 use crate::media::{Fog, free_flight, transmittance};
 use crate::ray::Ray;
@@ -29,7 +30,7 @@ impl<'a> FogSegment<'a> {
     /// The part of `ray`'s segment `(0, t_hit)` inside `fog`, if any
     /// (and if the fog can scatter at all).
     pub(super) fn new(
-        integrator: &Integrator<'a>,
+        integrator: &Volpath<'a>,
         scene: &'a Scene,
         fog: &'a Fog,
         ray: Ray,
