@@ -6,7 +6,7 @@
 use super::Volpath;
 use super::mis::{EquiangularCounts, FogEventDensities, Strategies, on};
 use crate::color::Rgb;
-use crate::integrators::{MediumQuery, scattered_light};
+use crate::integrators::{MediumQuery, media_transmittance, scattered_light};
 use crate::media::tracking::VolumeTracker;
 use crate::media::{Fog, free_flight, transmittance};
 use crate::ray::Ray;
@@ -224,8 +224,15 @@ impl EquiangularNee {
                     }
                     None => n * p_e + on(strategies.medium_nee, p_flight),
                 };
-                let camera_t = transmittance(fog.sigma_t, t - segment.a)
-                    * tracker.transmittance(&medium.scene.volumes, &medium.ray, 0.0, t);
+                let ray = &medium.ray;
+                let camera_t = media_transmittance(
+                    medium.scene,
+                    tracker,
+                    ray.origin,
+                    ray.origin,
+                    ray.direction,
+                    t,
+                );
                 sum += fog.sigma_s() * light_in * camera_t / denominator;
             }
         }
