@@ -14,7 +14,7 @@
 //! - Away from the light (paths traced from it): [`Light::sample_le`] and
 //!   [`Light::pdf_le`]; [`Light::power`] is the total flux.
 //! - Capabilities integrators choose strategies by: [`Light::is_delta`],
-//!   [`Light::position`], [`Light::is_flat_emitter`], [`Light::area`],
+//!   [`Light::position`], [`Light::origin`], [`Light::is_flat_emitter`], [`Light::area`],
 //!   [`Light::normal`].
 //!
 //! Spotlights also clip a ray to the part inside their cone
@@ -155,6 +155,27 @@ impl Light {
     }
 }
 
+/// Where a light's light comes from, for methods that look out from the
+/// light (shadow maps): one point in all directions, one point through a
+/// cone, parallel from infinity, or an extended surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightOrigin {
+    /// From `position` in all directions (a point light).
+    Point { position: Vec3 },
+    /// From `apex` within the cone around the unit `axis` whose half-angle
+    /// has cosine `cos_cutoff` (a spotlight).
+    Cone {
+        apex: Vec3,
+        axis: Vec3,
+        cos_cutoff: f32,
+    },
+    /// Parallel light travelling along the unit `direction` (a sun).
+    Parallel { direction: Vec3 },
+    /// From every point of a surface (area lights): no single centre of
+    /// projection.
+    Surface,
+}
+
 /// An emitted ray chosen by [`Light::sample_le`], for paths traced from
 /// the light (the light tracer, `volpath`'s light subpaths).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -193,6 +214,25 @@ impl Light {
             Light::Point(p) => Some(p.position),
             Light::Spot(s) => Some(s.position),
             Light::Directional(_) | Light::Quad(_) | Light::Sphere(_) => None,
+        }
+    }
+
+    /// Where the light's light comes from (see [`LightOrigin`]).
+    #[inline]
+    pub fn origin(&self) -> LightOrigin {
+        match self {
+            Light::Point(p) => LightOrigin::Point {
+                position: p.position,
+            },
+            Light::Spot(s) => LightOrigin::Cone {
+                apex: s.position,
+                axis: s.direction,
+                cos_cutoff: s.cos_cutoff,
+            },
+            Light::Directional(d) => LightOrigin::Parallel {
+                direction: d.direction,
+            },
+            Light::Quad(_) | Light::Sphere(_) => LightOrigin::Surface,
         }
     }
 

@@ -283,10 +283,11 @@ impl FogSegment<'_> {
     }
 
     /// The light-vertex connection's density for the event at `t` lit
-    /// from the light point `y0`, relative to the free-flight event's
-    /// (see [`connect_light_vertex`]), in the solid-angle terms of the
-    /// balance heuristic at a fog event: `p₄ / (p_dir·p_flight(t)/t² · G)`,
-    /// where `p₄ = σt·T(y0, y)·p_le·cos θ₀ / (n_q·|y − y0|²)` is the volume
+    /// from the light point `y0`, relative to the free-flight event's (see
+    /// [`connect_light_vertex`](super::connections::connect_light_vertex)),
+    /// in the solid-angle terms of the balance heuristic at a fog event:
+    /// `p₄ / (p_dir·p_flight(t)/t² · G)`, where
+    /// `p₄ = σt·T(y0, y)·p_le·cos θ₀ / (n_q·|y − y0|²)` is the volume
     /// density of the light vertex y (n_q lights start subpaths, `p_le` is
     /// the light's `pdf_le`), `p_dir` the density of the ray's direction at
     /// its origin and `G = cos θ₀/|y − y0|²`. Zero unless the ray starts at
@@ -322,9 +323,10 @@ impl FogSegment<'_> {
     /// factor at y₁, where y₂ is the ray's origin and x the vertex before
     /// it: `σt·T(y0, y₁)·p(y₁)·p_le / (n_q·P_x(y₂)·p_dir(y₂))` (the light
     /// subpath's densities of y₁ and y₂ over the camera's of y₂ and of the
-    /// event at y₁; see [`connect_light_vertex`]). Zero unless the origin
-    /// was reached from a vertex that connected to second light vertices,
-    /// and for lights that start no subpaths.
+    /// event at y₁; see
+    /// [`connect_light_vertex`](super::connections::connect_light_vertex)).
+    /// Zero unless the origin was reached from a vertex that connected to
+    /// second light vertices, and for lights that start no subpaths.
     pub(super) fn second_vertex_term(&self, t: f32, light: &Light, y0: Vec3) -> f32 {
         let Some(reached) = self.connected_from.reached else {
             return 0.0;
