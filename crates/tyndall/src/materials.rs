@@ -1,12 +1,15 @@
 //! Surface materials.
 //!
 //! The set is closed and small, so it is an enum: the integrators `match`
-//! on it. Glass is thin coloured glass (the paper's §3.3), see [`crate::glass`].
+//! on it to follow a path through glass and dielectrics, and an opaque
+//! [`Surface`] answers for its own scattering ([`Surface::sample`],
+//! [`Surface::eval`], [`Surface::pdf`]). Glass is thin coloured glass (the paper's §3.3), see [`crate::glass`].
 
-use crate::color::Rgb;
+use crate::color::{Rgb, luminance};
 use crate::glass::Glass;
+use crate::sampling::cosine_hemisphere;
 use glam::{Vec2, Vec3};
-use std::f32::consts::PI;
+use std::f32::consts::{FRAC_1_PI, PI};
 
 /// Index of a material in [`crate::scene::Scene::materials`].
 pub type MaterialId = u32;
@@ -133,6 +136,107 @@ impl Surface {
     }
 }
 
+/// The lobe of a [`Surface`] a sampled direction came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lobe {
+    /// The Lambertian lobe, cosine-sampled: its direction can also be
+    /// reached by light sampling, so its density takes part in MIS.
+    Diffuse,
+    /// The reflective layer (mirror or glossy), followed by its one
+    /// reflected ray: no other strategy produces it.
+    Specular,
+}
+
+/// A direction drawn by [`Surface::sample`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceSample {
+    /// Unit direction of the continuing ray.
+    pub direction: Vec3,
+    /// `f·cos θ / p` with the lobe's choice probability in `p`: `ρ/P_d`
+    /// for the Lambertian lobe, `specular/(1 − P_d)` for the reflective
+    /// layer (whose lobe is sampled exactly).
+    pub weight: Rgb,
+    /// Solid-angle density of the direction for the Lambertian lobe,
+    /// `P_d·cos θ/π` ([`Surface::pdf`]); not meaningful for the
+    /// reflective layer.
+    pub pdf: f32,
+    pub lobe: Lobe,
+}
+
+impl Surface {
+    /// The probability `P_d` of continuing a path by the Lambertian lobe
+    /// rather than the reflective layer: proportional to the luminance of
+    /// each lobe's reflectance. `None` if the surface reflects nothing.
+    #[inline]
+    pub fn diffuse_probability(&self) -> Option<f32> {
+        let (diffuse, specular) = (luminance(self.diffuse), luminance(self.specular));
+        if diffuse + specular <= 0.0 {
+            return None;
+        }
+        Some(diffuse / (diffuse + specular))
+    }
+
+    /// Continues a path that arrived along `incoming` at a point with unit
+    /// normal `normal` (facing the path): the lobe is chosen by `choice`
+    /// with probability [`Surface::diffuse_probability`], the direction
+    /// from `u` (cosine-distributed, or by [`Surface::reflect`]). `None`
+    /// if the surface reflects nothing or the reflected direction falls
+    /// below it.
+    #[inline]
+    pub fn sample(
+        &self,
+        incoming: Vec3,
+        normal: Vec3,
+        choice: f32,
+        u: Vec2,
+    ) -> Option<SurfaceSample> {
+        let p_diffuse = self.diffuse_probability()?;
+        if choice < p_diffuse {
+            let direction = cosine_hemisphere(normal, u);
+            // f·cos/pdf = (ρ/π)·cos / (P_d·cos/π) = ρ/P_d.
+            Some(SurfaceSample {
+                direction,
+                weight: self.diffuse / p_diffuse,
+                pdf: p_diffuse * normal.dot(direction).max(0.0) * FRAC_1_PI,
+                lobe: Lobe::Diffuse,
+            })
+        } else {
+            let direction = self.reflect(incoming, normal, u)?;
+            Some(SurfaceSample {
+                direction,
+                weight: self.specular / (1.0 - p_diffuse),
+                pdf: 0.0,
+                lobe: Lobe::Specular,
+            })
+        }
+    }
+
+    /// The Lambertian lobe's `f·cos θ` for light leaving along unit
+    /// `omega` at a point with unit normal `normal` (the cosine included,
+    /// as Mitsuba 3's `BSDF::eval`): `ρ/π·cos θ`, 0 below the surface.
+    /// The reflective layer is not evaluated: it is only followed by its
+    /// reflected ray.
+    #[inline]
+    pub fn eval(&self, normal: Vec3, omega: Vec3) -> Rgb {
+        let cos = normal.dot(omega);
+        if cos > 0.0 {
+            self.diffuse * (FRAC_1_PI * cos)
+        } else {
+            Rgb::ZERO
+        }
+    }
+
+    /// Solid-angle density with which [`Surface::sample`] picks `omega`
+    /// by the Lambertian lobe, `P_d·cos θ/π` (0 below the surface or if
+    /// the surface reflects nothing).
+    #[inline]
+    pub fn pdf(&self, normal: Vec3, omega: Vec3) -> f32 {
+        self.diffuse_probability().map_or(0.0, |p_diffuse| {
+            p_diffuse * normal.dot(omega).max(0.0) * FRAC_1_PI
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -191,5 +295,53 @@ mod tests {
             let r = s.reflect(-Vec3::Y, Vec3::Y, u).unwrap();
             assert!(r.dot(mirror) > 0.9);
         }
+    }
+
+    /// `sample`, `eval` and `pdf` agree: a Lambertian sample's weight is
+    /// `eval/pdf`, the lobe follows `choice` against `P_d` (luminance
+    /// ratio), and `pdf` integrates to `P_d` over the hemisphere.
+    #[test]
+    fn surface_sample_eval_pdf_agree() {
+        let s = Surface {
+            diffuse: Rgb::new(0.6, 0.5, 0.4),
+            specular: Rgb::splat(0.3),
+            roughness: 0.0,
+        };
+        let n = Vec3::Y;
+        let incoming = Vec3::new(0.3, -1.0, 0.2).normalize();
+        let p_d = s.diffuse_probability().unwrap();
+        let expected = luminance(s.diffuse) / (luminance(s.diffuse) + luminance(s.specular));
+        assert!((p_d - expected).abs() < 1e-6);
+        let diffuse = s
+            .sample(incoming, n, 0.5 * p_d, Vec2::new(0.3, 0.8))
+            .unwrap();
+        assert_eq!(diffuse.lobe, Lobe::Diffuse);
+        assert!((diffuse.pdf - s.pdf(n, diffuse.direction)).abs() < 1e-6);
+        let ratio = s.eval(n, diffuse.direction) / diffuse.pdf;
+        assert!((ratio - diffuse.weight).abs().max_element() < 1e-5);
+        let specular = s.sample(incoming, n, 0.5 + 0.5 * p_d, Vec2::ZERO).unwrap();
+        assert_eq!(specular.lobe, Lobe::Specular);
+        assert!((specular.direction - s.reflect(incoming, n, Vec2::ZERO).unwrap()).length() < 1e-6);
+        assert!(
+            (specular.weight - s.specular / (1.0 - p_d))
+                .abs()
+                .max_element()
+                < 1e-6
+        );
+        // ∫ pdf dω over the hemisphere (midpoint rule in cos θ and φ).
+        let k = 200;
+        let mut total = 0.0;
+        for i in 0..k {
+            let cos = (i as f32 + 0.5) / k as f32;
+            let sin = (1.0 - cos * cos).sqrt();
+            for j in 0..k {
+                let phi = 2.0 * PI * (j as f32 + 0.5) / k as f32;
+                let omega = Vec3::new(sin * phi.cos(), cos, sin * phi.sin());
+                total += s.pdf(n, omega) * (2.0 * PI / (k * k) as f32);
+            }
+        }
+        assert!((total - p_d).abs() < 1e-3, "{total} vs {p_d}");
+        assert_eq!(s.eval(n, -Vec3::Y), Rgb::ZERO);
+        assert_eq!(Surface::diffuse(Rgb::ZERO).diffuse_probability(), None);
     }
 }

@@ -42,7 +42,7 @@
 use crate::accel::Geometry;
 use crate::color::Rgb;
 use crate::glass::{Glass, GlassModel};
-use crate::lights::Light;
+use crate::lights::{Light, LightOrigin};
 use crate::materials::Material;
 use crate::ray::Ray;
 use crate::shapes::Bounds;
@@ -170,15 +170,21 @@ pub struct MapScene<'a> {
     pub model: GlassModel,
 }
 
+/// Whether a spotlight of cutoff cosine `cos_cutoff` is narrow enough
+/// for one perspective map over its cone (θc ≤ 60°).
+fn is_narrow(cos_cutoff: f32) -> bool {
+    cos_cutoff >= MAX_PERSPECTIVE_CUTOFF_DEG.to_radians().cos()
+}
+
 /// How many map faces [`ShadowMaps::build`] renders for `light`: six for
 /// a point light or a wide spot, one for a narrow spot or a directional
 /// light, none for an area light (it keeps shadow rays).
 pub(crate) fn face_count(light: &Light) -> u64 {
-    match light {
-        Light::Spot(s) if s.cos_cutoff >= MAX_PERSPECTIVE_CUTOFF_DEG.to_radians().cos() => 1,
-        Light::Spot(_) | Light::Point(_) => 6,
-        Light::Directional(_) => 1,
-        Light::Quad(_) | Light::Sphere(_) => 0,
+    match light.origin() {
+        LightOrigin::Cone { cos_cutoff, .. } if is_narrow(cos_cutoff) => 1,
+        LightOrigin::Cone { .. } | LightOrigin::Point { .. } => 6,
+        LightOrigin::Parallel { .. } => 1,
+        LightOrigin::Surface => 0,
     }
 }
 
@@ -187,39 +193,44 @@ impl ShadowMaps {
     pub fn build(scene: &MapScene, lights: &[Light], resolution: u32) -> Self {
         let maps = lights
             .iter()
-            .map(|light| match light {
-                Light::Spot(s) if s.cos_cutoff >= MAX_PERSPECTIVE_CUTOFF_DEG.to_radians().cos() => {
-                    let (right, up) = s.direction.any_orthonormal_pair();
-                    let tan_half = s.cos_cutoff.acos().tan();
+            .map(|light| match light.origin() {
+                LightOrigin::Cone {
+                    apex,
+                    axis,
+                    cos_cutoff,
+                } if is_narrow(cos_cutoff) => {
+                    let (right, up) = axis.any_orthonormal_pair();
+                    let tan_half = cos_cutoff.acos().tan();
                     let projection = Projection {
-                        origin: s.position,
+                        origin: apex,
                         right,
                         up,
-                        forward: s.direction,
+                        forward: axis,
                         kind: ProjectionKind::Perspective { tan_half },
                     };
                     LightMap::Single(render_face(scene, projection, resolution))
                 }
-                Light::Spot(s) => cube(scene, s.position, resolution),
-                Light::Point(p) => cube(scene, p.position, resolution),
-                Light::Directional(d) => {
+                LightOrigin::Cone { apex: position, .. } | LightOrigin::Point { position } => {
+                    cube(scene, position, resolution)
+                }
+                LightOrigin::Parallel { direction } => {
                     let bounds = scene.geometry.bounds();
                     let (center, radius) = bounding_sphere(bounds);
-                    let (right, up) = d.direction.any_orthonormal_pair();
+                    let (right, up) = direction.any_orthonormal_pair();
                     // Start a little outside the sphere so nothing is clipped.
-                    let origin = center - d.direction * (radius * 1.01 + 1e-3);
+                    let origin = center - direction * (radius * 1.01 + 1e-3);
                     let projection = Projection {
                         origin,
                         right,
                         up,
-                        forward: d.direction,
+                        forward: direction,
                         kind: ProjectionKind::Orthographic {
                             half_extent: radius * 1.01 + 1e-3,
                         },
                     };
                     LightMap::Single(render_face(scene, projection, resolution))
                 }
-                Light::Quad(_) | Light::Sphere(_) => LightMap::None,
+                LightOrigin::Surface => LightMap::None,
             })
             .collect();
         Self { resolution, maps }

@@ -22,23 +22,23 @@
 //! lights seen in mirrors — connections through specular surfaces.
 
 use super::volpath::{MAX_PATH_EVENTS, survives_roulette};
-use super::{MAX_GLASS_CROSSINGS, SolidDepth, TRACKING_STREAM, refract_or_reflect};
+use super::{
+    MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, TRACKING_STREAM, media_transmittance,
+    refract_or_reflect,
+};
 use crate::camera::Camera;
-use crate::color::{Rgb, luminance};
+use crate::color::Rgb;
 use crate::exact_sum::ExactRgb;
-use crate::lights::Light;
 use crate::materials::Material;
 use crate::media::free_flight;
 use crate::media::tracking::{Collision, VolumeTracker};
 use crate::phase::PhaseFunction;
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
-use crate::sampling::{cosine_hemisphere, uniform_cone};
 use crate::scene::Scene;
 use crate::visibility::RayCounts;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
-use std::f32::consts::{FRAC_1_PI, PI};
 use std::ops::{ControlFlow, Range};
 
 /// Which light paths to trace.
@@ -68,10 +68,7 @@ const LIGHT_SEED: u64 = 0x5eed_1197;
 /// Whether the scene has light that only light tracing delivers: a point
 /// or spot light and a dielectric.
 pub fn has_caustics(scene: &Scene) -> bool {
-    scene
-        .lights
-        .iter()
-        .any(|l| matches!(l, Light::Point(_) | Light::Spot(_)))
+    scene.lights.iter().any(|l| l.position().is_some())
         && scene
             .materials
             .iter()
@@ -130,7 +127,7 @@ pub fn trace_paths(
     sums: &mut [ExactRgb],
 ) -> (RayCounts, u64) {
     let emitters: Vec<usize> = (0..scene.lights.len())
-        .filter(|&i| matches!(scene.lights[i], Light::Point(_) | Light::Spot(_)))
+        .filter(|&i| scene.lights[i].position().is_some())
         .collect();
     let mut counts = RayCounts::default();
     let mut dropped = 0u64;
@@ -196,17 +193,6 @@ struct Tracer<'a> {
     which: LightPaths,
 }
 
-/// How light leaves a scattering event, for the camera connection.
-enum Scatterer<'a> {
-    Medium(&'a PhaseFunction),
-    /// A Lambertian surface of reflectance `rho` with unit normal `normal`
-    /// facing the side the light arrived from.
-    Diffuse {
-        rho: Rgb,
-        normal: Vec3,
-    },
-}
-
 impl Tracer<'_> {
     fn trace_path(
         &self,
@@ -218,9 +204,11 @@ impl Tracer<'_> {
         let n = self.emitters.len();
         let pick = ((sampler.next_1d() * n as f32) as usize).min(n - 1);
         let u = sampler.next_2d();
-        let Some((mut ray, mut beta)) = emit(&scene.lights[self.emitters[pick]], u) else {
+        // Point and spot lights take only the direction's dimensions.
+        let Some(emitted) = scene.lights[self.emitters[pick]].sample_le(Vec2::ZERO, u, 0.0) else {
             return;
         };
+        let (mut ray, mut beta) = (emitted.ray, emitted.beta);
         beta *= n as f32;
         let mut tracker = VolumeTracker::new(sampler.stream(TRACKING_STREAM));
         let mut solids = SolidDepth::default();
@@ -245,15 +233,11 @@ impl Tracer<'_> {
                 }
                 depth += 1;
                 let x = ray.at(t);
-                self.connect(
-                    x,
-                    ray.direction,
-                    &Scatterer::Medium(phase),
-                    beta,
-                    &mut tracker,
-                    splats,
-                    counts,
-                );
+                let scatterer = Scatterer::Medium {
+                    phase,
+                    arriving: ray.direction,
+                };
+                self.connect(x, &scatterer, beta, &mut tracker, splats, counts);
                 let (direction, _) = phase.sample(ray.direction, sampler.next_2d());
                 ray = Ray {
                     origin: x,
@@ -296,38 +280,20 @@ impl Tracer<'_> {
                         -geometric_normal
                     };
                     if surface.diffuse != Rgb::ZERO {
-                        let diffuse = Scatterer::Diffuse {
-                            rho: surface.diffuse,
-                            normal,
-                        };
-                        self.connect(
-                            p,
-                            ray.direction,
-                            &diffuse,
-                            beta,
-                            &mut tracker,
-                            splats,
-                            counts,
-                        );
+                        let diffuse = Scatterer::Surface { surface, normal };
+                        self.connect(p, &diffuse, beta, &mut tracker, splats, counts);
                     }
                     // Continue by the lobes, as `volpath` does.
-                    let (d, s) = (luminance(surface.diffuse), luminance(surface.specular));
-                    if d + s <= 0.0 {
+                    if surface.diffuse_probability().is_none() {
                         return;
                     }
-                    let p_diffuse = d / (d + s);
                     let choice = sampler.next_1d();
                     let u = sampler.next_2d();
-                    let direction = if choice < p_diffuse {
-                        beta *= surface.diffuse / p_diffuse;
-                        cosine_hemisphere(normal, u)
-                    } else {
-                        let Some(direction) = surface.reflect(ray.direction, normal, u) else {
-                            return;
-                        };
-                        beta *= surface.specular / (1.0 - p_diffuse);
-                        direction
+                    let Some(sample) = surface.sample(ray.direction, normal, choice, u) else {
+                        return;
                     };
+                    beta *= sample.weight;
+                    let direction = sample.direction;
                     ray = Ray {
                         origin: offset_origin(p, geometric_normal, direction),
                         direction,
@@ -349,12 +315,12 @@ impl Tracer<'_> {
 
     /// Splats the light scattered at `x` towards the camera:
     /// `β·f·T·W/d²`, f the phase function or `ρ/π·cos` towards the camera,
-    /// T everything between (fog, volumes, thin glass; zero if blocked).
+    /// T everything between (thin glass, and the media by
+    /// [`media_transmittance`]; zero if blocked).
     #[allow(clippy::too_many_arguments)]
     fn connect(
         &self,
         x: Vec3,
-        arriving: Vec3,
         scatterer: &Scatterer,
         beta: Rgb,
         tracker: &mut VolumeTracker,
@@ -365,38 +331,18 @@ impl Tracer<'_> {
             return;
         };
         let to_camera = projection.to_camera;
-        let (f, origin) = match scatterer {
-            // Light travelling along `arriving` turns towards the camera.
-            Scatterer::Medium(phase) => (Rgb::splat(phase.eval(arriving.dot(to_camera))), x),
-            Scatterer::Diffuse { rho, normal } => {
-                let cos = normal.dot(to_camera);
-                if cos <= 0.0 {
-                    return;
-                }
-                (
-                    *rho * (FRAC_1_PI * cos),
-                    offset_origin(x, *normal, to_camera),
-                )
-            }
+        let Some((f, _)) = scatterer.scatter(to_camera) else {
+            return;
         };
+        let origin = scatterer.origin(x, to_camera);
         counts.shadow += 1;
         let distance = projection.distance;
         let glass = self.glass_towards_camera(origin, to_camera, distance);
         if glass == Rgb::ZERO {
             return;
         }
-        let scene = self.scene;
-        let fog_t = scene
-            .fog
-            .as_ref()
-            .map_or(1.0, |fog| fog.transmittance_along(x, to_camera, distance));
-        let ray = Ray {
-            origin,
-            direction: to_camera,
-        };
-        let volumes_t = tracker.transmittance(&scene.volumes, &ray, 0.0, distance);
-        let value =
-            beta * f * glass * volumes_t * (fog_t * projection.importance / (distance * distance));
+        let media = media_transmittance(self.scene, tracker, x, origin, to_camera, distance);
+        let value = beta * f * glass * media * (projection.importance / (distance * distance));
         let pixel = projection.film.floor().as_uvec2();
         splats.push((pixel.y * self.width + pixel.x, value));
     }
@@ -424,35 +370,6 @@ impl Tracer<'_> {
                 }
             });
         tint
-    }
-}
-
-/// A ray leaving a point or spot light and its weight `I(ω)/p(ω)` (W):
-/// uniform directions over the sphere, or over the spot's cone.
-fn emit(light: &Light, u: Vec2) -> Option<(Ray, Rgb)> {
-    match light {
-        Light::Point(p) => {
-            let direction = uniform_cone(Vec3::Z, -1.0, u);
-            let ray = Ray {
-                origin: p.position,
-                direction,
-            };
-            Some((ray, p.intensity * (4.0 * PI)))
-        }
-        Light::Spot(s) => {
-            let direction = uniform_cone(s.direction, s.cos_cutoff, u);
-            let falloff = s.falloff(direction.dot(s.direction));
-            if falloff <= 0.0 {
-                return None;
-            }
-            let solid_angle = 2.0 * PI * (1.0 - s.cos_cutoff);
-            let ray = Ray {
-                origin: s.position,
-                direction,
-            };
-            Some((ray, s.intensity * (falloff * solid_angle)))
-        }
-        _ => None,
     }
 }
 

@@ -19,7 +19,21 @@ use crate::media::tracking::VolumeTracker;
 use crate::media::transmittance;
 use crate::render::MAX_MARCH_STEPS;
 use crate::sampler::PixelSampler;
-use crate::visibility::RayCounts;
+use crate::visibility::{RayCounts, Visibility};
+
+/// The ray march's parameters.
+#[derive(Clone, Copy)]
+pub struct March<'a> {
+    /// Step length `h` between lattice points (scene units).
+    pub step: f32,
+    /// Interleaving tile size `n` (1: no interleaving; see
+    /// [`interleaved_stratum`]).
+    pub interleave: u32,
+    /// Most specular events (dielectrics, reflective layers) a camera
+    /// path follows.
+    pub max_bounces: u32,
+    pub(crate) visibility: &'a Visibility,
+}
 
 /// Optical depth `σt·ℓ` after which a march stops: the camera-side
 /// transmittance is then below `e^{−9.21} = 10⁻⁴`, so the in-scattering

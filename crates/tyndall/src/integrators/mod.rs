@@ -21,7 +21,9 @@ pub mod march;
 pub mod single;
 pub mod volpath;
 
-pub use volpath::Strategies;
+pub use march::March;
+pub use single::Single;
+pub use volpath::{Strategies, Volpath};
 
 use crate::accel::Hit;
 use crate::color::Rgb;
@@ -29,6 +31,7 @@ use crate::lights::{Incident, Light};
 use crate::materials::{Material, Surface, dielectric_scatter};
 use crate::media::Fog;
 use crate::media::tracking::VolumeTracker;
+use crate::phase::PhaseFunction;
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
@@ -77,17 +80,16 @@ impl IntegratorKind {
 /// against degenerate scenes of stacked coincident panes).
 const MAX_GLASS_CROSSINGS: u32 = 64;
 
-/// A configured integrator, borrowing the render's visibility.
+/// A configured integrator, borrowing the render's visibility: the method
+/// with its own parameters.
 #[derive(Clone, Copy)]
-pub struct Integrator<'a> {
-    kind: IntegratorKind,
-    step: f32,
-    volume_samples: u32,
-    interleave: u32,
-    max_bounces: u32,
-    max_depth: u32,
-    strategies: Strategies,
-    visibility: &'a Visibility,
+pub enum Integrator<'a> {
+    /// The paper's ray march ([`march`]).
+    March(March<'a>),
+    /// Unbiased single scattering ([`single`]).
+    Single(Single<'a>),
+    /// Volumetric path tracing ([`volpath`]).
+    Volpath(Volpath<'a>),
 }
 
 /// The pixel a camera sample belongs to, for methods that correlate
@@ -99,16 +101,35 @@ pub struct PixelPosition {
 }
 
 impl<'a> Integrator<'a> {
+    /// The integrator `settings` choose, with its parameters from them.
     pub fn new(settings: &RenderSettings, visibility: &'a Visibility) -> Self {
-        Self {
-            kind: settings.integrator,
-            step: settings.step,
-            volume_samples: settings.volume_samples,
-            interleave: settings.interleave,
-            max_bounces: settings.max_bounces,
-            max_depth: settings.max_depth,
-            strategies: settings.strategies,
-            visibility,
+        match settings.integrator {
+            IntegratorKind::March => Integrator::March(March {
+                step: settings.step,
+                interleave: settings.interleave,
+                max_bounces: settings.max_bounces,
+                visibility,
+            }),
+            IntegratorKind::Single => Integrator::Single(Single {
+                volume_samples: settings.volume_samples,
+                max_bounces: settings.max_bounces,
+                visibility,
+            }),
+            IntegratorKind::Volpath => Integrator::Volpath(Volpath {
+                max_depth: settings.max_depth,
+                strategies: settings.strategies,
+                volume_samples: settings.volume_samples,
+                visibility,
+            }),
+        }
+    }
+
+    /// Which integrator this is.
+    pub fn kind(&self) -> IntegratorKind {
+        match self {
+            Integrator::March(_) => IntegratorKind::March,
+            Integrator::Single(_) => IntegratorKind::Single,
+            Integrator::Volpath(_) => IntegratorKind::Volpath,
         }
     }
 
@@ -117,14 +138,78 @@ impl<'a> Integrator<'a> {
     pub fn radiance(
         &self,
         scene: &Scene,
-        mut ray: Ray,
+        ray: Ray,
         pixel: PixelPosition,
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
     ) -> Rgb {
-        if self.kind == IntegratorKind::Volpath {
-            return volpath::radiance(self, scene, ray, sampler, counts);
+        match self {
+            Integrator::March(march) => {
+                let stratum = march::interleaved_stratum(pixel, march.interleave);
+                let in_scattered =
+                    |medium: &MediumQuery,
+                     sampler: &mut PixelSampler,
+                     counts: &mut RayCounts,
+                     tracker: &mut VolumeTracker| {
+                        march::in_scattered(medium, march.step, stratum, sampler, counts, tracker)
+                    };
+                let path = CameraPath {
+                    visibility: march.visibility,
+                    max_bounces: march.max_bounces,
+                };
+                path.radiance(scene, ray, sampler, counts, in_scattered)
+            }
+            Integrator::Single(single) => {
+                let in_scattered =
+                    |medium: &MediumQuery,
+                     sampler: &mut PixelSampler,
+                     counts: &mut RayCounts,
+                     tracker: &mut VolumeTracker| {
+                        single::in_scattered(
+                            medium,
+                            single.volume_samples,
+                            sampler,
+                            counts,
+                            tracker,
+                        )
+                    };
+                let path = CameraPath {
+                    visibility: single.visibility,
+                    max_bounces: single.max_bounces,
+                };
+                path.radiance(scene, ray, sampler, counts, in_scattered)
+            }
+            Integrator::Volpath(volpath) => volpath::radiance(volpath, scene, ray, sampler, counts),
         }
+    }
+}
+
+/// The camera path the single-scattering integrators share: followed
+/// through thin glass, dielectrics and specular reflections (at most
+/// `max_bounces` of the latter two), adding on each fog segment the
+/// in-scattered radiance that the integrator estimates, and at the
+/// surface it ends on direct lighting.
+struct CameraPath<'a> {
+    visibility: &'a Visibility,
+    max_bounces: u32,
+}
+
+impl CameraPath<'_> {
+    /// Radiance arriving along `ray`; `in_scattered` estimates a fog
+    /// segment's in-scattering relative to the radiance at its origin.
+    fn radiance(
+        &self,
+        scene: &Scene,
+        mut ray: Ray,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+        mut in_scattered: impl FnMut(
+            &MediumQuery,
+            &mut PixelSampler,
+            &mut RayCounts,
+            &mut VolumeTracker,
+        ) -> Rgb,
+    ) -> Rgb {
         let mut radiance = Rgb::ZERO;
         let mut throughput = Rgb::ONE;
         let (mut bounces, mut crossings) = (0u32, 0u32);
@@ -144,8 +229,7 @@ impl<'a> Integrator<'a> {
                     ray,
                     t_hit,
                 };
-                radiance +=
-                    throughput * self.in_scattered(&medium, pixel, sampler, counts, &mut tracker);
+                radiance += throughput * in_scattered(&medium, sampler, counts, &mut tracker);
                 throughput *= fog.transmittance(&ray, 0.0, t_hit);
             }
             let Some(hit) = hit else {
@@ -219,25 +303,6 @@ impl<'a> Integrator<'a> {
         }
     }
 
-    /// Fog radiance scattered towards the camera along the query's segment,
-    /// with transmittance measured from the ray origin.
-    fn in_scattered(
-        &self,
-        medium: &MediumQuery,
-        pixel: PixelPosition,
-        sampler: &mut PixelSampler,
-        counts: &mut RayCounts,
-        tracker: &mut VolumeTracker,
-    ) -> Rgb {
-        // `volpath` samples its own free flights and never gets here.
-        if self.kind == IntegratorKind::March {
-            let stratum = march::interleaved_stratum(pixel, self.interleave);
-            march::in_scattered(medium, self.step, stratum, sampler, counts, tracker)
-        } else {
-            single::in_scattered(medium, self.volume_samples, sampler, counts, tracker)
-        }
-    }
-
     /// Reflected radiance from direct lighting at surface point `p` with
     /// unit normal `normal` facing the viewer: `Σ ρ/π · E · cos θ · V ·
     /// Tr_glass · T_fog`, one sample per light.
@@ -269,8 +334,9 @@ impl<'a> Integrator<'a> {
 /// Direct lighting of the Lambertian lobe of `surface` at point `p` with
 /// unit normal `normal` facing the viewer, one sample per light:
 /// `Σ ρ/π · E · cos θ · V · Tr_glass · T_media · w`, where
-/// `w = weight(p_light, cos θ)` is the caller's MIS weight given the
-/// light sample's solid-angle density (`None` for delta lights).
+/// `w = weight(p_light, ω)` is the caller's MIS weight given the light
+/// sample's solid-angle density (`None` for delta lights) and unit
+/// direction ω towards it.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn lambert_direct_lighting(
     scene: &Scene,
@@ -281,7 +347,7 @@ pub(crate) fn lambert_direct_lighting(
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
     tracker: &mut VolumeTracker,
-    weight: impl Fn(Option<f32>, f32) -> f32,
+    weight: impl Fn(Option<f32>, Vec3) -> f32,
 ) -> Rgb {
     if surface.diffuse == Rgb::ZERO {
         return Rgb::ZERO;
@@ -305,7 +371,7 @@ pub(crate) fn lambert_direct_lighting(
             counts,
             tracker,
         );
-        sum += arriving * (cos * weight(p_light, cos));
+        sum += arriving * (cos * weight(p_light, incident.direction));
     }
     sum * surface.diffuse_brdf()
 }
@@ -411,39 +477,34 @@ impl MediumQuery<'_> {
     }
 }
 
-/// The point on `light` a receiver connects to: area lights need two
-/// sample dimensions, other lights none.
+/// The sample dimensions for choosing a point on `light`: two for an
+/// area light, none for a delta light (whose point is fixed).
 #[inline]
-fn light_point(light: &Light, sampler: &mut PixelSampler) -> Option<Vec3> {
-    let u = match light {
-        Light::Quad(_) | Light::Sphere(_) => sampler.next_2d(),
-        _ => Vec2::ZERO,
-    };
-    light.sample_point(u)
+fn light_sample_u(light: &Light, sampler: &mut PixelSampler) -> Vec2 {
+    if light.is_delta() {
+        Vec2::ZERO
+    } else {
+        sampler.next_2d()
+    }
 }
 
-/// Light reaching receiver `x` from `light` for next event estimation: a
-/// quad light's point is chosen for this receiver (uniform in solid angle
-/// for a rectangle), other lights use their fixed point. Also returns the
-/// solid-angle density of the choice for MIS (`None` for delta lights,
-/// which no sampled direction can hit).
+/// The point on `light` a receiver connects to (the light's
+/// `sample_point`).
+#[inline]
+fn light_point(light: &Light, sampler: &mut PixelSampler) -> Option<Vec3> {
+    light.sample_point(light_sample_u(light, sampler))
+}
+
+/// Light reaching receiver `x` from `light` for next event estimation,
+/// with the solid-angle density of the light's point for MIS (the
+/// light's `sample_li`).
 #[inline]
 pub(crate) fn sample_light(
     light: &Light,
     x: Vec3,
     sampler: &mut PixelSampler,
 ) -> Option<(Incident, Option<f32>)> {
-    match light {
-        Light::Quad(q) => q
-            .sample_incident(x, sampler.next_2d())
-            .map(|(incident, pdf)| (incident, Some(pdf))),
-        Light::Sphere(s) => s
-            .sample_incident(x, sampler.next_2d())
-            .map(|(incident, pdf)| (incident, Some(pdf))),
-        _ => light
-            .incident(x, light.sample_point(Vec2::ZERO))
-            .map(|i| (i, None)),
-    }
+    light.sample_li(x, light_sample_u(light, sampler))
 }
 
 /// Radiance scattered at fog point `x` of the query's ray towards the
@@ -520,16 +581,119 @@ pub(crate) fn light_arriving(
     if glass == Rgb::ZERO {
         return Rgb::ZERO;
     }
-    let fog_t = scene.fog.as_ref().map_or(1.0, |fog| {
-        fog.transmittance_along(x, incident.direction, incident.distance)
-    });
+    let media = media_transmittance(
+        scene,
+        tracker,
+        x,
+        origin,
+        incident.direction,
+        incident.distance,
+    );
+    incident.irradiance * glass * media
+}
+
+/// Transmittance of the scene's media from `x` over `distance` along the
+/// unit `direction`: the fog's in closed form (from `x`), times the
+/// volumes' by ratio tracking (one estimate, along the ray from `origin`:
+/// `x` moved off a surface, where a shadow ray starts). Zero without
+/// tracking where the fog alone already blocks the light. Every
+/// connection to a light or the camera takes its transmittance here.
+pub(crate) fn media_transmittance(
+    scene: &Scene,
+    tracker: &mut VolumeTracker,
+    x: Vec3,
+    origin: Vec3,
+    direction: Vec3,
+    distance: f32,
+) -> Rgb {
+    let fog_t = scene
+        .fog
+        .as_ref()
+        .map_or(1.0, |fog| fog.transmittance_along(x, direction, distance));
     if fog_t == 0.0 {
         return Rgb::ZERO;
     }
-    let to_light = Ray {
-        origin,
-        direction: incident.direction,
-    };
-    let volumes_t = tracker.transmittance(&scene.volumes, &to_light, 0.0, incident.distance);
-    incident.irradiance * glass * volumes_t * fog_t
+    let ray = Ray { origin, direction };
+    tracker.transmittance(&scene.volumes, &ray, 0.0, distance) * fog_t
+}
+
+/// A scattering vertex that a connection joins to another vertex (a
+/// light vertex in `volpath`, the camera in the light tracer): how it
+/// turns light towards the connection, and where a ray leaving it starts.
+pub(crate) enum Scatterer<'a> {
+    /// A real scattering event in a medium, reached by a path travelling
+    /// along unit `arriving`.
+    Medium {
+        phase: &'a PhaseFunction,
+        arriving: Vec3,
+    },
+    /// An opaque surface with unit normal `normal` facing the side the
+    /// path arrived from; connections join its Lambertian lobe.
+    Surface { surface: Surface, normal: Vec3 },
+}
+
+impl Scatterer<'_> {
+    /// For a connection leaving along unit `omega`: the scattering
+    /// `p(θ)` (cos θ = arriving·omega) or the surface's Lambertian
+    /// `ρ/π·cos θ` ([`Surface::eval`]), and the density with which
+    /// continuing the path picks `omega` (phase sampling, or
+    /// [`Surface::pdf`]). `None` if a surface does not scatter that way.
+    pub fn scatter(&self, omega: Vec3) -> Option<(Rgb, f32)> {
+        match *self {
+            Scatterer::Medium { phase, arriving } => {
+                let p = phase.eval(omega.dot(arriving));
+                Some((Rgb::splat(p), p))
+            }
+            Scatterer::Surface { surface, normal } => (normal.dot(omega) > 0.0)
+                .then(|| (surface.eval(normal, omega), surface.pdf(normal, omega))),
+        }
+    }
+
+    /// Where a ray from `x` along `omega` starts: just off a surface.
+    pub fn origin(&self, x: Vec3, omega: Vec3) -> Vec3 {
+        match *self {
+            Scatterer::Medium { .. } => x,
+            Scatterer::Surface { normal, .. } => offset_origin(x, normal, omega),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each integrator is built with its own parameters from the settings.
+    #[test]
+    fn integrator_takes_its_parameters_from_the_settings() {
+        let visibility = Visibility::ShadowRays;
+        let settings = RenderSettings {
+            step: 0.25,
+            interleave: 4,
+            max_bounces: 3,
+            volume_samples: 5,
+            max_depth: 7,
+            strategies: Strategies::NONE,
+            ..RenderSettings::default()
+        };
+        for kind in IntegratorKind::ALL {
+            let integrator = Integrator::new(
+                &RenderSettings {
+                    integrator: kind,
+                    ..settings
+                },
+                &visibility,
+            );
+            assert_eq!(integrator.kind(), kind);
+            match integrator {
+                Integrator::March(m) => {
+                    assert_eq!((m.step, m.interleave, m.max_bounces), (0.25, 4, 3))
+                }
+                Integrator::Single(s) => assert_eq!((s.volume_samples, s.max_bounces), (5, 3)),
+                Integrator::Volpath(v) => assert_eq!(
+                    (v.max_depth, v.strategies, v.volume_samples),
+                    (7, Strategies::NONE, 5)
+                ),
+            }
+        }
+    }
 }

@@ -25,7 +25,18 @@ use crate::media::tracking::VolumeTracker;
 use crate::media::transmittance;
 use crate::sampler::PixelSampler;
 use crate::sampling::{EquiangularSampler, ExponentialSampler};
-use crate::visibility::RayCounts;
+use crate::visibility::{RayCounts, Visibility};
+
+/// Single scattering's parameters.
+#[derive(Clone, Copy)]
+pub struct Single<'a> {
+    /// Equiangular samples per light on each camera segment.
+    pub volume_samples: u32,
+    /// Most specular events (dielectrics, reflective layers) a camera
+    /// path follows.
+    pub max_bounces: u32,
+    pub(crate) visibility: &'a Visibility,
+}
 
 /// In-scattered radiance along the query's ray over `(0, t_hit)`,
 /// relative to the radiance at the ray origin (one sample).

@@ -1,0 +1,282 @@
+//! Light-vertex connections: light subpaths started on quad lights whose
+//! first (and second) fog events are joined to a camera-path vertex
+//! ([`connect_light_vertex`]).
+
+use super::Volpath;
+use super::mis::{FogEventDensities, segment_term};
+use super::segment::{Connections, FogSegment};
+use crate::color::Rgb;
+use crate::integrators::{MAX_GLASS_CROSSINGS, Scatterer};
+use crate::materials::Material;
+use crate::media::Fog;
+use crate::ray::{Ray, offset_origin};
+use crate::sampler::PixelSampler;
+use crate::scene::Scene;
+use crate::visibility::RayCounts;
+use glam::Vec3;
+
+/// Light-vertex connections at the camera-path vertex `at.x` (a fog event
+/// or a Lambertian surface point): a light subpath is started on a quad
+/// light (chosen uniformly, a point uniform on it, a cosine-distributed
+/// direction, through thin glass); its first free-flight event y1 in the
+/// fog is connected to x, and, if `at.twice`, the light turns at y1 by the
+/// phase function, flies on to a second event y2, and y2 is connected to
+/// x as well. Returns the MIS-weighted radiance both bring to the path
+/// (to be multiplied by the path's throughput at x, which holds a fog
+/// event's albedo but not a surface's BRDF).
+///
+/// Why: fog right next to an area light is lit by a large solid angle of
+/// it and glows brightly. Camera paths reach that glow only when a random
+/// walk happens to pass close to the lamp — rare, and then worth a lot:
+/// the fireflies of multiply scattered light. Light subpaths start there,
+/// so their first events sample the glow where it is brightest. The
+/// first connection competes, by the balance heuristic, with NEE at y1,
+/// the equiangular sample on x's continuation segment, and the
+/// phase-sampled hit from y1; each of those adds its density
+/// ([`FogSegment::connection_term`]) when the segment starts at a vertex
+/// that connected. The second does the same one vertex further: the
+/// camera path reaching y2 from x and then generating (y1, y0) by any of
+/// those strategies ([`FogSegment::second_vertex_term`]); it catches
+/// paths that wander into the glow twice. The connections' own
+/// 1/|x − y|² is tamed the same way: near x, sampling the continuation
+/// from x dominates the weights.
+pub(super) fn connect_light_vertex(
+    integrator: &Volpath,
+    scene: &Scene,
+    fog: &Fog,
+    at: &LightVertexOrigin,
+    sampler: &mut PixelSampler,
+    counts: &mut RayCounts,
+) -> Rgb {
+    let strategies = integrator.strategies;
+    let lights = scene.quad_light_count();
+    let choice = sampler.next_1d() * lights as f32;
+    let (u_point, u_direction, u_flight) =
+        (sampler.next_2d(), sampler.next_2d(), sampler.next_1d());
+    let (u_turn, u_flight2) = (sampler.next_2d(), sampler.next_1d());
+    let Some(light) = scene
+        .lights
+        .iter()
+        .filter(|l| l.is_flat_emitter())
+        .nth((choice as usize).min(lights - 1))
+    else {
+        return Rgb::ZERO;
+    };
+    // A two-sided light picks its side with the choice's fraction.
+    let Some(emission) = light.sample_le(u_point, u_direction, choice.fract()) else {
+        return Rgb::ZERO;
+    };
+    let (y0, direction) = (emission.point, emission.ray.direction);
+    // The first flight may cross thin glass (it is not a camera segment).
+    let Some((y1, tint)) = light_flight(scene, fog, emission.ray, u_flight, true, counts) else {
+        return Rgb::ZERO;
+    };
+    // β·n_q = Le·cos θ₀·n_q/(p_pos·p_dir): the light vertex's density
+    // cancels T(y0, y1), cos θ₀ and 1/|y1 − y0|² of the path's
+    // contribution.
+    let emitted = emission.beta * tint * lights as f32;
+    let mut sum = Rgb::ZERO;
+    if let Some(first) = at.join(integrator, scene, fog, y1, counts) {
+        // f/p of x → y1 → y0: f(x)·T(x, y1)/t² · σs/σt · p(y1) · β·n_q.
+        let to_light = -direction;
+        let phase_y1 = fog.phase.eval(to_light.dot(first.omega));
+        let t = first.distance;
+        let p_connect = first.segment.light_vertex_terms(t, light, y0);
+        let p_omega = light.pdf_li(y1, y0, to_light);
+        let samples = strategies.later_equiangular();
+        let equiangular = segment_term(&first.segment, t, samples, light, y0);
+        let weight = first.segment.connection_term(t, light, y0)
+            / FogEventDensities::new(strategies, p_omega, phase_y1, equiangular, p_connect).total();
+        sum += emitted * fog.albedo * first.value * (phase_y1 * weight);
+    }
+    if !at.twice {
+        return sum;
+    }
+    // The second light vertex: the light turns at y1 by the phase function
+    // and flies to y2 (no surface between: y2 → y1 is a camera segment).
+    let (turn, _) = fog.phase.sample(direction, u_turn);
+    let Some((y2, _)) = light_flight(
+        scene,
+        fog,
+        Ray {
+            origin: y1,
+            direction: turn,
+        },
+        u_flight2,
+        false,
+        counts,
+    ) else {
+        return sum;
+    };
+    let Some(second) = at.join(integrator, scene, fog, y2, counts) else {
+        return sum;
+    };
+    // The camera path's view of y2 → y1: its direction density at y2 and
+    // the segment it would fly along.
+    let back = -turn;
+    let p_dir_y2 = fog.phase.eval(back.dot(second.omega));
+    let t12 = (y1 - y2).length();
+    let reach_y2 = second.segment.flight_pdf(second.distance) / (second.distance * second.distance);
+    let p_reach = second.p_dir * reach_y2;
+    let segment_ray = Ray {
+        origin: y2,
+        direction: back,
+    };
+    // The segment's end beyond y₁ matters only to the equiangular term.
+    let t_hit = if strategies.later_equiangular().area > 0 {
+        counts.shadow += 1;
+        scene
+            .geometry
+            .intersect(&segment_ray, f32::INFINITY)
+            .map_or(f32::INFINITY, |h| h.t)
+    } else {
+        f32::INFINITY
+    };
+    let connections = Connections {
+        first: Some(p_dir_y2),
+        second: false,
+        reached: Some(p_reach * p_dir_y2),
+    };
+    let Some(segment) = FogSegment::new(integrator, scene, fog, segment_ray, t_hit, connections)
+    else {
+        return sum;
+    };
+    let to_light = -direction;
+    let phase_y1 = fog.phase.eval(to_light.dot(back));
+    let p_connect = segment.light_vertex_terms(t12, light, y0);
+    let p_omega = light.pdf_li(y1, y0, to_light);
+    let samples = strategies.later_equiangular();
+    let equiangular = segment_term(&segment, t12, samples, light, y0);
+    let weight = segment.second_vertex_term(t12, light, y0)
+        / FogEventDensities::new(strategies, p_omega, phase_y1, equiangular, p_connect).total();
+    // f/p of x → y2 → y1 → y0: f(x)·T(x, y2)/t² · (σs/σt)² · p(y2) ·
+    // β·n_q (the second flight's density cancels p(y1), T(y1, y2)
+    // and 1/|y2 − y1|²).
+    sum + emitted * fog.albedo * fog.albedo * second.value * (p_dir_y2 * weight)
+}
+
+/// A camera-path vertex that connects to light vertices: where it is,
+/// how it scatters, and what the camera path's densities need.
+pub(super) struct LightVertexOrigin<'a> {
+    pub x: Vec3,
+    pub vertex: &'a Scatterer<'a>,
+    /// If x is a fog event reached from a vertex that connected to second
+    /// light vertices, the volume density of that reach.
+    pub reached: Option<f32>,
+    /// Whether x also connects to second light vertices.
+    pub twice: bool,
+}
+
+/// The camera vertex joined to a light vertex y: the direction towards
+/// y, the distance, the camera-side segment x would fly along towards y,
+/// x's direction density, and `f(x)·T(x, y)/t²`.
+struct Join<'a> {
+    omega: Vec3,
+    distance: f32,
+    segment: FogSegment<'a>,
+    p_dir: f32,
+    value: Rgb,
+}
+
+impl LightVertexOrigin<'_> {
+    /// Joins x to the fog point `y`; `None` if a surface is between them
+    /// or x does not scatter that way.
+    fn join<'s>(
+        &self,
+        integrator: &Volpath<'s>,
+        scene: &'s Scene,
+        fog: &'s Fog,
+        y: Vec3,
+        counts: &mut RayCounts,
+    ) -> Option<Join<'s>> {
+        let to_y = y - self.x;
+        let t = to_y.length();
+        if t.is_nan() || t <= 0.0 {
+            return None;
+        }
+        let omega = to_y / t;
+        let (f_x, p_dir) = self.vertex.scatter(omega)?;
+        let segment_ray = Ray {
+            origin: self.vertex.origin(self.x, omega),
+            direction: omega,
+        };
+        counts.shadow += 1;
+        let t_hit = if integrator.strategies.later_equiangular().area > 0 {
+            // The equiangular term needs the whole segment: to the next
+            // surface beyond y.
+            let t_hit = scene
+                .geometry
+                .intersect(&segment_ray, f32::INFINITY)
+                .map_or(f32::INFINITY, |h| h.t);
+            if t_hit <= t {
+                return None;
+            }
+            t_hit
+        } else {
+            // The other densities need only where the segment enters the
+            // fog: a visibility test up to y does.
+            if scene.geometry.occluded(&segment_ray, t) {
+                return None;
+            }
+            f32::INFINITY
+        };
+        let connections = Connections {
+            first: Some(p_dir),
+            second: self.twice,
+            reached: self.reached.map(|r| r * p_dir),
+        };
+        let segment = FogSegment::new(integrator, scene, fog, segment_ray, t_hit, connections)?;
+        let value = f_x * (fog.transmittance(&segment_ray, 0.0, t) / (t * t));
+        Some(Join {
+            omega,
+            distance: t,
+            segment,
+            p_dir,
+            value,
+        })
+    }
+}
+
+/// A light subpath's free flight along `ray` to its first fog event, with
+/// one optical depth `−ln(1 − u)` spent piece by piece; across thin glass
+/// panes (multiplying the tint) if `through_glass`, else stopping at any
+/// surface. The event and the tint, or `None` if the flight ends on a
+/// surface or leaves the scene.
+fn light_flight(
+    scene: &Scene,
+    fog: &Fog,
+    mut ray: Ray,
+    u: f32,
+    through_glass: bool,
+    counts: &mut RayCounts,
+) -> Option<(Vec3, Rgb)> {
+    let mut depth_left = -(1.0 - u).ln();
+    let mut tint = Rgb::ONE;
+    let mut crossings = 0u32;
+    loop {
+        counts.camera += 1;
+        let hit = scene.geometry.intersect(&ray, f32::INFINITY);
+        let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
+        if let Some((a, b)) = fog.interval(&ray, 0.0, t_hit) {
+            let depth = fog.sigma_t * (b - a);
+            if depth_left < depth {
+                return Some((ray.at(a + depth_left / fog.sigma_t), tint));
+            }
+            depth_left -= depth;
+        }
+        let hit = hit?;
+        match scene.material(hit.primitive) {
+            Material::Glass(glass) if through_glass => {
+                tint *= glass.filter_transmittance();
+                crossings += 1;
+                if crossings > MAX_GLASS_CROSSINGS {
+                    return None;
+                }
+                let p = ray.at(hit.t);
+                let n = scene.geometry.normal(hit.primitive, p);
+                ray.origin = offset_origin(p, n, ray.direction);
+            }
+            _ => return None,
+        }
+    }
+}

@@ -1,0 +1,241 @@
+//! Sampling along one path segment in the fog: the segment itself
+//! ([`FogSegment`]: its free-flight distance and density) and
+//! equiangular sampling towards each light on it ([`EquiangularNee`],
+//! Kulla & Fajardo 2012).
+
+use super::Volpath;
+use super::mis::{EquiangularCounts, FogEventDensities, Strategies, on};
+use crate::color::Rgb;
+use crate::integrators::{MediumQuery, media_transmittance, scattered_light};
+use crate::media::tracking::VolumeTracker;
+use crate::media::{Fog, free_flight, transmittance};
+use crate::ray::Ray;
+use crate::sampler::PixelSampler;
+use crate::sampling::EquiangularSampler;
+use crate::scene::Scene;
+use crate::visibility::RayCounts;
+use glam::Vec3;
+
+/// The part `[a, b]` of a path segment inside the fog.
+#[derive(Clone, Copy)]
+pub(super) struct FogSegment<'a> {
+    pub(super) medium: MediumQuery<'a>,
+    pub(super) a: f32,
+    pub(super) b: f32,
+    /// What the ray's origin vertex connected to.
+    pub(super) connected_from: Connections,
+}
+
+impl<'a> FogSegment<'a> {
+    /// The part of `ray`'s segment `(0, t_hit)` inside `fog`, if any
+    /// (and if the fog can scatter at all).
+    pub(super) fn new(
+        integrator: &Volpath<'a>,
+        scene: &'a Scene,
+        fog: &'a Fog,
+        ray: Ray,
+        t_hit: f32,
+        connected_from: Connections,
+    ) -> Option<Self> {
+        let (a, b) = fog.interval(&ray, 0.0, t_hit)?;
+        let medium = MediumQuery {
+            scene,
+            visibility: integrator.visibility,
+            fog,
+            ray,
+            t_hit,
+        };
+        (fog.sigma_t > 0.0).then_some(Self {
+            medium,
+            a,
+            b,
+            connected_from,
+        })
+    }
+
+    /// Distance to a real scattering event, sampled with density
+    /// [`FogSegment::flight_pdf`]; `None` if the flight leaves the segment
+    /// (probability e^{−σt(b−a)}).
+    pub(super) fn free_flight(&self, u: f32) -> Option<f32> {
+        free_flight(self.medium.fog.sigma_t, self.a, self.b, u)
+    }
+
+    /// Density σt·e^{−σt(t−a)} of a free-flight event at `t`.
+    pub(super) fn flight_pdf(&self, t: f32) -> f32 {
+        let sigma_t = self.medium.fog.sigma_t;
+        sigma_t * transmittance(sigma_t, t - self.a)
+    }
+
+    /// The volume density with which the camera path reaches the event at
+    /// `t` from the ray's origin, `p_dir·p_flight(t)/t²`, if the origin
+    /// connected to second light vertices (which can produce this event
+    /// as one).
+    pub(super) fn reached_density(&self, t: f32) -> Option<f32> {
+        let p_dir = self.connected_from.first?;
+        (self.connected_from.second && t > 0.0).then(|| p_dir * self.flight_pdf(t) / (t * t))
+    }
+}
+
+/// What a camera-path vertex connected to, as seen from the segment that
+/// leaves it.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Connections {
+    /// The solid-angle density of the segment's direction, if the vertex
+    /// connected to first light vertices.
+    pub(super) first: Option<f32>,
+    /// Whether it also connected to second light vertices.
+    pub(super) second: bool,
+    /// If the vertex is a fog event reached from one that connected to
+    /// second light vertices: that reach's volume density times this
+    /// segment's direction density, `P_x(y₂)·p_dir(y₂)`.
+    pub(super) reached: Option<f32>,
+}
+
+/// Equiangular NEE along one fog segment (Kulla & Fajardo 2012): `n`
+/// stratified samples per light towards its position (point and spot
+/// lights) or towards a point chosen uniformly on it (quad lights),
+/// combined by the balance heuristic with NEE at the free-flight event
+/// and, for quad lights, with phase-sampled hits of the light.
+///
+/// For quad lights the strategies are compared in the measure of (t, y),
+/// the scattering distance and the light point: the segment estimator has
+/// density `n·p_e(t | y)/A`; NEE at a free-flight event `p_flight(t)·p_Ω·G`
+/// and a phase-sampled hit `p_flight(t)·p_phase·G`, with `G = cos θ_y/d²`
+/// turning solid angle into area.
+///
+/// One value serves a whole path: [`EquiangularNee::prepare`] refills it
+/// for each segment without allocating.
+pub(super) struct EquiangularNee {
+    lights: Vec<Option<SegmentLight>>,
+    pub(super) counts: EquiangularCounts,
+}
+
+/// One light's equiangular sampler on the segment, its stratification
+/// offset, and the point it aims at.
+#[derive(Clone, Copy)]
+struct SegmentLight {
+    sampler: EquiangularSampler,
+    u: f32,
+    point: Vec3,
+    /// Samples taken towards the light.
+    n: u32,
+}
+
+impl EquiangularNee {
+    pub(super) fn with_capacity(lights: usize) -> Self {
+        Self {
+            lights: Vec::with_capacity(lights),
+            counts: EquiangularCounts::default(),
+        }
+    }
+
+    /// Sets up `counts` samples per light on `segment`; a light with no
+    /// samples is not estimated here.
+    pub(super) fn prepare(
+        &mut self,
+        segment: &FogSegment,
+        counts: EquiangularCounts,
+        sampler: &mut PixelSampler,
+    ) {
+        let ray = &segment.medium.ray;
+        self.counts = counts;
+        self.lights.clear();
+        self.lights
+            .extend(segment.medium.scene.lights.iter().map(|light| {
+                let n = counts.of(light);
+                if n == 0 {
+                    return None;
+                }
+                let u = sampler.next_1d();
+                let point = if light.is_delta() {
+                    light.position()?
+                } else {
+                    light.sample_point(sampler.next_2d())?
+                };
+                let (ea, eb) = light.reach(ray, segment.a, segment.b)?;
+                let sampler = EquiangularSampler::new(ray, point, ea, eb)?;
+                Some(SegmentLight {
+                    sampler,
+                    u,
+                    point,
+                    n,
+                })
+            }));
+    }
+
+    /// Density with which a point or spot light's samples land at `t`, all
+    /// `n` counted (0 if the light is not sampled here).
+    pub(super) fn delta_pdf(&self, index: usize, t: f32) -> f32 {
+        self.lights[index].map_or(0.0, |l| l.n as f32 * l.sampler.pdf(t))
+    }
+
+    /// Whether light `index` is estimated here (and must be MIS-weighted
+    /// at the free-flight event).
+    pub(super) fn covers(&self, index: usize) -> bool {
+        self.lights[index].is_some()
+    }
+
+    /// In-scattered radiance from lights whose last scattering lies on the
+    /// segment, relative to the segment's start.
+    pub(super) fn estimate(
+        &self,
+        segment: &FogSegment,
+        strategies: Strategies,
+        counts: &mut RayCounts,
+        tracker: &mut VolumeTracker,
+    ) -> Rgb {
+        let medium = &segment.medium;
+        let fog = medium.fog;
+        let mut sum = Rgb::ZERO;
+        for (index, entry) in self.lights.iter().enumerate() {
+            let Some(entry) = entry else { continue };
+            let light = &medium.scene.lights[index];
+            let n = entry.n as f32;
+            for k in 0..entry.n {
+                let (t, p_e) = entry.sampler.sample((k as f32 + entry.u) / n);
+                let x = medium.ray.at(t);
+                let Some(incident) = light.incident(x, Some(entry.point)) else {
+                    continue;
+                };
+                let light_in = scattered_light(medium, index, x, &incident, counts, tracker);
+                if light_in == Rgb::ZERO {
+                    continue;
+                }
+                let p_flight = segment.flight_pdf(t);
+                // The integrand T(a, t)·σs·(eq. 1) over the summed densities.
+                let denominator = match light.normal(entry.point) {
+                    // An area light.
+                    Some(normal) => {
+                        // E = L·A·G (area sampling), so the (t, y)
+                        // densities appear here multiplied by A.
+                        let g = normal.dot(incident.direction).abs()
+                            / (incident.distance * incident.distance);
+                        let p_omega = light.pdf_li(x, entry.point, incident.direction);
+                        let p_connect = segment.light_vertex_terms(t, light, entry.point);
+                        // This estimator's own density is n·p_e, above.
+                        let others = FogEventDensities::new(
+                            strategies,
+                            p_omega,
+                            medium.phase(&incident),
+                            0.0,
+                            p_connect,
+                        );
+                        n * p_e + light.area() * p_flight * g * others.total()
+                    }
+                    None => n * p_e + on(strategies.medium_nee, p_flight),
+                };
+                let ray = &medium.ray;
+                let camera_t = media_transmittance(
+                    medium.scene,
+                    tracker,
+                    ray.origin,
+                    ray.origin,
+                    ray.direction,
+                    t,
+                );
+                sum += fog.sigma_s() * light_in * camera_t / denominator;
+            }
+        }
+        sum
+    }
+}

@@ -1,0 +1,519 @@
+//! Light sources: point, spot (the paper's §3.2), directional, quad and
+//! sphere area lights. Any number of each.
+//!
+//! A light owns its physics, pbrt-style, behind one enum ([`Light`]):
+//! integrators call its methods and name no kind.
+//!
+//! - Towards a receiving point `x` (next event estimation):
+//!   [`Light::sample_point`] picks the emitting point `y` (the light's
+//!   position, or a uniformly chosen point of an area light),
+//!   [`Light::incident`] gives the light arriving at `x` from `y` before
+//!   occlusion, glass and fog are applied, and [`Light::sample_li`] /
+//!   [`Light::pdf_li`] sample and weigh that point in solid angle
+//!   (spherical rectangles and cones where possible).
+//! - Away from the light (paths traced from it): [`Light::sample_le`] and
+//!   [`Light::pdf_le`]; [`Light::power`] is the total flux.
+//! - Capabilities integrators choose strategies by: [`Light::is_delta`],
+//!   [`Light::position`], [`Light::origin`], [`Light::is_flat_emitter`], [`Light::area`],
+//!   [`Light::normal`].
+//!
+//! Spotlights also clip a ray to the part inside their cone
+//! ([`Light::reach`]), which the integrators use so that no march step or
+//! distance sample is spent outside the beam.
+
+mod area;
+mod spot;
+
+pub use area::{QuadLight, SphereLight, SphericalRectangle};
+pub use spot::{SpotLight, SpotProfile};
+
+use crate::color::Rgb;
+use crate::ray::{Ray, offset_origin};
+use crate::sampling::{cosine_hemisphere, uniform_cone};
+use glam::{Vec2, Vec3};
+use std::f32::consts::PI;
+
+/// Point light of radiant intensity `intensity` (W/sr) in all directions.
+/// The paper writes `Φ/(4π)` for a light of power Φ.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointLight {
+    pub position: Vec3,
+    pub intensity: Rgb,
+}
+
+/// Directional light (a sun): parallel light travelling along `direction`
+/// with irradiance `irradiance` (W/m²) on a surface facing it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DirectionalLight {
+    /// Unit direction the light travels in.
+    pub direction: Vec3,
+    pub irradiance: Rgb,
+}
+
+/// The closed set of light kinds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Light {
+    Point(PointLight),
+    Spot(SpotLight),
+    Directional(DirectionalLight),
+    Quad(QuadLight),
+    Sphere(SphereLight),
+}
+
+/// Light arriving at a point from one emitting point, before occlusion,
+/// glass and fog transmittance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Incident {
+    /// Unit direction from the receiving point towards the light.
+    pub direction: Vec3,
+    /// Distance to the emitting point (∞ for a directional light).
+    pub distance: f32,
+    /// Irradiance on a surface facing the light (W/m²), divided by the
+    /// probability density of the emitting point chosen by
+    /// [`Light::sample_point`]: `I(dir)/d²` for point and spot lights,
+    /// `L·cos θ_y·A/d²` for an area light of area A, `E` for a sun.
+    pub irradiance: Rgb,
+}
+
+impl Light {
+    /// The emitting point for receivers to connect to: the position of a
+    /// point or spot light, a uniformly distributed point (density 1/A) on
+    /// an area light from `u ∈ [0,1)²`, `None` for a directional light.
+    #[inline]
+    pub fn sample_point(&self, u: Vec2) -> Option<Vec3> {
+        match self {
+            Light::Point(p) => Some(p.position),
+            Light::Spot(s) => Some(s.position),
+            Light::Directional(_) => None,
+            Light::Quad(q) => Some(q.quad.point(u.x, u.y)),
+            Light::Sphere(s) => Some(s.point(u)),
+        }
+    }
+
+    /// Light reaching `x` from the emitting point `y` (from
+    /// [`Light::sample_point`]); `None` where it is zero (outside a
+    /// spotlight's cone, behind a one-sided emitter), so callers skip the
+    /// shadow ray — the paper's cone test before the shadow ray.
+    #[inline]
+    pub fn incident(&self, x: Vec3, y: Option<Vec3>) -> Option<Incident> {
+        match (self, y) {
+            (Light::Directional(d), _) => Some(Incident {
+                direction: -d.direction,
+                distance: f32::INFINITY,
+                irradiance: d.irradiance,
+            }),
+            (Light::Point(p), _) => {
+                let (direction, d2) = towards(x, p.position)?;
+                Some(Incident {
+                    direction,
+                    distance: d2.sqrt(),
+                    irradiance: p.intensity / d2,
+                })
+            }
+            (Light::Spot(s), _) => {
+                let (direction, d2) = towards(x, s.position)?;
+                let falloff = s.falloff(-direction.dot(s.direction));
+                (falloff > 0.0).then(|| Incident {
+                    direction,
+                    distance: d2.sqrt(),
+                    irradiance: s.intensity * (falloff / d2),
+                })
+            }
+            (Light::Quad(q), Some(y)) => {
+                let (direction, d2) = towards(x, y)?;
+                let cos_y = -direction.dot(q.quad.normal);
+                let cos_y = if q.two_sided { cos_y.abs() } else { cos_y };
+                (cos_y > 0.0).then(|| Incident {
+                    direction,
+                    distance: d2.sqrt(),
+                    irradiance: q.radiance * (cos_y * q.quad.area() / d2),
+                })
+            }
+            (Light::Sphere(s), Some(y)) => {
+                let (direction, d2) = towards(x, y)?;
+                let normal = (y - s.sphere.center) / s.sphere.radius;
+                let cos_y = -direction.dot(normal);
+                let cos_y = if s.two_sided { cos_y.abs() } else { cos_y };
+                (cos_y > 0.0).then(|| Incident {
+                    direction,
+                    distance: d2.sqrt(),
+                    irradiance: s.radiance * (cos_y * s.area() / d2),
+                })
+            }
+            (Light::Quad(_) | Light::Sphere(_), None) => None,
+        }
+    }
+
+    /// The part of `[t0, t1]` along `ray` that this light can reach: the
+    /// cone for a spotlight, everything for other lights.
+    #[inline]
+    pub fn reach(&self, ray: &Ray, t0: f32, t1: f32) -> Option<(f32, f32)> {
+        match self {
+            Light::Spot(s) => s.clip_ray(ray, t0, t1),
+            _ => (t0 < t1).then_some((t0, t1)),
+        }
+    }
+}
+
+/// Where a light's light comes from, for methods that look out from the
+/// light (shadow maps): one point in all directions, one point through a
+/// cone, parallel from infinity, or an extended surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightOrigin {
+    /// From `position` in all directions (a point light).
+    Point { position: Vec3 },
+    /// From `apex` within the cone around the unit `axis` whose half-angle
+    /// has cosine `cos_cutoff` (a spotlight).
+    Cone {
+        apex: Vec3,
+        axis: Vec3,
+        cos_cutoff: f32,
+    },
+    /// Parallel light travelling along the unit `direction` (a sun).
+    Parallel { direction: Vec3 },
+    /// From every point of a surface (area lights): no single centre of
+    /// projection.
+    Surface,
+}
+
+/// An emitted ray chosen by [`Light::sample_le`], for paths traced from
+/// the light (the light tracer, `volpath`'s light subpaths).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LeSample {
+    /// The emitting point y₀: the light's position, or a point of an area
+    /// light's surface.
+    pub point: Vec3,
+    /// The emitted ray along the sampled direction, from y₀ (moved just
+    /// off an area light's surface).
+    pub ray: Ray,
+    /// The light subpath's initial throughput
+    /// `Le(y₀, ω)·|cos θ₀| / (p_pos(y₀)·p_dir(ω))` (Veach 1997 §10.2):
+    /// `I(ω)/p_dir` (W) for point and spot lights, `L·A·π·s` for a
+    /// Lambertian quad of area A emitting from s sides.
+    pub beta: Rgb,
+}
+
+impl Light {
+    /// Whether the light is a Dirac delta in position or direction (point,
+    /// spot, directional): no sampled direction can hit it, so only light
+    /// sampling ([`Light::sample_li`]) reaches it, and choosing its
+    /// emitting point takes no random numbers.
+    #[inline]
+    pub fn is_delta(&self) -> bool {
+        matches!(
+            self,
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_)
+        )
+    }
+
+    /// The position of a light that emits from one point (point and spot
+    /// lights); `None` for distant and area lights.
+    #[inline]
+    pub fn position(&self) -> Option<Vec3> {
+        match self {
+            Light::Point(p) => Some(p.position),
+            Light::Spot(s) => Some(s.position),
+            Light::Directional(_) | Light::Quad(_) | Light::Sphere(_) => None,
+        }
+    }
+
+    /// Where the light's light comes from (see [`LightOrigin`]).
+    #[inline]
+    pub fn origin(&self) -> LightOrigin {
+        match self {
+            Light::Point(p) => LightOrigin::Point {
+                position: p.position,
+            },
+            Light::Spot(s) => LightOrigin::Cone {
+                apex: s.position,
+                axis: s.direction,
+                cos_cutoff: s.cos_cutoff,
+            },
+            Light::Directional(d) => LightOrigin::Parallel {
+                direction: d.direction,
+            },
+            Light::Quad(_) | Light::Sphere(_) => LightOrigin::Surface,
+        }
+    }
+
+    /// Whether the light is an area light with a flat emitting surface (a
+    /// quad): [`Light::sample_le`] starts rays on it, and its geometry
+    /// term has one normal.
+    #[inline]
+    pub fn is_flat_emitter(&self) -> bool {
+        matches!(self, Light::Quad(_))
+    }
+
+    /// Surface area (m²) of an area light's emitting surface; 0 for delta
+    /// lights.
+    #[inline]
+    pub fn area(&self) -> f32 {
+        match self {
+            Light::Quad(q) => q.quad.area(),
+            Light::Sphere(s) => s.area(),
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 0.0,
+        }
+    }
+
+    /// Unit normal of an area light's surface at its point `y` (the side
+    /// a one-sided light emits from); `None` for delta lights.
+    #[inline]
+    pub fn normal(&self, y: Vec3) -> Option<Vec3> {
+        match self {
+            Light::Quad(q) => Some(q.quad.normal),
+            Light::Sphere(s) => Some((y - s.sphere.center) / s.sphere.radius),
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => None,
+        }
+    }
+
+    /// Light reaching the receiver `x` from a point of this light chosen
+    /// for it (next event estimation), divided by the point's density:
+    /// uniform in solid angle for a rectangle and from outside a sphere,
+    /// uniform in area otherwise (`u ∈ [0,1)²`; delta lights use their
+    /// fixed point and ignore `u`). Also returns the choice's solid-angle
+    /// density for MIS ([`Light::pdf_li`]), `None` for delta lights, which
+    /// no sampled direction can hit.
+    #[inline]
+    pub fn sample_li(&self, x: Vec3, u: Vec2) -> Option<(Incident, Option<f32>)> {
+        match self {
+            Light::Quad(q) => q
+                .sample_incident(x, u)
+                .map(|(incident, pdf)| (incident, Some(pdf))),
+            Light::Sphere(s) => s
+                .sample_incident(x, u)
+                .map(|(incident, pdf)| (incident, Some(pdf))),
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => self
+                .incident(x, self.sample_point(Vec2::ZERO))
+                .map(|i| (i, None)),
+        }
+    }
+
+    /// Density per unit solid angle, seen from `x`, with which
+    /// [`Light::sample_li`] picks the point `y` of an area light in the
+    /// unit direction `direction` from `x`; 0 for delta lights.
+    #[inline]
+    pub fn pdf_li(&self, x: Vec3, y: Vec3, direction: Vec3) -> f32 {
+        match self {
+            Light::Quad(q) => q.pdf(x, y, direction),
+            Light::Sphere(s) => s.pdf(x, y, direction),
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 0.0,
+        }
+    }
+
+    /// A ray leaving the light, for paths traced from it: a point light
+    /// emits uniformly over the sphere and a spot uniformly over its cone
+    /// (both from `u_direction`); a quad from a point uniform in area
+    /// (`u_point`) with a cosine-distributed direction (`u_direction`),
+    /// on its back side if it is two-sided and `u_side ≥ ½`. `None` where
+    /// the sampled ray carries nothing (a spot's profile is 0 at its cut)
+    /// and for lights whose emission is not sampled (directional lights,
+    /// emissive spheres).
+    pub fn sample_le(&self, u_point: Vec2, u_direction: Vec2, u_side: f32) -> Option<LeSample> {
+        match self {
+            Light::Point(p) => {
+                let direction = uniform_cone(Vec3::Z, -1.0, u_direction);
+                Some(LeSample {
+                    point: p.position,
+                    ray: Ray {
+                        origin: p.position,
+                        direction,
+                    },
+                    beta: p.intensity * (4.0 * PI),
+                })
+            }
+            Light::Spot(s) => {
+                let direction = uniform_cone(s.direction, s.cos_cutoff, u_direction);
+                let falloff = s.falloff(direction.dot(s.direction));
+                if falloff <= 0.0 {
+                    return None;
+                }
+                let solid_angle = 2.0 * PI * (1.0 - s.cos_cutoff);
+                Some(LeSample {
+                    point: s.position,
+                    ray: Ray {
+                        origin: s.position,
+                        direction,
+                    },
+                    beta: s.intensity * (falloff * solid_angle),
+                })
+            }
+            Light::Quad(q) => {
+                let (normal, sides) = if q.two_sided {
+                    let back = u_side >= 0.5;
+                    (if back { -q.quad.normal } else { q.quad.normal }, 2.0)
+                } else {
+                    (q.quad.normal, 1.0)
+                };
+                let point = q.quad.point(u_point.x, u_point.y);
+                let direction = cosine_hemisphere(normal, u_direction);
+                Some(LeSample {
+                    point,
+                    ray: Ray {
+                        origin: offset_origin(point, normal, direction),
+                        direction,
+                    },
+                    // L·cos θ₀ / ((1/A)·(cos θ₀/(π·s))).
+                    beta: q.radiance * (q.quad.area() * PI * sides),
+                })
+            }
+            Light::Directional(_) | Light::Sphere(_) => None,
+        }
+    }
+
+    /// The density with which [`Light::sample_le`] emits a ray along the
+    /// unit `direction`, per unit area at its emitting point and per unit
+    /// projected solid angle of the direction (`p_pos·p_dir/|cos θ₀|`,
+    /// Veach 1997 §4.1): `1/(A·π·s)` for a quad of area A emitting from s
+    /// sides (uniform over its surface, so the point does not matter), 0
+    /// behind a one-sided quad. 0 for lights that no other strategy meets
+    /// at a sampled point (point and spot lights, whose p_pos is a Dirac
+    /// delta) and for lights whose emission is not sampled.
+    pub fn pdf_le(&self, direction: Vec3) -> f32 {
+        match self {
+            Light::Quad(q) => {
+                if !(q.two_sided || direction.dot(q.quad.normal) > 0.0) {
+                    return 0.0;
+                }
+                let sides = if q.two_sided { 2.0 } else { 1.0 };
+                1.0 / (q.quad.area() * PI * sides)
+            }
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Sphere(_) => 0.0,
+        }
+    }
+
+    /// Total emitted power Φ (W). A directional light's is the flux
+    /// through a disk of radius `scene_radius` (the scene's bounding
+    /// sphere) facing it, `E·π·r²`, as pbrt-v4's `DistantLight`; emitters
+    /// count `L·π·A` per emitting side (pbrt-v4's `DiffuseAreaLight::Phi`).
+    pub fn power(&self, scene_radius: f32) -> Rgb {
+        match self {
+            Light::Point(p) => p.intensity * (4.0 * PI),
+            // ∫ falloff dω over the cone, in closed form per profile.
+            Light::Spot(s) => {
+                let cos_c = s.cos_cutoff;
+                let integral = match s.profile {
+                    // 2π ∫ (1 − (1 − c)/(1 − c_c)) dc over [c_c, 1].
+                    SpotProfile::Linear => PI * (1.0 - cos_c),
+                    SpotProfile::Hard => 2.0 * PI * (1.0 - cos_c),
+                    // The smoothstep averages ½ over [c_c, c_i].
+                    SpotProfile::Smooth { cos_inner } => {
+                        2.0 * PI * ((1.0 - cos_inner) + 0.5 * (cos_inner - cos_c))
+                    }
+                };
+                s.intensity * integral
+            }
+            Light::Directional(d) => d.irradiance * (PI * scene_radius * scene_radius),
+            Light::Quad(q) => {
+                let sides = if q.two_sided { 2.0 } else { 1.0 };
+                q.radiance * (PI * q.quad.area() * sides)
+            }
+            Light::Sphere(s) => {
+                let sides = if s.two_sided { 2.0 } else { 1.0 };
+                s.radiance * (PI * s.area() * sides)
+            }
+        }
+    }
+}
+
+/// Unit direction and squared distance from `x` to `y`; `None` if they
+/// coincide.
+#[inline]
+pub(super) fn towards(x: Vec3, y: Vec3) -> Option<(Vec3, f32)> {
+    let d = y - x;
+    let d2 = d.length_squared();
+    (d2 > 0.0).then(|| (d / d2.sqrt(), d2))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::Quad;
+
+    fn spot(profile: SpotProfile, cutoff_deg: f32) -> SpotLight {
+        SpotLight {
+            position: Vec3::new(0.0, 3.0, 0.0),
+            direction: -Vec3::Y,
+            cos_cutoff: cutoff_deg.to_radians().cos(),
+            profile,
+            intensity: Rgb::ONE,
+        }
+    }
+
+    /// The emitted rays' mean throughput is the light's power,
+    /// `E[β] = ∫∫ Le·cos θ₀ dA dω = Φ`: checks `sample_le`'s weights
+    /// against `power`'s closed forms (spot profiles included).
+    #[test]
+    fn emitted_throughput_averages_to_power() {
+        let inner = 20f32.to_radians().cos();
+        let quad = Quad::new(
+            Vec3::new(-0.5, 2.0, -0.3),
+            Vec3::new(1.2, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, 0.8),
+            false,
+        )
+        .unwrap();
+        let lights = [
+            Light::Point(PointLight {
+                position: Vec3::ONE,
+                intensity: Rgb::new(1.0, 2.0, 3.0),
+            }),
+            Light::Spot(spot(SpotProfile::Linear, 35.0)),
+            Light::Spot(spot(SpotProfile::Hard, 35.0)),
+            Light::Spot(spot(SpotProfile::Smooth { cos_inner: inner }, 35.0)),
+            Light::Quad(QuadLight {
+                quad,
+                radiance: Rgb::splat(2.0),
+                two_sided: true,
+            }),
+        ];
+        for light in lights {
+            let n = 256;
+            let mut sum = Rgb::ZERO;
+            for i in 0..n {
+                for j in 0..n {
+                    let u = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                    if let Some(sample) = light.sample_le(u, Vec2::new(u.y, u.x), u.x) {
+                        sum += sample.beta;
+                    }
+                }
+            }
+            let mean = sum / (n * n) as f32;
+            let power = light.power(1.0);
+            assert!(
+                (mean - power).abs().max_element() < 1e-3 * power.max_element(),
+                "{light:?}: {mean} vs {power}"
+            );
+        }
+    }
+
+    /// A quad's emission density is `1/(A·π·s)` on its emitting sides and
+    /// 0 behind a one-sided quad; its emitted rays leave from the front.
+    #[test]
+    fn quad_emission_density() {
+        let quad = Quad::new(Vec3::ZERO, Vec3::X * 2.0, Vec3::Z, false).unwrap();
+        let front = QuadLight {
+            quad,
+            radiance: Rgb::ONE,
+            two_sided: false,
+        };
+        let one_sided = Light::Quad(front);
+        let n = quad.normal;
+        let area = quad.area();
+        assert!((one_sided.pdf_le(n) - 1.0 / (area * PI)).abs() < 1e-7);
+        assert_eq!(one_sided.pdf_le(-n), 0.0);
+        let sample = one_sided
+            .sample_le(Vec2::splat(0.3), Vec2::new(0.2, 0.7), 0.9)
+            .unwrap();
+        assert!(sample.ray.direction.dot(n) > 0.0);
+        assert!(sample.ray.origin.dot(n) > 0.0);
+        let two_sided = Light::Quad(QuadLight {
+            two_sided: true,
+            ..front
+        });
+        assert!((two_sided.pdf_le(-n) - 1.0 / (area * PI * 2.0)).abs() < 1e-7);
+        let back = two_sided
+            .sample_le(Vec2::splat(0.3), Vec2::new(0.2, 0.7), 0.9)
+            .unwrap();
+        assert!(back.ray.direction.dot(n) < 0.0);
+    }
+}
