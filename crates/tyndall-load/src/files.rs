@@ -5,7 +5,7 @@
 
 use std::io::Read;
 use std::path::Path;
-use tyndall::scene::limits::describe_bytes;
+use tyndall::limits::describe_bytes;
 
 /// Largest scene file read (native TOML or legacy .obj), in bytes.
 pub const MAX_SCENE_FILE_BYTES: u64 = 64 << 20;

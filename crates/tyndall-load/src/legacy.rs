@@ -18,8 +18,8 @@ use tyndall::color::{Rgb, srgb_to_linear};
 use tyndall::description::{LightDesc, Origin, SceneDesc, Sourced};
 use tyndall::glass::{Glass, GlassModel};
 use tyndall::lights::{SpotLight, SpotProfile};
+use tyndall::limits;
 use tyndall::materials::{Material, Surface};
-use tyndall::scene::limits;
 use tyndall::settings::{IntegratorKind, RenderSettings};
 use tyndall::shapes::{Bounds, Quad, Shape, Sphere, Triangle};
 

@@ -3,7 +3,7 @@
 use crate::files::{MAX_MESH_FILE_BYTES, read_capped};
 use glam::{EulerRot, Mat4, Quat, Vec3};
 use std::path::Path;
-use tyndall::scene::limits::check_coordinates;
+use tyndall::limits::check_coordinates;
 use tyndall::shapes::Triangle;
 
 /// Placement of a mesh: scale, then rotate (X, then Y, then Z, degrees),

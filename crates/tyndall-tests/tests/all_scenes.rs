@@ -143,9 +143,9 @@ fn render_pair(desc: &Loaded, integrator: IntegratorKind, spp: u32) -> Option<[I
 /// Pixels whose samples have infinite variance: those within one pixel
 /// of where a point or spot light appears on the film.
 fn singular_pixels(desc: &Loaded) -> Vec<bool> {
-    let camera = Camera::new(&desc.scene.camera, WIDTH, HEIGHT);
+    let camera = Camera::new(desc.scene.camera(), WIDTH, HEIGHT);
     let mut mask = vec![false; (WIDTH * HEIGHT) as usize];
-    for light in &desc.scene.lights {
+    for light in desc.scene.lights() {
         let position = match light {
             Light::Point(p) => p.position,
             Light::Spot(s) => s.position,
@@ -302,7 +302,7 @@ fn every_scene_agrees_across_integrators() {
         // Albedo 5: eq. 1 is linear in the albedo (σs = albedo·σt; every
         // transmittance depends on σt alone), so `march` at albedo 5 must
         // match 5·L(1) − 4·L(0) from `single` at physical albedos.
-        if desc.scene.fog.is_some()
+        if desc.scene.fog().is_some()
             && let Some(march) =
                 render_pair(&with_albedo(path, PAPER_ALBEDO), IntegratorKind::March, 8)
         {

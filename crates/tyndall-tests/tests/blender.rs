@@ -21,8 +21,8 @@ fn blender_export_loads_with_blender_values() {
     let scene = &desc.scene;
     let rel = |a: f32, b: f32| ((a - b) / b).abs() < 1e-5;
     // Values set in make_fog_room.py.
-    let Light::Spot(hard) = scene.lights[0] else {
-        panic!("{:?}", scene.lights[0])
+    let Light::Spot(hard) = scene.lights()[0] else {
+        panic!("{:?}", scene.lights()[0])
     };
     assert!(
         rel(hard.intensity.x, 400.0 / (4.0 * PI)),
@@ -36,8 +36,8 @@ fn blender_export_loads_with_blender_values() {
         (hard.direction - Vec3::NEG_Y).length() < 1e-5,
         "Blender's spot points down −Z (up is +Y in glTF)"
     );
-    let Light::Spot(soft) = scene.lights[1] else {
-        panic!("{:?}", scene.lights[1])
+    let Light::Spot(soft) = scene.lights()[1] else {
+        panic!("{:?}", scene.lights()[1])
     };
     assert!(rel(soft.intensity.x, 60.0 / (4.0 * PI)));
     // Blender: inner = (size/2)·(1 − blend) = 25°·0.5.
@@ -47,15 +47,15 @@ fn blender_export_loads_with_blender_values() {
             cos_inner: 12.5f32.to_radians().cos()
         }
     );
-    let Light::Point(bulb) = scene.lights[2] else {
-        panic!("{:?}", scene.lights[2])
+    let Light::Point(bulb) = scene.lights()[2] else {
+        panic!("{:?}", scene.lights()[2])
     };
     assert!(rel(bulb.intensity.x, 30.0 / (4.0 * PI)));
-    let Light::Directional(sun) = scene.lights[3] else {
-        panic!("{:?}", scene.lights[3])
+    let Light::Directional(sun) = scene.lights()[3] else {
+        panic!("{:?}", scene.lights()[3])
     };
     assert!(rel(sun.irradiance.x, 2.0));
-    let FieldOfView::Vertical(fov) = scene.camera.fov else {
+    let FieldOfView::Vertical(fov) = scene.camera().fov else {
         panic!()
     };
     assert!((fov - 45.0).abs() < 1e-3);

@@ -77,7 +77,7 @@ fn far_legacy_vertex_is_refused_at_its_place() {
 /// spheres from 10⁻³ to 10⁹ across, rays through each small one.
 #[test]
 fn bvh_agrees_with_a_linear_scan_up_to_the_coordinate_limit() {
-    let limit = tyndall::scene::limits::MAX_COORDINATE;
+    let limit = tyndall::limits::MAX_COORDINATE;
     // The widest scene the loaders accept: largest radii at the largest
     // coordinates, 4·limit across.
     let mut spheres = vec![
@@ -243,7 +243,7 @@ fn march_steps_beyond_the_bound_are_refused() {
     }
     // The longest segment is the fog box's diagonal, 4·√3: a step just
     // above diagonal / MAX_MARCH_STEPS passes.
-    let min_step = 4.0 * 3f64.sqrt() / tyndall::render::MAX_MARCH_STEPS as f64;
+    let min_step = 4.0 * 3f64.sqrt() / tyndall::settings::MAX_MARCH_STEPS as f64;
     let desc = parse(&fog_scene(&format!(
         "integrator = \"march\"\nstep = {}",
         min_step * 1.01
@@ -377,7 +377,7 @@ fn huge_direction_components_still_give_a_unit_direction() {
          direction = [0, -1, -1.5e38]\ncutoff_deg = 30\nintensity = 1\n"
     );
     let desc = parse(&text).unwrap();
-    let Light::Spot(spot) = desc.scene.lights[0] else {
+    let Light::Spot(spot) = desc.scene.lights()[0] else {
         panic!("a spot light");
     };
     assert!(
@@ -486,7 +486,7 @@ fn spot_look_at_a_tiny_distance_away_gives_a_unit_direction() {
          look_at = [0, 1, 1e-40]\ncutoff_deg = 30\nintensity = 1\n"
     );
     let desc = parse(&text).unwrap();
-    let Light::Spot(spot) = desc.scene.lights[0] else {
+    let Light::Spot(spot) = desc.scene.lights()[0] else {
         panic!("a spot light");
     };
     assert!(

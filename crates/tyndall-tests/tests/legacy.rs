@@ -56,16 +56,16 @@ fn example_parses_into_expected_scene() {
     let desc = parse(EXAMPLE).expect("example parses");
     let scene = &desc.scene;
     // A ceiling area light of radiance 64, facing down into the room.
-    assert_eq!(scene.lights.len(), 1);
-    let Light::Quad(light) = scene.lights[0] else {
-        panic!("expected a quad light, got {:?}", scene.lights[0])
+    assert_eq!(scene.lights().len(), 1);
+    let Light::Quad(light) = scene.lights()[0] else {
+        panic!("expected a quad light, got {:?}", scene.lights()[0])
     };
     assert_eq!(light.radiance, Vec3::splat(64.0));
     assert!((light.quad.normal - Vec3::NEG_Y).length() < 1e-6);
     assert!((light.quad.area() - 16.0).abs() < 1e-5);
     assert!(!light.two_sided);
     // Light quad, floor quad (normal up, one-sided) and the sphere.
-    let prims = scene.geometry.primitives();
+    let prims = scene.geometry().primitives();
     assert_eq!(prims.len(), 3);
     let quads: Vec<_> = prims
         .iter()
@@ -96,16 +96,16 @@ fn example_parses_into_expected_scene() {
         .expect("sphere");
     assert_eq!(sphere.0.center, Vec3::new(0.3, 0.0, -1.0));
     assert_eq!(sphere.0.radius, 1.0);
-    let Material::Opaque(surface) = scene.materials[sphere.1 as usize] else {
+    let Material::Opaque(surface) = scene.materials()[sphere.1 as usize] else {
         panic!("sphere material")
     };
     assert_eq!(surface.diffuse, Vec3::splat(0.7));
-    assert_eq!(scene.camera.position, Vec3::new(5.3, 2.0, 5.9));
-    assert_eq!(scene.camera.look_at, Vec3::new(1.3, 0.4, 0.96));
-    assert_eq!(scene.camera.fov, FieldOfView::ShorterSide(20.0));
-    assert_eq!(scene.background, Vec3::ZERO);
-    assert_eq!(scene.glass.model, GlassModel::Blend);
-    assert!(scene.fog.is_none());
+    assert_eq!(scene.camera().position, Vec3::new(5.3, 2.0, 5.9));
+    assert_eq!(scene.camera().look_at, Vec3::new(1.3, 0.4, 0.96));
+    assert_eq!(scene.camera().fov, FieldOfView::ShorterSide(20.0));
+    assert_eq!(scene.background(), Vec3::ZERO);
+    assert_eq!(scene.glass().model, GlassModel::Blend);
+    assert!(scene.fog().is_none());
 }
 
 #[test]
@@ -117,7 +117,7 @@ fn two_sided_flag() {
     .expect("parses");
     assert!(
         desc.scene
-            .geometry
+            .geometry()
             .primitives()
             .iter()
             .all(|p| !matches!(p.shape, Shape::Quad(q) if q.one_sided))
@@ -130,7 +130,7 @@ fn two_sided_flag() {
 fn paper_tokens() {
     let spot_in_material = EXAMPLE.replace("emitted 64 64 64", "emitted 64 64 64\nc 30");
     let desc = parse(&spot_in_material).expect("parses");
-    let Light::Spot(spot) = desc.scene.lights[0] else {
+    let Light::Spot(spot) = desc.scene.lights()[0] else {
         panic!("expected a spot")
     };
     assert_eq!(spot.profile, SpotProfile::Linear);
@@ -141,14 +141,14 @@ fn paper_tokens() {
 
     let spot_statement = EXAMPLE.replace("m 0\n", "m 0\nc 45\n");
     let desc = parse(&spot_statement).expect("parses");
-    let Light::Spot(spot) = desc.scene.lights[0] else {
+    let Light::Spot(spot) = desc.scene.lights()[0] else {
         panic!("expected a spot")
     };
     assert!((spot.cos_cutoff - 45f32.to_radians().cos()).abs() < 1e-6);
 
     let glass = EXAMPLE.replace("diffuse 0.7 0.7 0.7", "diffuse 0.9 0.1 0.1\nalpha 0.4");
     let desc = parse(&glass).expect("parses");
-    assert!(desc.scene.materials.iter().any(
+    assert!(desc.scene.materials().iter().any(
         |m| matches!(m, Material::Glass(g) if g.alpha == 0.4 && g.color == Vec3::new(0.9, 0.1, 0.1))
     ));
 }
@@ -159,8 +159,8 @@ fn course_scenes_load() {
     let dir = repo().join("scenes/legacy");
     let cornell = common::load_legacy(&dir.join("cornell_box.obj"), LegacyOptions::default())
         .expect("cornell");
-    assert_eq!(cornell.scene.lights.len(), 1);
-    assert_eq!(cornell.scene.geometry.primitives().len(), 6);
+    assert_eq!(cornell.scene.lights().len(), 1);
+    assert_eq!(cornell.scene.geometry().primitives().len(), 6);
     let spheres = common::load_legacy(
         &dir.join("reflective_spheres.obj"),
         LegacyOptions::default(),
@@ -169,13 +169,13 @@ fn course_scenes_load() {
     assert!(
         spheres
             .scene
-            .materials
+            .materials()
             .iter()
             .any(|m| matches!(m, Material::Opaque(s) if s.roughness == 0.06))
     );
     let fig7 = common::load_legacy(&dir.join("fig07-spot-sphere.obj"), LegacyOptions::default())
         .expect("fig7");
-    assert!(matches!(fig7.scene.lights[0], Light::Spot(_)));
+    assert!(matches!(fig7.scene.lights()[0], Light::Spot(_)));
 }
 
 /// The camera at z = 5 sees into the Cornell box through the back of its

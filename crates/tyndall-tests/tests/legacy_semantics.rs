@@ -58,7 +58,7 @@ PerspectiveCamera {{
     );
     let mut desc = parse(&text);
     // The quad's normal (v1 − v0) × (v2 − v0) = x̂ × ẑ = −ŷ points down.
-    let Light::Spot(spot) = desc.scene.lights[0] else {
+    let Light::Spot(spot) = desc.scene.lights()[0] else {
         panic!("the lamp should be a spot")
     };
     assert!((spot.direction - Vec3::NEG_Y).length() < 1e-6);
@@ -191,7 +191,7 @@ PerspectiveCamera {
 fn glass_tints_light_crossing_it_from_either_side() {
     use tyndall::visibility::VisibilityMode;
     let mut desc = parse(GLASS_PAIR);
-    let Light::Spot(spot) = desc.scene.lights[0] else {
+    let Light::Spot(spot) = desc.scene.lights()[0] else {
         panic!("the lamp should be a spot")
     };
     assert!((spot.direction - Vec3::NEG_Y).length() < 1e-6);
@@ -291,9 +291,12 @@ v -0.5 3 0.5
 fn cutoff_after_glass_block_is_a_statement() {
     let text = lamp_after_glass("");
     let desc = parse(&text);
-    assert_eq!(desc.scene.lights.len(), 1);
-    let Light::Spot(spot) = desc.scene.lights[0] else {
-        panic!("the lamp should be a spot, got {:?}", desc.scene.lights[0])
+    assert_eq!(desc.scene.lights().len(), 1);
+    let Light::Spot(spot) = desc.scene.lights()[0] else {
+        panic!(
+            "the lamp should be a spot, got {:?}",
+            desc.scene.lights()[0]
+        )
     };
     assert!((spot.cos_cutoff - 35f32.to_radians().cos()).abs() < 1e-6);
     let at = format!("test.obj:{}:1:", line_of(&text, "c 35"));
@@ -345,7 +348,7 @@ f 5 6 7 8
     // Lights are numbered area lights first (SceneDesc's order).
     let kinds: Vec<_> = desc
         .scene
-        .lights
+        .lights()
         .iter()
         .map(|l| match l {
             Light::Spot(s) => format!("spot {:.4}", s.cos_cutoff),
@@ -382,7 +385,7 @@ f 5 6 7 8
     );
     // A statement `c` after `m` is not ambiguous either.
     let plain = parse(&lamp_after_glass("c 20\n").replace("alpha 0.5\nc 35\n", "alpha 0.5\n"));
-    assert!(matches!(plain.scene.lights[0], Light::Spot(_)));
+    assert!(matches!(plain.scene.lights()[0], Light::Spot(_)));
     assert!(plain.warnings.iter().all(|w| !w.contains("`c ")));
 }
 

@@ -128,7 +128,7 @@ fn assert_blocks_agree(what: &str, a: &[(f64, f64)], b: &[(f64, f64)]) {
 #[test]
 fn light_tracing_all_paths_matches_volpath() {
     let desc = spot_scene("");
-    let camera = Camera::new(&desc.scene.camera, W, H);
+    let camera = Camera::new(desc.scene.camera(), W, H);
     let traced = block_stats(|seed| {
         let paths = (W * H) as u64 * 256;
         let (image, _) = light_tracer::trace(
@@ -159,7 +159,7 @@ fn index_matched_sphere_is_invisible_with_caustic_paths() {
     assert_blocks_agree("index-matched sphere", &combined, &reference);
     // And the caustic paths carry a real share: without them the fog
     // below the sphere would be dark.
-    let camera = Camera::new(&with.scene.camera, W, H);
+    let camera = Camera::new(with.scene.camera(), W, H);
     let (caustic, _) = light_tracer::trace(
         &with.scene,
         &camera,

@@ -16,17 +16,17 @@ const RESOLUTION: u32 = 512;
 
 fn maps(scene: &Scene, resolution: u32) -> ShadowMaps {
     let map_scene = MapScene {
-        geometry: &scene.geometry,
-        materials: &scene.materials,
-        model: scene.glass.model,
+        geometry: scene.geometry(),
+        materials: scene.materials(),
+        model: scene.glass().model,
     };
-    ShadowMaps::build(&map_scene, &scene.lights, resolution)
+    ShadowMaps::build(&map_scene, scene.lights(), resolution)
 }
 
 /// Exact visibility of light `index` from `x` by a shadow ray.
 fn exact(scene: &Scene, index: usize, x: Vec3) -> Option<Rgb> {
     let incident =
-        scene.lights[index].incident(x, scene.lights[index].sample_point(glam::Vec2::ZERO))?;
+        scene.lights()[index].incident(x, scene.lights()[index].sample_point(glam::Vec2::ZERO))?;
     let mut counts = RayCounts::default();
     Some(Visibility::ShadowRays.transmittance(scene, index, x, None, &incident, &mut counts))
 }
@@ -62,9 +62,9 @@ fn map_visibility_agrees_with_shadow_rays() {
         let desc = common::load_native(&repo().join("scenes").join(file)).expect("scene");
         let scene = &desc.scene;
         let maps = maps(scene, RESOLUTION);
-        let reach = scene.geometry.bounds().extent().length();
+        let reach = scene.geometry().bounds().extent().length();
         let (mut checked, mut near_edge) = (0, 0);
-        for (index, light) in scene.lights.iter().enumerate() {
+        for (index, light) in scene.lights().iter().enumerate() {
             // Points spread over the light's cone (a spot) or all
             // directions (a point light), at distances up to the scene's
             // diagonal, so lit, shadowed and tinted fog are all covered.

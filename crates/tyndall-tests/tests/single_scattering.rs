@@ -130,9 +130,7 @@ fn forward_scattering_brightens_beam_towards_light() {
     let ray = Ray::new(glam::Vec3::ZERO, -glam::Vec3::Z);
     let with_g = |g: f32| {
         let mut desc = fog_scene(light);
-        if let Some(f) = desc.scene.fog.as_mut() {
-            f.phase = tyndall::phase::PhaseFunction::from_asymmetry(g);
-        }
+        desc.override_fog_asymmetry(g).expect("fog");
         estimate_ray(&desc, IntegratorKind::Single, 0.1, ray, 256)
             .0
             .x

@@ -99,7 +99,7 @@ fn vdb_sphere_optical_depth_matches_the_uniform_sphere() {
             2.0 * VOXEL,
         ),
     ] {
-        let volume = &desc.scene.volumes[0];
+        let volume = &desc.scene.volumes()[0];
         for b in [0.0, 0.3, 0.6, 0.9] {
             let b = b * radius;
             for (p, dir) in lines(center, b) {
@@ -128,7 +128,7 @@ fn vdb_sphere_optical_depth_matches_the_uniform_sphere() {
 fn ratio_tracking_through_the_vdb_sphere_is_unbiased() {
     let file = data("sphere.vdb");
     let desc = load("tracking", &format!("file = {:?}", file.to_str().unwrap())).expect("loads");
-    let volumes = &desc.scene.volumes;
+    let volumes = desc.scene.volumes();
     for b in [0.0, 0.5, 0.95] {
         let (p, dir) = lines(CENTER, b)[2];
         let reach = RADIUS + 4.0 * VOXEL;
@@ -163,7 +163,7 @@ fn grid_key_picks_a_grid_with_its_transform() {
         ),
     )
     .expect("loads");
-    let volume = &desc.scene.volumes[0];
+    let volume = &desc.scene.volumes()[0];
     let b = volume.field_box();
     assert!(
         (b.min - Vec3::new(0.875, 1.875, 2.875)).abs().max_element() < 1e-5,
@@ -225,7 +225,7 @@ fn box_restricts_a_vdb_medium() {
         CENTER.x
     );
     let desc = load("boxed", &medium).expect("loads");
-    let volumes = &desc.scene.volumes;
+    let volumes = desc.scene.volumes();
     let reach = RADIUS + 4.0 * VOXEL;
     let tau_half = optical_depth(&volumes[0], CENTER, Vec3::X, -reach, 0.0);
     assert!(
@@ -258,7 +258,7 @@ fn vdb_plume_matches_the_tgrid_plume() {
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
     let dense = common::load_any(&scenes.join("smoke.toml"), Default::default()).expect("tgrid");
     let sparse = common::load_any(&scenes.join("smoke-vdb.toml"), Default::default()).expect("vdb");
-    let (a, b) = (&dense.scene.volumes[0], &sparse.scene.volumes[0]);
+    let (a, b) = (&dense.scene.volumes()[0], &sparse.scene.volumes()[0]);
     let lo = Vec3::new(-1.2, 0.0, -1.2) + 0.025;
     let hi = Vec3::new(1.2, 4.0, 1.2) - 0.025;
     let n = 23;

@@ -272,9 +272,12 @@ fn area_light_in_fog_depth_one_matches_single() {
 /// The furnace filled by the `[[media]]` volume `medium` (TOML) instead
 /// of its fog.
 fn volume_furnace(sampled: bool, medium: &str) -> Loaded {
-    let mut desc = furnace_with(1.0, sampled, medium);
-    desc.scene.fog = None;
-    desc
+    let mut loaded = furnace_with(1.0, sampled, medium);
+    loaded.desc.fog = None;
+    let settings = loaded.settings;
+    let mut without_fog = common::Loaded::new(loaded.desc).expect("builds");
+    without_fog.settings = settings;
+    without_fog
 }
 
 /// Grey smoke of albedo 1 from procedural noise inside the uniform

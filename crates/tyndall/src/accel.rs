@@ -25,8 +25,8 @@ const MIN_BVH_PRIMITIVES: usize = 4;
 
 /// Largest scene extent the BVH is built for: the widest scene the
 /// loaders accept, spheres of the largest radius at the largest
-/// coordinates on either side (4 × [`crate::scene::limits::MAX_COORDINATE`]).
-const MAX_BVH_EXTENT: f32 = 4.0 * crate::scene::limits::MAX_COORDINATE;
+/// coordinates on either side (4 × [`crate::limits::MAX_COORDINATE`]).
+const MAX_BVH_EXTENT: f32 = 4.0 * crate::limits::MAX_COORDINATE;
 
 /// A shape with its material.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -27,6 +27,7 @@ pub mod film;
 pub mod glass;
 pub mod integrators;
 pub mod lights;
+pub mod limits;
 pub mod materials;
 pub mod media;
 pub mod parts;

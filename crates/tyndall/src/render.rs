@@ -31,12 +31,14 @@ use crate::film::Image;
 use crate::integrators::light_tracer::{self, LightPaths};
 use crate::integrators::march;
 use crate::integrators::{Integrator, PixelPosition};
+use crate::limits::describe_bytes;
 use crate::media::tracking::MAX_VOLUMES;
 use crate::region::{PixelRect, RegionError, RenderRegion};
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
-use crate::scene::limits::describe_bytes;
-use crate::settings::{IntegratorKind, RenderSettings, SettingError, VisibilityMode};
+use crate::settings::{
+    IntegratorKind, MAX_MARCH_STEPS, RenderSettings, SettingError, VisibilityMode,
+};
 use crate::shadow_maps;
 use crate::visibility::{RayCounts, Visibility};
 use glam::{DVec3, Vec2};
@@ -44,13 +46,6 @@ use rayon::prelude::*;
 use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
-
-/// Most march steps one camera ray may take (`march`), counted once per
-/// light (each step visits every light): settings whose longest fog
-/// segment over the step, times the lights, exceeds it are refused up
-/// front. At 8×8 pixels and 1 spp this bounds a render to about 8.4 M
-/// light visits (about a second on one core).
-pub const MAX_MARCH_STEPS: u64 = 1 << 17;
 
 /// Most memory a render may plan for its images and maps (4 GiB): the
 /// film and the image written, the light tracer's films, shadow maps.

@@ -2,13 +2,11 @@
 //! integrator and its parameters — as plain data.
 //!
 //! A leaf of the crate: scene descriptions carry settings and loaders fill
-//! them, and nothing here depends on the scene or the integrators. The
+//! them, and nothing here depends on anything else in the crate (the
+//! integrators implement what these settings name). The
 //! ranges each setting accepts are checked here, once
 //! ([`RenderSettings::check_ranges`]), for every loader and the API; the
 //! checks that need the scene are in [`crate::render`].
-
-pub use crate::integrators::IntegratorKind;
-pub use crate::integrators::Strategies;
 
 /// `max_depth` meaning "no limit".
 pub const UNLIMITED_DEPTH: u32 = u32::MAX;
@@ -98,6 +96,13 @@ impl VisibilityMode {
         }
     }
 }
+
+/// Most march steps one camera ray may take (`march`), counted once per
+/// light (each step visits every light): settings whose longest fog
+/// segment over the step, times the lights, exceeds it are refused up
+/// front. At 8×8 pixels and 1 spp this bounds a render to about 8.4 M
+/// light visits (about a second on one core).
+pub const MAX_MARCH_STEPS: u64 = 1 << 17;
 
 /// Most equiangular samples per light per camera ray.
 pub const MAX_VOLUME_SAMPLES: u32 = 1024;
@@ -208,4 +213,107 @@ pub fn check_map_resolution(resolution: u32) -> Result<(), SettingError> {
             MAP_RESOLUTIONS.end()
         ),
     })
+}
+
+/// The integrators, selectable by name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IntegratorKind {
+    /// The paper's ray march: fixed step, jittered start.
+    March,
+    /// Unbiased single scattering: equiangular + distance sampling, MIS.
+    Single,
+    /// Volumetric path tracing: multiple scattering, NEE with MIS.
+    Volpath,
+}
+
+impl IntegratorKind {
+    pub const ALL: [IntegratorKind; 3] = [
+        IntegratorKind::March,
+        IntegratorKind::Single,
+        IntegratorKind::Volpath,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            IntegratorKind::March => "march",
+            IntegratorKind::Single => "single",
+            IntegratorKind::Volpath => "volpath",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| k.name() == name)
+    }
+
+    /// The paper's figures use albedo 5 and 10; only the ray march accepts
+    /// such non-physical fog (with a warning).
+    pub fn accepts_non_physical_albedo(self) -> bool {
+        matches!(self, IntegratorKind::March)
+    }
+}
+
+/// The estimators `volpath` combines by the balance heuristic, each of
+/// which can produce the last connection of a path to a light on its own.
+/// A strategy that is off contributes nothing and its density leaves every
+/// other strategy's weight, so any subset that can still produce every
+/// path renders the same image (the tests render each alone against the
+/// others, which checks that the weights of every path sum to one):
+///
+/// - surfaces: `surface_nee` (light sampling) or `surface_hits` (BSDF
+///   sampling that hits an area light);
+/// - fog and volume events: `medium_nee` (light sampling at free-flight
+///   events), `medium_hits` (phase sampling that hits an area light),
+///   `equiangular` (samples along each fog segment towards each light)
+///   and `connections` (light-vertex connections, fog scenes with area
+///   lights only).
+///
+/// Point, spot and directional lights are reached only by light sampling
+/// (`surface_nee`, `medium_nee`) and `equiangular`; single scattering from
+/// an area light not by `connections` alone (the camera is no connecting
+/// vertex).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Strategies {
+    pub surface_nee: bool,
+    pub surface_hits: bool,
+    pub medium_nee: bool,
+    pub medium_hits: bool,
+    pub equiangular: bool,
+    /// Equiangular sampling towards area lights also on segments after
+    /// the first scattering event (with `equiangular`; towards point and
+    /// spot lights it always runs there). Off by default: on those
+    /// segments NEE, phase sampling and the light-vertex connections
+    /// already cover area lights, and the extra samples cost more time
+    /// than they save error (docs/benchmarks.md).
+    pub later_area_equiangular: bool,
+    pub connections: bool,
+}
+
+impl Strategies {
+    /// Every strategy: the default.
+    pub const ALL: Self = Self {
+        surface_nee: true,
+        surface_hits: true,
+        medium_nee: true,
+        medium_hits: true,
+        equiangular: true,
+        later_area_equiangular: false,
+        connections: true,
+    };
+
+    /// No strategy; switch on the ones wanted.
+    pub const NONE: Self = Self {
+        surface_nee: false,
+        surface_hits: false,
+        medium_nee: false,
+        medium_hits: false,
+        equiangular: false,
+        later_area_equiangular: false,
+        connections: false,
+    };
+}
+
+impl Default for Strategies {
+    fn default() -> Self {
+        Self::ALL
+    }
 }

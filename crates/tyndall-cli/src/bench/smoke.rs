@@ -38,7 +38,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     // The cost of non-uniformity: the same box filled uniformly, at the
     // same extinction scale and at the grid's mean extinction.
     let scene = crate::build_scene(&desc)?;
-    let Some(smoke) = scene.volumes.first() else {
+    let Some(smoke) = scene.volumes().first() else {
         bail!("scenes/smoke.toml has no volume");
     };
     let (bounds, sigma_t, albedo, phase) =

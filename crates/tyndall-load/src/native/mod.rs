@@ -22,10 +22,10 @@ use tyndall::color::Rgb;
 use tyndall::description::{GlassSettings, LightDesc, Origin, SceneDesc, Sourced};
 use tyndall::glass::{Glass, GlassModel};
 use tyndall::lights::{DirectionalLight, PointLight, SpotLight, SpotProfile};
+use tyndall::limits;
 use tyndall::materials::{Material, MaterialId, Surface};
 use tyndall::media::Fog;
 use tyndall::phase::PhaseFunction;
-use tyndall::scene::limits;
 use tyndall::settings::{
     DEFAULT_MAP_RESOLUTION, IntegratorKind, RenderSettings, VisibilityMode, check_map_resolution,
 };

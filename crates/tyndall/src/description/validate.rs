@@ -10,12 +10,12 @@
 use super::{DescError, LightDesc, MediumDesc, Origin, RegionDesc, SceneDesc, ShapeDesc};
 use crate::camera::FieldOfView;
 use crate::color::Rgb;
+use crate::limits;
 use crate::materials::{Material, Surface};
 use crate::media::Fog;
 use crate::media::tracking::MAX_VOLUMES;
 use crate::media::volume::Density;
 use crate::phase::PhaseFunction;
-use crate::scene::limits;
 use crate::shapes::{Bounds, Shape};
 use glam::Vec3;
 

@@ -17,8 +17,8 @@ use super::{MediumQuery, PixelPosition, light_point, scattered_radiance};
 use crate::color::Rgb;
 use crate::media::tracking::VolumeTracker;
 use crate::media::transmittance;
-use crate::render::MAX_MARCH_STEPS;
 use crate::sampler::PixelSampler;
+use crate::settings::MAX_MARCH_STEPS;
 use crate::visibility::{RayCounts, Visibility};
 
 /// The ray march's parameters.

@@ -35,46 +35,10 @@ use crate::phase::PhaseFunction;
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
+pub use crate::settings::IntegratorKind;
 use crate::settings::RenderSettings;
 use crate::visibility::{RayCounts, Visibility};
 use glam::{Vec2, Vec3};
-
-/// The integrators, selectable by name.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum IntegratorKind {
-    /// The paper's ray march: fixed step, jittered start.
-    March,
-    /// Unbiased single scattering: equiangular + distance sampling, MIS.
-    Single,
-    /// Volumetric path tracing: multiple scattering, NEE with MIS.
-    Volpath,
-}
-
-impl IntegratorKind {
-    pub const ALL: [IntegratorKind; 3] = [
-        IntegratorKind::March,
-        IntegratorKind::Single,
-        IntegratorKind::Volpath,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            IntegratorKind::March => "march",
-            IntegratorKind::Single => "single",
-            IntegratorKind::Volpath => "volpath",
-        }
-    }
-
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|k| k.name() == name)
-    }
-
-    /// The paper's figures use albedo 5 and 10; only the ray march accepts
-    /// such non-physical fog (with a warning).
-    pub fn accepts_non_physical_albedo(self) -> bool {
-        matches!(self, IntegratorKind::March)
-    }
-}
 
 /// Most glass panes a camera ray crosses before it is cut off (a guard
 /// against degenerate scenes of stacked coincident panes).

@@ -4,8 +4,6 @@
 //! [`Scene`] is what the integrators read. Loaders (crate `tyndall-load`)
 //! produce descriptions; none builds a `Scene` itself.
 
-pub mod limits;
-
 pub use crate::description::GlassSettings;
 
 use crate::accel::{Geometry, Primitive};
@@ -20,28 +18,68 @@ use crate::shapes::Shape;
 
 /// Everything the integrators need to know about the world.
 pub struct Scene {
-    pub camera: CameraSpec,
-    pub geometry: Geometry,
-    pub materials: Vec<Material>,
-    pub lights: Vec<Light>,
-    pub fog: Option<Fog>,
+    pub(crate) camera: CameraSpec,
+    pub(crate) geometry: Geometry,
+    pub(crate) materials: Vec<Material>,
+    pub(crate) lights: Vec<Light>,
+    pub(crate) fog: Option<Fog>,
     /// General media (RGB, non-uniform, mesh-bounded); only `volpath`
     /// renders them.
-    pub volumes: Vec<Volume>,
+    pub(crate) volumes: Vec<Volume>,
     /// Radiance of rays that leave the scene (linear RGB).
-    pub background: Rgb,
-    pub glass: GlassSettings,
+    pub(crate) background: Rgb,
+    pub(crate) glass: GlassSettings,
     /// (primitive, light) pairs of area lights, by primitive: the
     /// emissive quad or sphere a path may hit and the light that samples
     /// it.
     area_lights: Vec<(u32, u32)>,
-    /// How many of the lights are quads.
-    quad_lights: usize,
+    /// How many of the lights have a flat emitting surface.
+    flat_emitters: usize,
     /// The primitive of each light that has geometry, by light.
     light_primitives: Vec<Option<u32>>,
 }
 
 impl Scene {
+    /// Where the camera is and how it looks.
+    pub fn camera(&self) -> &CameraSpec {
+        &self.camera
+    }
+
+    /// Every primitive in its BVH.
+    pub fn geometry(&self) -> &Geometry {
+        &self.geometry
+    }
+
+    /// The materials, indexed by a primitive's material id.
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+
+    /// The lights, emissive shapes first (see [`SceneDesc`]).
+    pub fn lights(&self) -> &[Light] {
+        &self.lights
+    }
+
+    /// The homogeneous fog, if any.
+    pub fn fog(&self) -> Option<&Fog> {
+        self.fog.as_ref()
+    }
+
+    /// The general media (`[[media]]`), with their majorant grids.
+    pub fn volumes(&self) -> &[Volume] {
+        &self.volumes
+    }
+
+    /// Radiance of rays that leave the scene (linear RGB).
+    pub fn background(&self) -> Rgb {
+        self.background
+    }
+
+    /// How glass appears to camera rays and combines along shadow rays.
+    pub fn glass(&self) -> GlassSettings {
+        self.glass
+    }
+
     /// The index of the area light whose geometry is `primitive`.
     pub fn area_light_at(&self, primitive: u32) -> Option<usize> {
         self.area_lights
@@ -56,10 +94,11 @@ impl Scene {
         self.light_primitives.get(light).copied().flatten()
     }
 
-    /// How many quad area lights the scene has (emissive quads included):
-    /// the lights `volpath` starts light subpaths from.
-    pub fn quad_light_count(&self) -> usize {
-        self.quad_lights
+    /// How many lights have a flat emitting surface
+    /// ([`Light::is_flat_emitter`]: quads, emissive or `[[lights]]`): the
+    /// lights `volpath` starts light subpaths from.
+    pub fn flat_emitter_count(&self) -> usize {
+        self.flat_emitters
     }
 
     pub fn material(&self, primitive: u32) -> &Material {
@@ -129,10 +168,7 @@ impl Scene {
             .iter()
             .map(build_volume)
             .collect::<Result<Vec<_>, _>>()?;
-        let quad_lights = lights
-            .iter()
-            .filter(|l| matches!(l, Light::Quad(_)))
-            .count();
+        let flat_emitters = lights.iter().filter(|l| l.is_flat_emitter()).count();
         let mut light_primitives = vec![None; lights.len()];
         for &(primitive, light) in &area_lights {
             light_primitives[light as usize] = Some(primitive);
@@ -147,7 +183,7 @@ impl Scene {
             volumes,
             background: desc.background,
             glass: desc.glass,
-            quad_lights,
+            flat_emitters,
             // Pushed in primitive order, so already sorted.
             area_lights,
         })

@@ -49,7 +49,7 @@ pub(super) fn connect_light_vertex(
     counts: &mut RayCounts,
 ) -> Rgb {
     let strategies = integrator.strategies;
-    let lights = scene.quad_light_count();
+    let lights = scene.flat_emitter_count();
     let choice = sampler.next_1d() * lights as f32;
     let (u_point, u_direction, u_flight) =
         (sampler.next_2d(), sampler.next_2d(), sampler.next_1d());

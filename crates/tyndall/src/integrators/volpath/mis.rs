@@ -18,67 +18,10 @@ use super::segment::FogSegment;
 use crate::lights::Light;
 use crate::sampling::EquiangularSampler;
 use crate::scene::Scene;
+use crate::settings::Strategies;
 use glam::Vec3;
 
-/// The estimators `volpath` combines by the balance heuristic, each of
-/// which can produce the last connection of a path to a light on its own.
-/// A strategy that is off contributes nothing and its density leaves every
-/// other strategy's weight, so any subset that can still produce every
-/// path renders the same image (the tests render each alone against the
-/// others, which checks that the weights of every path sum to one):
-///
-/// - surfaces: `surface_nee` (light sampling) or `surface_hits` (BSDF
-///   sampling that hits an area light);
-/// - fog and volume events: `medium_nee` (light sampling at free-flight
-///   events), `medium_hits` (phase sampling that hits an area light),
-///   `equiangular` (samples along each fog segment towards each light)
-///   and `connections` (light-vertex connections, fog scenes with area
-///   lights only).
-///
-/// Point, spot and directional lights are reached only by light sampling
-/// (`surface_nee`, `medium_nee`) and `equiangular`; single scattering from
-/// an area light not by `connections` alone (the camera is no connecting
-/// vertex).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Strategies {
-    pub surface_nee: bool,
-    pub surface_hits: bool,
-    pub medium_nee: bool,
-    pub medium_hits: bool,
-    pub equiangular: bool,
-    /// Equiangular sampling towards area lights also on segments after
-    /// the first scattering event (with `equiangular`; towards point and
-    /// spot lights it always runs there). Off by default: on those
-    /// segments NEE, phase sampling and the light-vertex connections
-    /// already cover area lights, and the extra samples cost more time
-    /// than they save error (docs/benchmarks.md).
-    pub later_area_equiangular: bool,
-    pub connections: bool,
-}
-
 impl Strategies {
-    /// Every strategy: the default.
-    pub const ALL: Self = Self {
-        surface_nee: true,
-        surface_hits: true,
-        medium_nee: true,
-        medium_hits: true,
-        equiangular: true,
-        later_area_equiangular: false,
-        connections: true,
-    };
-
-    /// No strategy; switch on the ones wanted.
-    pub const NONE: Self = Self {
-        surface_nee: false,
-        surface_hits: false,
-        medium_nee: false,
-        medium_hits: false,
-        equiangular: false,
-        later_area_equiangular: false,
-        connections: false,
-    };
-
     /// Equiangular samples per light on a camera ray, if the strategy is
     /// on: `volume_samples` towards each point and spot light,
     /// [`CAMERA_AREA_EQUIANGULAR_SAMPLES`] towards each area light.
@@ -121,12 +64,6 @@ impl EquiangularCounts {
         } else {
             0
         }
-    }
-}
-
-impl Default for Strategies {
-    fn default() -> Self {
-        Self::ALL
     }
 }
 
@@ -314,7 +251,7 @@ impl FogSegment<'_> {
         }
         let fog = medium.fog;
         let t_light = fog.transmittance_along(y0, direction, d);
-        let lights = medium.scene.quad_light_count() as f32;
+        let lights = medium.scene.flat_emitter_count() as f32;
         finite_density(fog.sigma_t * t_light * t * t * p_le / (lights * p_dir * p_flight))
     }
 
@@ -347,7 +284,7 @@ impl FogSegment<'_> {
         let t_light = fog.transmittance_along(y0, direction, d);
         // Light arrives along to_y1 and turns back along −ray.direction.
         let phase = fog.phase.eval(-direction.dot(medium.ray.direction));
-        let lights = medium.scene.quad_light_count() as f32;
+        let lights = medium.scene.flat_emitter_count() as f32;
         finite_density(fog.sigma_t * t_light * phase * p_le / (lights * reached))
     }
 }

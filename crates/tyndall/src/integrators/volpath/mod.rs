@@ -63,7 +63,7 @@ mod mis;
 mod nee;
 mod segment;
 
-pub use mis::Strategies;
+pub use crate::settings::Strategies;
 
 use super::{
     MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, SurfaceHit, TRACKING_STREAM,
@@ -150,7 +150,7 @@ pub(crate) fn radiance(
     let max_events = integrator.max_depth.min(MAX_PATH_EVENTS);
     let strategies = integrator.strategies;
     let connections =
-        strategies.connections && scene.volumes.is_empty() && scene.quad_light_count() > 0;
+        strategies.connections && scene.volumes.is_empty() && scene.flat_emitter_count() > 0;
     // What the vertex the ray leaves from connected to.
     let mut connected_from = Connections::default();
     loop {

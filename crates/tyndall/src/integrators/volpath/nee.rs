@@ -3,7 +3,7 @@
 //! ([`medium_nee`]) or a real collision in a volume ([`PathVertex::nee`]),
 //! MIS-weighted against the other strategies that reach the same light.
 
-use super::mis::{FogEventDensities, Strategies, on, segment_term};
+use super::mis::{FogEventDensities, on, segment_term};
 use super::segment::{EquiangularNee, FogSegment};
 use crate::color::Rgb;
 use crate::integrators::{light_arriving, sample_light, scattered_light};
@@ -11,6 +11,7 @@ use crate::media::tracking::VolumeTracker;
 use crate::phase::PhaseFunction;
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
+use crate::settings::Strategies;
 use crate::visibility::{RayCounts, Visibility};
 use glam::Vec3;
 

@@ -4,7 +4,7 @@
 //! Kulla & Fajardo 2012).
 
 use super::Volpath;
-use super::mis::{EquiangularCounts, FogEventDensities, Strategies, on};
+use super::mis::{EquiangularCounts, FogEventDensities, on};
 use crate::color::Rgb;
 use crate::integrators::{MediumQuery, media_transmittance, scattered_light};
 use crate::media::tracking::VolumeTracker;
@@ -13,6 +13,7 @@ use crate::ray::Ray;
 use crate::sampler::PixelSampler;
 use crate::sampling::EquiangularSampler;
 use crate::scene::Scene;
+use crate::settings::Strategies;
 use crate::visibility::RayCounts;
 use glam::Vec3;
 
