@@ -138,6 +138,24 @@ impl NativeScene {
         (s.width, s.height, s.spp, s.integrator.name(), s.seed)
     }
 
+    /// The scene hash (`tyndall::parts::scene_hash`) a part rendered with
+    /// these settings records: the same for every tile and sample range.
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (spp, integrator, width, height, seed, threads))]
+    fn scene_hash(
+        &self,
+        spp: Option<u32>,
+        integrator: Option<&str>,
+        width: Option<u32>,
+        height: Option<u32>,
+        seed: Option<u64>,
+        threads: Option<usize>,
+    ) -> PyResult<u64> {
+        let (settings, _) =
+            self.settings_and_region(spp, integrator, width, height, seed, threads, None, None)?;
+        Ok(PartIdentity::new(&self.scene, &settings).scene_hash)
+    }
+
     /// Renders; returns (little-endian f32 RGB bytes, height, width) of the
     /// tile. `progress(done, total)` is called after each pass, with the GIL.
     #[allow(clippy::too_many_arguments)]

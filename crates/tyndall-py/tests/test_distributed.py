@@ -73,3 +73,12 @@ def test_render_errors_are_raised_not_retried(kill_dir):
         tyndall.distributed.render(tyndall.demo(), tiles=9, width=8, height=8, spp=1)
     with pytest.raises(TypeError, match="tiles are chosen"):
         tyndall.distributed.render(tyndall.demo(), tiles=2, tile=(0, 2))
+
+
+def test_a_scene_file_changed_after_loading_is_refused_not_rendered(kill_dir, tmp_path):
+    path = tmp_path / "focus.toml"
+    path.write_text(FOCUS.read_text())
+    scene = tyndall.load(path)
+    path.write_text(FOCUS.read_text().replace("radius = 0.5", "radius = 0.6"))
+    with pytest.raises(ValueError, match="its files changed or differ on this machine"):
+        tyndall.distributed.render(scene, tiles=2, width=8, height=8, spp=1)

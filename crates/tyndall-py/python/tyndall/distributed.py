@@ -6,7 +6,9 @@ merges the render parts they return into the image ``scene.render`` gives,
 bit for bit. Each task rebuilds the scene from the recipe the ``Scene``
 remembers (its file's path, a ``from_dict`` description, or the demo), so
 on a cluster of several machines the scene's files must be at the same
-path on every machine. A task whose worker process dies (crash, killed,
+path on every machine; a task whose rebuilt scene is not the caller's
+(its scene hash differs: a file changed, or differs on that machine)
+raises ``ValueError`` instead of rendering. A task whose worker process dies (crash, killed,
 machine lost) is run again, up to ``max_retries`` times; tiles are
 deterministic, so the image does not change.
 
@@ -98,13 +100,15 @@ def render(
         raise ValueError(f"tyndall.distributed.render: tiles must be 1 to the image height {height}, not {tiles!r}")
     task_options: Dict[str, Any] = dict(options)
     task_options.setdefault("threads", cpus_per_task)
+    # Also checks the options here, before any task starts.
+    expected = _scene_hash(scene, task_options)
 
     global _remote_tile
     if _remote_tile is None:
         _remote_tile = ray.remote(_render_tile)
     task = _remote_tile.options(num_cpus=cpus_per_task, max_retries=max_retries, retry_exceptions=False)
     recipe_ref = ray.put(recipe)
-    refs = [task.remote(recipe_ref, (i, tiles), task_options) for i in range(tiles)]
+    refs = [task.remote(recipe_ref, expected, (i, tiles), task_options) for i in range(tiles)]
     if progress is not None:
         pending = list(refs)
         while pending:
@@ -114,11 +118,35 @@ def render(
     return merge_parts(parts)
 
 
-def _render_tile(recipe: Recipe, tile: Tuple[int, int], options: Dict[str, Any]) -> bytes:
-    """The Ray task: rebuilds the scene and renders one tile's part."""
-    part = _rebuild(recipe).render_part(tile=tile, **options)
+def _scene_hash(scene: Scene, options: Dict[str, Any]) -> int:
+    """The scene hash every part of this render must record."""
+    o = options.get
+    return scene._native.scene_hash(o("spp"), o("integrator"), o("width"), o("height"), o("seed"), o("threads"))
+
+
+def _render_tile(recipe: Recipe, expected: int, tile: Tuple[int, int], options: Dict[str, Any]) -> bytes:
+    """The Ray task: rebuilds the scene, checks that it is the caller's
+    (same scene hash: the files did not change or differ on this machine),
+    and renders one tile's part."""
+    scene = _rebuild(recipe)
+    found = _scene_hash(scene, options)
+    if found != expected:
+        raise ValueError(
+            f"tyndall.distributed.render: the scene this worker made from {_origin(recipe)} "
+            f"is not the caller's (scene hash {found:016x}, expected {expected:016x}): "
+            "its files changed or differ on this machine"
+        )
+    part = scene.render_part(tile=tile, **options)
     _kill_once_if_asked(recipe, tile, options)
     return part
+
+
+def _origin(recipe: Recipe) -> str:
+    """Where a recipe's scene comes from, for messages."""
+    kind = recipe[0]
+    if kind == "load":
+        return recipe[1]
+    return "a from_dict description" if kind == "toml" else "the demo"
 
 
 def _kill_once_if_asked(recipe: Recipe, tile: Tuple[int, int], options: Dict[str, Any]) -> None:
