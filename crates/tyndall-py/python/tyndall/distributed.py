@@ -19,6 +19,7 @@ called.
 from __future__ import annotations
 
 import hashlib
+import operator
 import os
 import signal
 from typing import Any, Callable, Dict, List, Optional, Tuple, Union
@@ -96,6 +97,10 @@ def render(
     if tiles is None:
         tiles = max(1, int(ray.cluster_resources().get("CPU", 1)))
     height = options.get("height") or scene.height
+    try:
+        tiles = operator.index(tiles)  # ints, NumPy integers; not floats
+    except TypeError:
+        pass
     if not isinstance(tiles, int) or not 1 <= tiles <= height:
         raise ValueError(f"tyndall.distributed.render: tiles must be 1 to the image height {height}, not {tiles!r}")
     task_options: Dict[str, Any] = dict(options)
