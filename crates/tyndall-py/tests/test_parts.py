@@ -61,6 +61,9 @@ def test_parts_that_do_not_fit_are_refused_with_the_merge_checks():
 
 
 def test_python_parts_are_the_command_lines_part_files(tmp_path):
+    # The command line must be built from the same source as the extension
+    # (.ci/run builds both): the scene hash covers the Tyndall version and
+    # the runtime scene's layout.
     cli = REPO / "target" / "release" / "tyndall"
     if not cli.exists():
         cli = shutil.which("tyndall")
