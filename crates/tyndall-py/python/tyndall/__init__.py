@@ -13,6 +13,15 @@ array whatever ``threads`` is. ``tile=(i, n)`` renders tile ``i`` of ``n``
 ``samples=(a, b)`` the sample indices ``a..b`` of each pixel, as the
 command line does. The GIL is released while rendering; Ctrl-C stops a
 render after the pass in progress and raises ``KeyboardInterrupt``.
+
+To split a render over processes or machines, render parts instead:
+``scene.render_part(tile=(i, n))`` returns the bytes of the OpenEXR part
+file ``tyndall render --tile i/n`` writes (exact sums, the tile's share of
+the light paths), and ``tyndall.merge_parts(parts)`` checks and assembles
+them into exactly the image of the single render, as ``tyndall merge`` does.
+A ``Scene`` pickles as the recipe it was made from (a path, a
+``from_dict`` description, or the demo), so it can be sent to other
+processes; ``tyndall.distributed.render`` renders the tiles as Ray tasks.
 """
 
 from __future__ import annotations
@@ -21,22 +30,54 @@ import json
 import math
 import os
 import re
-from typing import Any, Callable, Dict, List, Mapping, Optional, Tuple, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from . import _tyndall
 
-__all__ = ["Scene", "load", "demo", "write_exr", "write_png"]
+__all__ = ["Scene", "load", "demo", "merge_parts", "write_exr", "write_png"]
 
 PathLike = Union[str, "os.PathLike[str]"]
 
+# How a scene was made, enough to make it again in another process:
+# ("load", absolute path, two_sided), ("toml", text, name) or ("demo",).
+Recipe = Tuple[Any, ...]
+
+
+def _build(recipe: Recipe) -> "_tyndall.NativeScene":
+    kind = recipe[0]
+    if kind == "load":
+        return _tyndall.load(recipe[1], recipe[2])
+    if kind == "toml":
+        return _tyndall.parse_toml(recipe[1], recipe[2])
+    if kind == "demo":
+        return _tyndall.demo()
+    raise ValueError(f"not a scene recipe: {recipe!r}")
+
+
+def _rebuild(recipe: Recipe) -> "Scene":
+    """Unpickles a scene: makes it again from its recipe."""
+    return Scene(_build(recipe), recipe)
+
 
 class Scene:
-    """A loaded scene and the render settings its file gives."""
+    """A loaded scene and the render settings its file gives.
 
-    def __init__(self, native: "_tyndall.NativeScene") -> None:
+    A scene remembers how it was made (its file's absolute path, the text
+    of a ``from_dict`` description, or the demo) and pickles as that
+    recipe: unpickling loads it again, so the other process must see the
+    same files (a shared folder on a cluster).
+    """
+
+    def __init__(self, native: "_tyndall.NativeScene", recipe: Optional[Recipe] = None) -> None:
         self._native = native
+        self._recipe = recipe
+
+    def __reduce__(self) -> Tuple[Any, Tuple[Recipe]]:
+        if self._recipe is None:
+            raise TypeError("this Scene was not made by tyndall.load, demo or Scene.from_dict: it cannot be pickled")
+        return (_rebuild, (self._recipe,))
 
     @classmethod
     def from_dict(cls, description: Mapping[str, Any], base_dir: Optional[PathLike] = None) -> "Scene":
@@ -49,10 +90,10 @@ class Scene:
         ``ValueError`` naming the key path, e.g. ``lights[0].cutoff_deg``.
         """
         text, paths = _to_toml(description)
-        folder = os.fspath(base_dir) if base_dir is not None else os.getcwd()
+        folder = os.path.abspath(os.fspath(base_dir)) if base_dir is not None else os.getcwd()
         name = os.path.join(folder, "<dict>")
         try:
-            return cls(_tyndall.parse_toml(text, name))
+            return cls(_tyndall.parse_toml(text, name), ("toml", text, name))
         except ValueError as e:
             raise ValueError(_name_key_path(str(e), name, paths)) from None
 
@@ -96,7 +137,8 @@ class Scene:
         (``volpath`` with a dielectric and a point or spot light), a tile
         traces only its share of them, so its caustic light is an estimate
         from fewer paths; the exact whole image comes from merging parts
-        (``tyndall render --tile`` then ``tyndall merge``). ``progress(done, total)`` is called
+        (:meth:`render_part` then :func:`merge_parts`, or
+        ``tyndall render --tile`` then ``tyndall merge``). ``progress(done, total)`` is called
         after each whole pass (one sample per pixel); an exception it raises
         stops the render and propagates. Raises ``ValueError`` for invalid
         settings.
@@ -112,7 +154,41 @@ class Scene:
             None if samples is None else (int(samples[0]), int(samples[1])),
             progress,
         )
-        return np.frombuffer(data, dtype="<f4").reshape(h, w, 3).astype(np.float32)
+        return _image_array(data, h, w)
+
+    def render_part(
+        self,
+        spp: Optional[int] = None,
+        integrator: Optional[str] = None,
+        width: Optional[int] = None,
+        height: Optional[int] = None,
+        seed: Optional[int] = None,
+        threads: Optional[int] = None,
+        tile: Optional[Tuple[int, int]] = None,
+        samples: Optional[Tuple[int, int]] = None,
+        progress: Optional[Callable[[int, int], None]] = None,
+    ) -> bytes:
+        """Render a part for merging; returns the bytes of its OpenEXR part file.
+
+        Takes the same arguments as :meth:`render`. The bytes are exactly the
+        file ``tyndall render --tile i/n --samples a..b`` writes for the same
+        scene and settings: the exact per-pixel sums of the tile's samples,
+        the tile's share of the light paths (which may splat anywhere in the
+        image), and the scene hash, seed, rectangle and sample range that
+        :func:`merge_parts` and ``tyndall merge`` check. Save them to a
+        ``.exr`` file to merge with the command line.
+        """
+        return self._native.render_part(
+            spp,
+            integrator,
+            width,
+            height,
+            seed,
+            threads,
+            None if tile is None else (int(tile[0]), int(tile[1])),
+            None if samples is None else (int(samples[0]), int(samples[1])),
+            progress,
+        )
 
 
 def load(path: PathLike, two_sided: bool = False) -> Scene:
@@ -122,12 +198,44 @@ def load(path: PathLike, two_sided: bool = False) -> Scene:
     ``two_sided`` loads legacy quads as two-sided. Raises ``ValueError``
     naming the file, line and column of any error.
     """
-    return Scene(_tyndall.load(os.fspath(path), two_sided))
+    path = os.path.abspath(os.fspath(path))
+    two_sided = bool(two_sided)
+    return Scene(_tyndall.load(path, two_sided), ("load", path, two_sided))
 
 
 def demo() -> Scene:
     """The built-in demo: a stained-glass window in a dusty room."""
-    return Scene(_tyndall.demo())
+    return Scene(_tyndall.demo(), ("demo",))
+
+
+def merge_parts(parts: Sequence[Union[bytes, PathLike]], output: Optional[PathLike] = None) -> np.ndarray:
+    """Merge render parts into one image; returns linear radiance, ``float32``, H×W×3.
+
+    Each part is the bytes :meth:`Scene.render_part` returns or the path of
+    a part file (``tyndall render --tile/--samples``). The checks are those
+    of ``tyndall merge``: the parts must come from the same scene and
+    settings (scene hash, seed, size), tiles must not overlap and must cover
+    the image, and sample ranges of the same pixels must follow each other
+    without gap or overlap; otherwise ``ValueError`` says which parts do not
+    fit. Merged tiles equal the single render bit for bit, light paths
+    included; merged sample ranges equal it to float rounding. One tile's
+    sample ranges alone merge into that tile. ``output`` also writes the
+    merged part (``.exr``, mergeable again) or its image (``.png``).
+    """
+    items: List[Union[bytes, str]] = []
+    for i, p in enumerate(parts):
+        if isinstance(p, (bytes, bytearray, memoryview)):
+            items.append(bytes(p))
+        elif isinstance(p, (str, os.PathLike)):
+            items.append(os.fspath(p))
+        else:
+            raise TypeError(f"merge_parts: part {i} is {type(p).__name__}, not bytes or a path")
+    data, h, w = _tyndall.merge_parts(items, None if output is None else os.fspath(output))
+    return _image_array(data, h, w)
+
+
+def _image_array(data: bytes, h: int, w: int) -> np.ndarray:
+    return np.frombuffer(data, dtype="<f4").reshape(h, w, 3).astype(np.float32)
 
 
 def _image_bytes(image: np.ndarray) -> Tuple[bytes, int, int]:
@@ -230,3 +338,6 @@ def _name_key_path(message: str, name: str, paths: List[str]) -> str:
     line = int(m.group(1))
     path = paths[line - 1] if 1 <= line <= len(paths) else "the scene"
     return f"Scene.from_dict: {path or 'the scene'}: {m.group(3)}"
+
+
+from . import distributed  # noqa: E402  (imports Ray only when used)

@@ -1,0 +1,215 @@
+//! A scene on the Rust side of the Python package, and its renders: the
+//! whole-or-tile image (`render`) and the render part (`render_part`) that
+//! `tyndall merge` and `tyndall.merge_parts` assemble.
+
+use crate::part_bytes;
+use crate::value_error;
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+use std::ops::ControlFlow;
+use tyndall::parts::{Part, PartIdentity};
+use tyndall::region::{PixelRect, RenderRegion};
+use tyndall::render::Accumulation;
+use tyndall::{IntegratorKind, RenderSettings, Scene, SceneDesc};
+use tyndall_load::SceneError;
+
+/// A loaded scene: its description (with the render settings its file
+/// gives) and the runtime scene built from it.
+#[pyclass(frozen, module = "tyndall._tyndall")]
+pub struct NativeScene {
+    desc: SceneDesc,
+    scene: Scene,
+}
+
+impl NativeScene {
+    pub fn new(desc: SceneDesc) -> PyResult<Self> {
+        let scene = Scene::build(&desc)
+            .map_err(SceneError::from)
+            .map_err(value_error)?;
+        Ok(Self { desc, scene })
+    }
+
+    /// The scene's settings with the caller's overrides, checked, and the
+    /// region (pixels and sample indices) asked for.
+    #[allow(clippy::too_many_arguments)]
+    fn settings_and_region(
+        &self,
+        spp: Option<u32>,
+        integrator: Option<&str>,
+        width: Option<u32>,
+        height: Option<u32>,
+        seed: Option<u64>,
+        threads: Option<usize>,
+        tile: Option<(u32, u32)>,
+        samples: Option<(u32, u32)>,
+    ) -> PyResult<(RenderSettings, RenderRegion)> {
+        let mut settings = self.desc.settings;
+        if let Some(v) = spp {
+            settings.spp = v;
+        }
+        if let Some(name) = integrator {
+            settings.integrator = IntegratorKind::from_name(name).ok_or_else(|| {
+                value_error(format!(
+                    "unknown integrator `{name}`: expected `march`, `single` or `volpath`"
+                ))
+            })?;
+        }
+        if let Some(v) = width {
+            settings.width = v;
+        }
+        if let Some(v) = height {
+            settings.height = v;
+        }
+        if let Some(v) = seed {
+            settings.seed = v;
+        }
+        if threads.is_some() {
+            settings.threads = threads;
+        }
+        settings.validate(&self.scene).map_err(value_error)?;
+        let rect = match tile {
+            Some((i, n)) => {
+                PixelRect::tile(i, n, settings.width, settings.height).map_err(value_error)?
+            }
+            None => PixelRect::full(settings.width, settings.height),
+        };
+        let samples = match samples {
+            Some((a, b)) => a..b,
+            None => 0..settings.spp,
+        };
+        let region = RenderRegion { rect, samples };
+        region
+            .check(settings.width, settings.height)
+            .map_err(value_error)?;
+        Ok((settings, region))
+    }
+
+    /// Renders `region` without the GIL; after each pass the GIL is taken
+    /// back briefly to deliver Ctrl-C (KeyboardInterrupt) and call
+    /// `progress(done, total)`, whose exception stops the render.
+    fn accumulate(
+        &self,
+        py: Python<'_>,
+        settings: &RenderSettings,
+        region: &RenderRegion,
+        progress: Option<Py<PyAny>>,
+    ) -> PyResult<Accumulation> {
+        let total = region.samples.len() as u64;
+        let scene = &self.scene;
+        let (result, interrupted) = py.detach(|| {
+            let mut interrupted: Option<PyErr> = None;
+            let result = tyndall::render::render_region(
+                scene,
+                settings,
+                region,
+                None,
+                &|_| {},
+                &mut |a, _| {
+                    Python::attach(|py| {
+                        let step = py.check_signals().and_then(|()| match &progress {
+                            Some(cb) => cb.call1(py, (a.passes() as u64, total)).map(|_| ()),
+                            None => Ok(()),
+                        });
+                        match step {
+                            Ok(()) => ControlFlow::Continue(()),
+                            Err(e) => {
+                                interrupted = Some(e);
+                                ControlFlow::Break(())
+                            }
+                        }
+                    })
+                },
+            );
+            (result, interrupted)
+        });
+        if let Some(e) = interrupted {
+            return Err(e);
+        }
+        let (accumulation, _) = result.map_err(value_error)?;
+        Ok(accumulation)
+    }
+}
+
+#[pymethods]
+impl NativeScene {
+    /// The scene's own settings: (width, height, spp, integrator, seed).
+    fn settings(&self) -> (u32, u32, u32, &'static str, u64) {
+        let s = &self.desc.settings;
+        (s.width, s.height, s.spp, s.integrator.name(), s.seed)
+    }
+
+    /// The scene hash (`tyndall::parts::scene_hash`) a part rendered with
+    /// these settings records: the same for every tile and sample range.
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (spp, integrator, width, height, seed, threads))]
+    fn scene_hash(
+        &self,
+        spp: Option<u32>,
+        integrator: Option<&str>,
+        width: Option<u32>,
+        height: Option<u32>,
+        seed: Option<u64>,
+        threads: Option<usize>,
+    ) -> PyResult<u64> {
+        let (settings, _) =
+            self.settings_and_region(spp, integrator, width, height, seed, threads, None, None)?;
+        Ok(PartIdentity::new(&self.scene, &settings).scene_hash)
+    }
+
+    /// Renders; returns (little-endian f32 RGB bytes, height, width) of the
+    /// tile. `progress(done, total)` is called after each pass, with the GIL.
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (spp, integrator, width, height, seed, threads, tile, samples, progress))]
+    fn render<'py>(
+        &self,
+        py: Python<'py>,
+        spp: Option<u32>,
+        integrator: Option<&str>,
+        width: Option<u32>,
+        height: Option<u32>,
+        seed: Option<u64>,
+        threads: Option<usize>,
+        tile: Option<(u32, u32)>,
+        samples: Option<(u32, u32)>,
+        progress: Option<Py<PyAny>>,
+    ) -> PyResult<(Bound<'py, PyBytes>, u32, u32)> {
+        let (settings, region) =
+            self.settings_and_region(spp, integrator, width, height, seed, threads, tile, samples)?;
+        let accumulation = self.accumulate(py, &settings, &region, progress)?;
+        let image = accumulation.resolve();
+        let bytes = crate::image_bytes(&image);
+        Ok((PyBytes::new(py, &bytes), image.height(), image.width()))
+    }
+
+    /// Renders a part: the bytes of the OpenEXR part file that
+    /// `tyndall render --tile/--samples` would write for the same
+    /// arguments (exact per-pixel sums, the tile's share of the light
+    /// paths, the scene hash and seed; `tyndall_image::parts`).
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (spp, integrator, width, height, seed, threads, tile, samples, progress))]
+    fn render_part<'py>(
+        &self,
+        py: Python<'py>,
+        spp: Option<u32>,
+        integrator: Option<&str>,
+        width: Option<u32>,
+        height: Option<u32>,
+        seed: Option<u64>,
+        threads: Option<usize>,
+        tile: Option<(u32, u32)>,
+        samples: Option<(u32, u32)>,
+        progress: Option<Py<PyAny>>,
+    ) -> PyResult<Bound<'py, PyBytes>> {
+        let (settings, region) =
+            self.settings_and_region(spp, integrator, width, height, seed, threads, tile, samples)?;
+        let accumulation = self.accumulate(py, &settings, &region, progress)?;
+        let part = Part {
+            identity: PartIdentity::new(&self.scene, &settings),
+            accumulation,
+        };
+        let bytes = py
+            .detach(|| part_bytes::to_bytes(&part))
+            .map_err(crate::os_error)?;
+        Ok(PyBytes::new(py, &bytes))
+    }
+}
