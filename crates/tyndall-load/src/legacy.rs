@@ -1,5 +1,5 @@
 //! The paper's scene format: the course code base's extended .obj
-//! (shared LEGACY-OBJ.md), with the paper's `c` (spotlight cutoff) and
+//! (docs/scene-format.md, "The paper's legacy format"), with the paper's `c` (spotlight cutoff) and
 //! `alpha` (glass opacity) tokens.
 //!
 //! Tokens are whitespace-separated and newlines are not significant. A
@@ -738,7 +738,7 @@ fn perspective_camera(p: &mut Parser, tok: Token) -> Result<CameraSpec, SceneErr
     Ok(spec)
 }
 
-/// LEGACY-OBJ.md: without a camera, look at the centre of the scene's
+/// The legacy format (docs/scene-format.md): without a camera, look at the centre of the scene's
 /// bounds from 4 × its largest dimension along +z, 20° field of view.
 fn default_camera(vertices: &[Vec3], spheres: &[(Sphere, usize, usize)]) -> CameraSpec {
     let bounds = vertices.iter().fold(Bounds::EMPTY, |b, v| b.include(*v));

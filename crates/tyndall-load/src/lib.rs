@@ -3,7 +3,7 @@
 //! - the native TOML format ([`native`], docs/scene-format.md), with
 //!   Wavefront .obj meshes ([`mesh`]) and `.tgrid` voxel grids
 //!   ([`tgrid`]), every file read with a size limit ([`files`]);
-//! - the paper's legacy .obj format ([`legacy`], shared LEGACY-OBJ.md);
+//! - the paper's legacy .obj format ([`legacy`], docs/scene-format.md);
 //! - glTF 2.0 ([`gltf`], cargo feature `gltf`) and OpenVDB grids ([`vdb`],
 //!   cargo feature `vdb`), both on by default;
 //! - the built-in [`demo`].

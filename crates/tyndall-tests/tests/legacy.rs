@@ -1,4 +1,4 @@
-//! The paper's legacy .obj format (shared LEGACY-OBJ.md).
+//! The paper's legacy .obj format (docs/scene-format.md, "The paper's legacy format").
 mod common;
 
 use common::repo;
@@ -11,7 +11,8 @@ use tyndall::shapes::Shape;
 use tyndall_load::LegacyOptions;
 use tyndall_load::SourceText;
 
-/// The short example of LEGACY-OBJ.md, verbatim.
+/// The short example of the course's description of the format, verbatim
+/// (the format is documented in docs/scene-format.md).
 const EXAMPLE: &str = "material
 diffuse 0 0 0
 reflective 0 0 0

@@ -69,7 +69,7 @@ PerspectiveCamera {{
 
 /// Eq. 1 along the ray from the origin along −z, by Simpson quadrature
 /// written here: a spot at (0, 2, −3) pointing down with the paper's
-/// linear profile (eq. 5), on-axis intensity emitted × area (LEGACY-OBJ.md),
+/// linear profile (eq. 5), on-axis intensity emitted × area (docs/scene-format.md, legacy format),
 /// isotropic phase 1/4π.
 fn quadrature() -> f64 {
     let intensity = EMITTED * LAMP_SIDE * LAMP_SIDE;
@@ -317,7 +317,7 @@ fn cutoff_after_glass_block_is_a_statement() {
 /// warns when reading it as a statement would have changed a face (here
 /// a second lamp of another emissive material that follows it), and
 /// stays quiet when both readings give the same scene (the paper's own
-/// fig. 7 file; the LEGACY-OBJ.md example with `c` in its lamp block).
+/// fig. 7 file; the course format description's example with `c` in its lamp block).
 #[test]
 fn cutoff_ending_an_emissive_block_is_the_materials() {
     let text = "material
@@ -392,7 +392,7 @@ f 5 6 7 8
 /// Shadow maps are an acceleration of shadow rays and must say the same.
 /// Rays are traced towards the light, maps from it: below a one-sided
 /// floor that faces a spot above it, a shadow ray meets the floor from
-/// behind and passes (the course code's one-sidedness, LEGACY-OBJ.md),
+/// behind and passes (the course code's one-sidedness, docs/scene-format.md),
 /// so the maps must pass that light too rather than stop it at the
 /// floor's front face. The fog under the floor is compared along a ray
 /// that never meets the floor, with `single` under both visibilities

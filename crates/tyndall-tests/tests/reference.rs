@@ -1,5 +1,5 @@
 //! Convergence to the reference images of independent renderers
-//! (Mitsuba 3 and Cycles; scenes/reference/, from shared/reference/) at
+//! (Mitsuba 3 and Cycles; scenes/reference/, see its REFERENCE-README.md) at
 //! reduced cost.
 mod common;
 

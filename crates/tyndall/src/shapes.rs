@@ -123,7 +123,7 @@ impl Sphere {
 ///
 /// Its normal is `normalize(edge_u × edge_v)`. A one-sided quad is hit
 /// only by rays that meet its front (`direction · normal < 0`); the course
-/// code base the paper extends made quads one-sided (LEGACY-OBJ.md).
+/// code base the paper extends made quads one-sided (docs/scene-format.md, legacy format).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Quad {
     pub origin: Vec3,

@@ -4,7 +4,7 @@
 //! Step points form the lattice `t_k = a + (ξ + k)·h` with one uniform
 //! jitter ξ per sample. Every `t` in the fog segment is covered by exactly
 //! one lattice point for each ξ, so the estimate is unbiased for any step
-//! (DESIGN §1); a smaller step lowers the variance. Steps outside every
+//! (docs/physics.md §5.2); a smaller step lowers the variance. Steps outside every
 //! light's reach (a spotlight's cone) are skipped without a shadow ray.
 //!
 //! Interleaved sampling (Keller & Heidrich 2001), optional: the pixels of

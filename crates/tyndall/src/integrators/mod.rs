@@ -4,7 +4,7 @@
 //! single-scattering integrators share the camera path
 //! ([`Integrator::radiance`]): the ray is followed through thin glass,
 //! dielectrics and specular reflections; on each
-//! segment the in-scattered fog radiance is added (DESIGN §1),
+//! segment the in-scattered fog radiance is added (docs/physics.md §5.1),
 //!
 //! ```text
 //! L = T(0, s_hit)·L_surface + ∫₀^{s_hit} T(0, s)·σs·Σ_lights L_in(x(s)) ds,
