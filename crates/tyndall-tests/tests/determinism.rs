@@ -9,7 +9,7 @@ use common::{render, repo, scene};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use tyndall::IntegratorKind;
-use tyndall::visibility::VisibilityMode;
+use tyndall::settings::VisibilityMode;
 
 /// Threads that spin until dropped, so that the render's workers are
 /// preempted and finish their rows, chunks and blocks in varying order.
@@ -98,9 +98,7 @@ fn exr_files_are_identical_for_1_2_3_threads_under_load() {
     }
     let focus =
         common::load_native(&repo().join("scenes/glass-sphere-focus.toml")).expect("focus scene");
-    assert!(tyndall::integrators::light_tracer::has_caustics(
-        &focus.scene
-    ));
+    assert!(tyndall::testing::has_caustics(&focus.scene));
     let files: Vec<Vec<u8>> = [1, 2, 3]
         .map(|t| {
             exr_bytes(

@@ -189,7 +189,7 @@ PerspectiveCamera {
 /// and the ratio of the channels is the tint whatever the noise.
 #[test]
 fn glass_tints_light_crossing_it_from_either_side() {
-    use tyndall::visibility::VisibilityMode;
+    use tyndall::settings::VisibilityMode;
     let mut desc = parse(GLASS_PAIR);
     let Light::Spot(spot) = desc.scene.lights()[0] else {
         panic!("the lamp should be a spot")
@@ -399,7 +399,7 @@ f 5 6 7 8
 /// (5 standard errors, from the sample count).
 #[test]
 fn shadow_maps_see_one_sided_quads_as_shadow_rays_do() {
-    use tyndall::visibility::VisibilityMode;
+    use tyndall::settings::VisibilityMode;
     let text = "material
 diffuse 0 0 0
 reflective 0 0 0
@@ -455,7 +455,7 @@ f 5 6 7 8
 /// standard errors (from the sample count).
 #[test]
 fn shadow_maps_do_not_let_a_lamp_shadow_its_spot() {
-    use tyndall::visibility::VisibilityMode;
+    use tyndall::settings::VisibilityMode;
     for k in 0..8 {
         let (x0, z0) = (0.37 * k as f32 - 1.3, 0.23 * k as f32 - 0.8);
         let (slope_x, slope_z) = (0.31 * (k as f32 * 1.7).sin(), 0.27 * (k as f32 * 2.3).cos());

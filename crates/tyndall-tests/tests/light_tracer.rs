@@ -11,7 +11,7 @@ mod common;
 use common::Loaded;
 use common::scene;
 use tyndall::camera::Camera;
-use tyndall::integrators::light_tracer::{self, LightPaths};
+use tyndall::testing::{LightPaths, light_tracer};
 use tyndall::{IntegratorKind, Rgb};
 
 const W: u32 = 32;

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use tyndall::parts::{self, Part, PartIdentity};
 use tyndall::region::{PixelRect, RenderRegion};
 use tyndall::render::{Accumulation, render_region, traces_light_paths};
-use tyndall::visibility::VisibilityMode;
+use tyndall::settings::VisibilityMode;
 use tyndall::{Image, IntegratorKind, RenderSettings};
 use tyndall_image::parts::{PartCompression, read_part, write_part};
 

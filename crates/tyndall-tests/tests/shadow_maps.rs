@@ -3,12 +3,14 @@ mod common;
 
 use common::{render, repo, scene};
 use glam::Vec3;
+use tyndall::RayCounts;
 use tyndall::Scene;
-use tyndall::integrators::PixelPosition;
-use tyndall::integrators::march::interleaved_stratum;
 use tyndall::lights::Light;
-use tyndall::shadow_maps::{MapScene, ShadowMaps};
-use tyndall::visibility::{RayCounts, Visibility, VisibilityMode};
+use tyndall::settings::VisibilityMode;
+use tyndall::testing::PixelPosition;
+use tyndall::testing::Visibility;
+use tyndall::testing::interleaved_stratum;
+use tyndall::testing::{MapScene, ShadowMaps};
 use tyndall::{IntegratorKind, Rgb};
 use tyndall_image::metrics::relative_mse;
 

@@ -17,7 +17,7 @@ mod common;
 
 use common::Loaded;
 use common::{render, repo, scene};
-use tyndall::integrators::Strategies;
+use tyndall::settings::Strategies;
 use tyndall::{Image, IntegratorKind};
 
 const REGIONS_X: u32 = 4;

@@ -18,8 +18,8 @@ use tyndall::media::tracking::{Collision, VolumeTracker};
 use tyndall::media::volume::{Density, MeshRegion, Volume, VolumeRegion};
 use tyndall::phase::PhaseFunction;
 use tyndall::ray::Ray;
-use tyndall::sampler::RandomStream;
 use tyndall::shapes::{Bounds, Triangle};
+use tyndall::testing::RandomStream;
 
 const N: usize = 100_000;
 

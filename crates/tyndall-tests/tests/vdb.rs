@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use tyndall::media::tracking::VolumeTracker;
 use tyndall::media::volume::Volume;
 use tyndall::ray::Ray;
-use tyndall::sampler::RandomStream;
+use tyndall::testing::RandomStream;
 
 const RADIUS: f32 = 1.0;
 const CENTER: Vec3 = Vec3::new(0.5, 0.25, -0.25);

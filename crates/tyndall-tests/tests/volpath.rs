@@ -6,8 +6,8 @@ use common::{
     estimate_ray, estimate_ray_with, mean_and_stderr, pixel_distances, render, repo, scene,
 };
 use glam::Vec3;
-use tyndall::integrators::Strategies;
 use tyndall::ray::Ray;
+use tyndall::settings::Strategies;
 use tyndall::{IntegratorKind, RenderSettings, Rgb};
 
 /// A closed box of emitters of radiance 2 around fog of the given albedo.

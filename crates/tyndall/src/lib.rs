@@ -10,12 +10,13 @@
 //! non-uniform density for the path tracer.
 //!
 //! Modules follow pbrt's decomposition: [`camera`], [`shapes`], [`accel`],
-//! [`lights`], [`materials`], [`glass`], [`media`], [`phase`], [`sampler`],
-//! [`sampling`], [`visibility`], [`integrators`], [`film`], the
-//! [`description`] of a scene that loaders produce, the runtime [`scene`]
-//! built from it, the render [`settings`], the [`render()`] loop and
-//! render [`parts`]. Scene files are the `tyndall-load` crate's; image
-//! files (PNG, OpenEXR, part files) and image metrics the
+//! [`lights`], [`materials`], [`glass`], [`media`], [`phase`], [`film`],
+//! the [`description`] of a scene that loaders produce, the runtime
+//! [`scene`] built from it, the render [`settings`], the [`render()`] loop
+//! and render [`parts`]. The integrators, samplers and visibility are the
+//! renderer's internals (docs/architecture.md); [`testing`] exposes what
+//! the integration tests need of them. Scene files are the `tyndall-load`
+//! crate's; image files (PNG, OpenEXR, part files) and image metrics the
 //! `tyndall-image` crate's.
 
 pub mod accel;
@@ -25,7 +26,7 @@ pub mod description;
 pub mod exact_sum;
 pub mod film;
 pub mod glass;
-pub mod integrators;
+pub(crate) mod integrators;
 pub mod lights;
 pub mod limits;
 pub mod materials;
@@ -35,13 +36,13 @@ pub mod phase;
 pub mod ray;
 pub mod region;
 pub mod render;
-pub mod sampler;
-pub mod sampling;
+pub(crate) mod sampler;
+pub(crate) mod sampling;
 pub mod scene;
 pub mod settings;
-pub mod shadow_maps;
+pub(crate) mod shadow_maps;
 pub mod shapes;
-pub mod visibility;
+pub(crate) mod visibility;
 
 pub use color::Rgb;
 pub use description::{DescError, SceneDesc};
@@ -49,3 +50,19 @@ pub use film::Image;
 pub use render::{Render, RenderStats, render};
 pub use scene::Scene;
 pub use settings::{IntegratorKind, RenderSettings};
+pub use visibility::RayCounts;
+
+/// What the integration tests (crate `tyndall-tests`) need beyond the
+/// library's API: one radiance estimate along a chosen ray, the light
+/// tracer on its own, the shadow maps against shadow rays, the samplers.
+/// Not for applications: these are the renderer's internals and may
+/// change at any time.
+#[doc(hidden)]
+pub mod testing {
+    pub use crate::integrators::light_tracer::{self, LightPaths, has_caustics};
+    pub use crate::integrators::march::interleaved_stratum;
+    pub use crate::integrators::{Integrator, PixelPosition};
+    pub use crate::sampler::{PixelSampler, RandomStream};
+    pub use crate::shadow_maps::{MapScene, ShadowMaps};
+    pub use crate::visibility::Visibility;
+}

@@ -4,7 +4,7 @@
 //! pixel (rows distributed over a rayon pool of the requested size) and,
 //! for `volpath` in a scene with caustics, the light paths
 //! `s·W·H .. (s+1)·W·H` of [`light_tracer`]. Each pixel's sample `s` comes
-//! from its own sequence ([`crate::sampler`]) keyed by (seed, pixel, `s`)
+//! from its own sequence (`sampler`) keyed by (seed, pixel, `s`)
 //! alone, and every pixel adds its samples to f64 sums in increasing
 //! order; light-path splats, which land anywhere in the image, add to exact
 //! fixed-point sums ([`ExactRgb`]) that no order or grouping changes. Hence:

@@ -6,7 +6,7 @@
 //! integrators implement what these settings name). The
 //! ranges each setting accepts are checked here, once
 //! ([`RenderSettings::check_ranges`]), for every loader and the API; the
-//! checks that need the scene are in [`crate::render`].
+//! checks that need the scene are in [`mod@crate::render`].
 
 /// `max_depth` meaning "no limit".
 pub const UNLIMITED_DEPTH: u32 = u32::MAX;

@@ -17,7 +17,7 @@ use crate::shadow_maps::{MapScene, ShadowMaps};
 use glam::Vec3;
 use std::ops::ControlFlow;
 
-pub use crate::settings::{DEFAULT_MAP_RESOLUTION, VisibilityMode};
+pub use crate::settings::VisibilityMode;
 
 /// Visibility ready for a render.
 pub enum Visibility {

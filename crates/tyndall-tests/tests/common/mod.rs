@@ -3,10 +3,11 @@
 
 use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
-use tyndall::integrators::{Integrator, PixelPosition};
+use tyndall::RayCounts;
 use tyndall::ray::Ray;
-use tyndall::sampler::PixelSampler;
-use tyndall::visibility::{RayCounts, Visibility};
+use tyndall::testing::PixelSampler;
+use tyndall::testing::Visibility;
+use tyndall::testing::{Integrator, PixelPosition};
 use tyndall::{Image, IntegratorKind, RenderSettings, Rgb, Scene, SceneDesc};
 use tyndall_load::{LegacyOptions, SceneError, SourceText, legacy, native};
 

@@ -23,7 +23,7 @@ pub mod volpath;
 
 pub use march::March;
 pub use single::Single;
-pub use volpath::{Strategies, Volpath};
+pub use volpath::Volpath;
 
 use crate::accel::Hit;
 use crate::color::Rgb;
@@ -48,11 +48,11 @@ const MAX_GLASS_CROSSINGS: u32 = 64;
 /// with its own parameters.
 #[derive(Clone, Copy)]
 pub enum Integrator<'a> {
-    /// The paper's ray march ([`march`]).
+    /// The paper's ray march (module `march`).
     March(March<'a>),
-    /// Unbiased single scattering ([`single`]).
+    /// Unbiased single scattering (module `single`).
     Single(Single<'a>),
-    /// Volumetric path tracing ([`volpath`]).
+    /// Volumetric path tracing (module `volpath`).
     Volpath(Volpath<'a>),
 }
 
@@ -625,6 +625,7 @@ impl Scatterer<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::settings::Strategies;
 
     /// Each integrator is built with its own parameters from the settings.
     #[test]
