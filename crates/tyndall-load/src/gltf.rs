@@ -110,7 +110,11 @@ pub fn load(path: &Path) -> Result<SceneDesc, SceneError> {
             "the scene has no KHR_lights_punctual lights: only emissive surfaces light it".into(),
         );
     }
-    desc.validate()?;
+    if let Some(e) =
+        crate::source::located_together(desc.errors().into_iter().map(SceneError::from))
+    {
+        return Err(e);
+    }
     content.warnings.extend(desc.lighting_warnings());
     desc.warnings = content.warnings;
     Ok(desc)

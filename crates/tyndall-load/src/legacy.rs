@@ -671,7 +671,9 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDesc, S
         integrator: IntegratorKind::March,
         ..RenderSettings::default()
     };
-    desc.validate().map_err(SceneError::from)?;
+    if let Some(e) = source.locate_all(&desc.errors()) {
+        return Err(e);
+    }
     warnings.extend(desc.lighting_warnings());
     desc.warnings = warnings;
     Ok(desc)

@@ -37,6 +37,18 @@ impl fmt::Display for SceneError {
 
 impl std::error::Error for SceneError {}
 
+/// `errors` as one: the first, with each further one appended to its
+/// message on a line of its own (`None` if there are none).
+pub(crate) fn located_together(errors: impl IntoIterator<Item = SceneError>) -> Option<SceneError> {
+    let mut errors = errors.into_iter();
+    let mut first = errors.next()?;
+    for e in errors {
+        first.message.push('\n');
+        first.message.push_str(&e.to_string());
+    }
+    Some(first)
+}
+
 /// A description error outside any text this crate holds: at its origin's
 /// line and column where it has them, else naming the file and element.
 impl From<DescError> for SceneError {
@@ -167,6 +179,13 @@ impl SourceText {
             }
             _ => SceneError::from(e.clone()),
         }
+    }
+
+    /// Every error of a description as one error: the first placed by
+    /// [`SourceText::locate`], each further one on a line of its own
+    /// after its message, placed the same way.
+    pub fn locate_all(&self, errors: &[DescError]) -> Option<SceneError> {
+        located_together(errors.iter().map(|e| self.locate(e)))
     }
 
     /// An error about the whole file.

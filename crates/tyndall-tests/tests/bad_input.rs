@@ -259,3 +259,26 @@ fn bad_grid_file_is_reported() {
         "{e}"
     );
 }
+
+/// Every value error of a file is reported at once, each at its key: the
+/// first as the error's place, the others on their own lines.
+#[test]
+fn every_value_error_is_reported_at_its_key() {
+    let text = GOOD
+        .replace("reflectance = 0.5", "reflectance = 1.5")
+        .replace("radius = 0.5", "radius = -1")
+        .replace("intensity = 10", "intensity = -10");
+    let e = native_error(&text);
+    assert_error(&e, 12, "`reflectance` must be between 0 and 1");
+    let text = e.to_string();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 3, "{text}");
+    assert!(
+        lines[1].starts_with("scene.toml:17:") && lines[1].contains("`radius`"),
+        "{text}"
+    );
+    assert!(
+        lines[2].starts_with("scene.toml:25:") && lines[2].contains("`intensity`"),
+        "{text}"
+    );
+}

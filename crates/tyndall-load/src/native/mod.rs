@@ -56,7 +56,9 @@ pub fn parse(source: &SourceText) -> Result<SceneDesc, SceneError> {
         warnings: Vec::new(),
     }
     .build(file)?;
-    desc.validate().map_err(|e| source.locate(&e))?;
+    if let Some(e) = source.locate_all(&desc.errors()) {
+        return Err(e);
+    }
     let lighting = desc.lighting_warnings();
     desc.warnings.extend(lighting);
     Ok(desc)

@@ -125,54 +125,77 @@ impl Item<'_> {
 
 impl SceneDesc {
     /// Checks the whole description; the first error found, at its item's
-    /// origin. [`Scene::build`](crate::scene::Scene::build) refuses a
-    /// description that does not pass.
+    /// origin ([`SceneDesc::errors`] gives them all).
+    /// [`Scene::build`](crate::scene::Scene::build) refuses a description
+    /// that does not pass.
     pub fn validate(&self) -> Result<(), DescError> {
-        self.validate_camera()?;
+        match self.errors().into_iter().next() {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+
+    /// Every error of the description, each at its item's origin, in the
+    /// order camera, render settings, materials, shapes, lights, fog,
+    /// media: the first of each item (an item's later values are not
+    /// checked once one is wrong).
+    pub fn errors(&self) -> Vec<DescError> {
+        let mut errors = Vec::new();
+        let mut check = |result: Result<(), DescError>| {
+            if let Err(e) = result {
+                errors.push(e);
+            }
+        };
+        check(self.validate_camera());
         let item = Item {
             origin: &self.settings_origin,
         };
-        item.emission("background", self.background)?;
+        check(item.emission("background", self.background));
+        check(
+            self.settings
+                .check_ranges()
+                .or_else(|e| item.fail(e.setting, e.message)),
+        );
         for material in &self.materials {
-            validate_material(&material.value, &material.origin)?;
+            check(validate_material(&material.value, &material.origin));
         }
         let mut lights = 0;
+        let mut counted = Ok(());
         for shape in &self.shapes {
-            self.validate_shape(shape)?;
+            check(self.validate_shape(shape));
             if self.is_emissive(shape.material) {
                 lights += shape
                     .shapes
                     .iter()
                     .filter(|s| !matches!(s, Shape::Triangle(_)))
                     .count();
-                if lights > limits::MAX_LIGHTS {
-                    return Err(too_many_lights(&shape.origin, "material"));
+                if lights > limits::MAX_LIGHTS && counted.is_ok() {
+                    counted = Err(too_many_lights(&shape.origin, "material"));
                 }
             }
         }
         for light in &self.lights {
             lights += 1;
-            if lights > limits::MAX_LIGHTS {
-                return Err(too_many_lights(&light.origin, "type"));
+            if lights > limits::MAX_LIGHTS && counted.is_ok() {
+                counted = Err(too_many_lights(&light.origin, "type"));
             }
-            validate_light(&light.value, &light.origin)?;
+            check(validate_light(&light.value, &light.origin));
         }
+        check(counted);
         if let Some(fog) = &self.fog {
-            validate_fog(&fog.value, &fog.origin)?;
+            check(validate_fog(&fog.value, &fog.origin));
         }
         if let Some(medium) = self.media.get(MAX_VOLUMES) {
-            return Err(DescError::new(
+            check(Err(DescError::new(
                 &medium.origin,
                 "sigma_t",
                 format!("a scene may hold at most {MAX_VOLUMES} media"),
-            ));
+            )));
         }
         for medium in &self.media {
-            medium.validate()?;
+            check(medium.validate());
         }
-        self.settings
-            .check_ranges()
-            .or_else(|e| item.fail(e.setting, e.message))
+        errors
     }
 
     fn validate_camera(&self) -> Result<(), DescError> {
@@ -438,6 +461,22 @@ mod tests {
         let e = Scene::build(&desc).err().expect("refused");
         assert_eq!(desc.validate(), Err(e.clone()));
         e.field
+    }
+
+    #[test]
+    fn every_error_is_reported_with_its_origin() {
+        let mut desc = scene();
+        desc.shapes[0].material = 7;
+        desc.materials[0].origin = Origin::Element {
+            file: std::sync::Arc::from(std::path::Path::new("made.py")),
+            path: "materials[0]".into(),
+        };
+        desc.materials[0].value = Material::Dielectric { ior: -1.0 };
+        desc.settings.spp = 0;
+        let fields: Vec<&str> = desc.errors().iter().map(|e| e.field).collect();
+        assert_eq!(fields, ["spp", "ior", "material"]);
+        assert_eq!(desc.validate().unwrap_err().field, "spp");
+        assert!(scene().errors().is_empty());
     }
 
     #[test]
