@@ -74,6 +74,17 @@ pub(super) fn on(enabled: bool, density: f32) -> f32 {
     if enabled { density } else { 0.0 }
 }
 
+/// The balance-heuristic weight (Veach 1997 §9.2) of a sample drawn with
+/// density `p` where one other strategy, of density `q`, could have drawn
+/// it: `p/(p + q)`, `q` counted only if its strategy runs. Light sampling
+/// against BSDF or phase sampling at a surface or a volume event, both
+/// ways round; fog events, with more strategies, use
+/// [`FogEventDensities`].
+#[inline]
+pub(super) fn balance_of_two(p: f32, other_runs: bool, q: f32) -> f32 {
+    p / (p + on(other_runs, q))
+}
+
 /// Equiangular samples towards each area light on a camera ray. More
 /// (`single` takes `volume_samples`, 8) cost time without lowering the
 /// error here: fog-event NEE and the light-vertex connections already
@@ -144,7 +155,7 @@ pub(super) fn emission_weight(
                 return 0.0;
             }
             let p_light = scene.lights[index].pdf_li(from, p, direction);
-            pdf / (pdf + on(nee, p_light))
+            balance_of_two(pdf, nee, p_light)
         }
         (
             Arrival::Medium {

@@ -78,7 +78,7 @@ use crate::scene::Scene;
 use crate::visibility::{RayCounts, Visibility};
 use connections::{LightVertexOrigin, connect_light_vertex};
 use glam::Vec3;
-use mis::{EquiangularCounts, emission_weight, on};
+use mis::{EquiangularCounts, balance_of_two, emission_weight};
 use nee::{PathVertex, medium_nee};
 use segment::{Connections, EquiangularNee, FogSegment};
 
@@ -355,7 +355,11 @@ pub(crate) fn radiance(
         // (chosen with probability P_d).
         let mis = |p_light: Option<f32>, direction: Vec3| {
             p_light.map_or(1.0, |p_light| {
-                p_light / (p_light + on(strategies.surface_hits, surface.pdf(normal, direction)))
+                balance_of_two(
+                    p_light,
+                    strategies.surface_hits,
+                    surface.pdf(normal, direction),
+                )
             })
         };
         let visibility = integrator.visibility;

@@ -3,7 +3,7 @@
 //! ([`medium_nee`]) or a real collision in a volume ([`PathVertex::nee`]),
 //! MIS-weighted against the other strategies that reach the same light.
 
-use super::mis::{FogEventDensities, on, segment_term};
+use super::mis::{FogEventDensities, balance_of_two, segment_term};
 use super::segment::{EquiangularNee, FogSegment};
 use crate::color::Rgb;
 use crate::integrators::{light_arriving, sample_light, scattered_light};
@@ -94,7 +94,7 @@ impl PathVertex<'_> {
             };
             let phase = self.phase.eval(incident.direction.dot(self.direction));
             let weight = p_light.map_or(1.0, |p_light| {
-                p_light / (p_light + on(strategies.medium_hits, phase))
+                balance_of_two(p_light, strategies.medium_hits, phase)
             });
             let arriving = light_arriving(
                 self.scene,
