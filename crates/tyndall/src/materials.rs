@@ -43,6 +43,62 @@ pub enum Material {
     Dielectric { ior: f32 },
 }
 
+/// What a ray does where it meets a material: the material's answer, so
+/// that integrators act on it without naming the material's kind.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SurfaceEvent {
+    /// The path ends on an emitter. `emitted` is the radiance leaving
+    /// towards the ray, `None` from the dark back of a one-sided emitter;
+    /// `lamp` marks a lamp face ([`Material::LampFace`]), which only paths
+    /// without a scattering event count.
+    Emitter { emitted: Option<Rgb>, lamp: bool },
+    /// A thin pane the ray crosses, multiplied by `transmittance` per
+    /// crossing (the filter model, the paper's eq. 6 from white).
+    Pane { transmittance: Rgb },
+    /// A smooth interface of index of refraction `ior` (relative to the
+    /// side its normal faces) where the ray refracts or reflects.
+    Interface { ior: f32 },
+    /// An opaque surface that reflects by its lobes.
+    Reflector(Surface),
+}
+
+impl Material {
+    /// The event of a ray arriving on the `front` (normal) side or the
+    /// back. With `glass_is_opaque`, thin glass is an opaque diffuse
+    /// surface of its colour, as the paper drew it for camera rays.
+    #[inline]
+    pub fn event(&self, front: bool, glass_is_opaque: bool) -> SurfaceEvent {
+        match *self {
+            Material::Emissive {
+                radiance,
+                two_sided,
+            } => SurfaceEvent::Emitter {
+                emitted: (front || two_sided).then_some(radiance),
+                lamp: false,
+            },
+            Material::LampFace { radiance } => SurfaceEvent::Emitter {
+                emitted: front.then_some(radiance),
+                lamp: true,
+            },
+            Material::Glass(glass) if glass_is_opaque => {
+                SurfaceEvent::Reflector(Surface::diffuse(glass.color))
+            }
+            Material::Glass(glass) => SurfaceEvent::Pane {
+                transmittance: glass.filter_transmittance(),
+            },
+            Material::Dielectric { ior } => SurfaceEvent::Interface { ior },
+            Material::Opaque(surface) => SurfaceEvent::Reflector(surface),
+        }
+    }
+
+    /// Whether the material refracts (a dielectric): light focused through
+    /// it makes caustics that only light paths find.
+    #[inline]
+    pub fn refracts(&self) -> bool {
+        matches!(self, Material::Dielectric { .. })
+    }
+}
+
 /// Fresnel reflectance of a smooth dielectric interface for unpolarised
 /// light arriving at `cos_i` (> 0) to the normal, with `eta` = n_incident
 /// / n_transmitted; 1 under total internal reflection.
@@ -343,5 +399,51 @@ mod tests {
         assert!((total - p_d).abs() < 1e-3, "{total} vs {p_d}");
         assert_eq!(s.eval(n, -Vec3::Y), Rgb::ZERO);
         assert_eq!(Surface::diffuse(Rgb::ZERO).diffuse_probability(), None);
+    }
+
+    /// What a ray meets, by side: a one-sided emitter is dark from behind,
+    /// a lamp face is a lamp, glass is a pane unless drawn opaque.
+    #[test]
+    fn events_by_side_and_glass_setting() {
+        use crate::glass::Glass;
+        let le = Rgb::new(1.0, 2.0, 3.0);
+        let one_sided = Material::Emissive {
+            radiance: le,
+            two_sided: false,
+        };
+        let emitted = |m: Material, front| match m.event(front, false) {
+            SurfaceEvent::Emitter { emitted, lamp } => (emitted, lamp),
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(emitted(one_sided, true), (Some(le), false));
+        assert_eq!(emitted(one_sided, false), (None, false));
+        let two_sided = Material::Emissive {
+            radiance: le,
+            two_sided: true,
+        };
+        assert_eq!(emitted(two_sided, false), (Some(le), false));
+        let lamp = Material::LampFace { radiance: le };
+        assert_eq!(emitted(lamp, true), (Some(le), true));
+        assert_eq!(emitted(lamp, false), (None, true));
+        let glass = Glass {
+            color: Rgb::new(0.9, 0.2, 0.1),
+            alpha: 0.5,
+        };
+        assert_eq!(
+            Material::Glass(glass).event(true, false),
+            SurfaceEvent::Pane {
+                transmittance: Rgb::new(0.95, 0.6, 0.55)
+            }
+        );
+        assert_eq!(
+            Material::Glass(glass).event(false, true),
+            SurfaceEvent::Reflector(Surface::diffuse(glass.color))
+        );
+        assert_eq!(
+            Material::Dielectric { ior: 1.5 }.event(false, true),
+            SurfaceEvent::Interface { ior: 1.5 }
+        );
+        assert!(Material::Dielectric { ior: 1.5 }.refracts());
+        assert!(!Material::Glass(glass).refracts());
     }
 }

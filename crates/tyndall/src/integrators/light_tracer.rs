@@ -29,7 +29,7 @@ use super::{
 use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::exact_sum::ExactRgb;
-use crate::materials::Material;
+use crate::materials::{Material, SurfaceEvent};
 use crate::media::free_flight;
 use crate::media::tracking::{Collision, VolumeTracker};
 use crate::phase::PhaseFunction;
@@ -69,10 +69,7 @@ const LIGHT_SEED: u64 = 0x5eed_1197;
 /// or spot light and a dielectric.
 pub fn has_caustics(scene: &Scene) -> bool {
     scene.lights.iter().any(|l| l.position().is_some())
-        && scene
-            .materials
-            .iter()
-            .any(|m| matches!(m, Material::Dielectric { .. }))
+        && scene.materials.iter().any(Material::refracts)
 }
 
 /// Traces `paths` light paths (split over the lights uniformly) and
@@ -251,17 +248,19 @@ impl Tracer<'_> {
             let Some(hit) = hit else { return };
             let p = ray.at(hit.t);
             let geometric_normal = scene.geometry.normal(hit.primitive, p);
-            match *scene.material(hit.primitive) {
-                Material::Emissive { .. } | Material::LampFace { .. } => return,
-                Material::Glass(glass) => {
+            // Light paths cross glass even where camera rays draw it opaque,
+            // and end on any emitter, whichever side they meet.
+            match scene.material(hit.primitive).event(true, false) {
+                SurfaceEvent::Emitter { .. } => return,
+                SurfaceEvent::Pane { transmittance } => {
                     crossings += 1;
                     if crossings > MAX_GLASS_CROSSINGS {
                         return;
                     }
-                    beta *= glass.filter_transmittance();
+                    beta *= transmittance;
                     ray.origin = offset_origin(p, geometric_normal, ray.direction);
                 }
-                Material::Dielectric { ior } => {
+                SurfaceEvent::Interface { ior } => {
                     if depth >= self.max_depth {
                         return;
                     }
@@ -269,7 +268,7 @@ impl Tracer<'_> {
                     caustic = true;
                     ray = refract_or_reflect(&ray, p, geometric_normal, ior, sampler, &mut solids);
                 }
-                Material::Opaque(surface) => {
+                SurfaceEvent::Reflector(surface) => {
                     if !self.scattering_allowed(caustic) || depth >= self.max_depth {
                         return;
                     }
@@ -358,9 +357,9 @@ impl Tracer<'_> {
         scene
             .geometry
             .for_each_hit(&ray, distance * (1.0 - 1e-4), |_, primitive| {
-                match scene.material(primitive) {
-                    Material::Glass(glass) if !opaque_glass => {
-                        tint *= glass.filter_transmittance();
+                match scene.material(primitive).event(true, opaque_glass) {
+                    SurfaceEvent::Pane { transmittance } => {
+                        tint *= transmittance;
                         ControlFlow::Continue(())
                     }
                     _ => {

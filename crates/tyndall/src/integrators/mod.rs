@@ -28,7 +28,7 @@ pub use volpath::Volpath;
 use crate::accel::Hit;
 use crate::color::Rgb;
 use crate::lights::{Incident, Light};
-use crate::materials::{Material, Surface, dielectric_scatter};
+use crate::materials::{Surface, SurfaceEvent, dielectric_scatter};
 use crate::media::Fog;
 use crate::media::tracking::VolumeTracker;
 use crate::phase::PhaseFunction;
@@ -208,24 +208,19 @@ impl CameraPath<'_> {
                 normal,
                 front,
             } = SurfaceHit::new(scene, &ray, &hit);
-            let surface = match *scene.material(hit.primitive) {
-                Material::Emissive {
-                    radiance: le,
-                    two_sided,
-                } => {
-                    if front || two_sided {
+            let event = scene
+                .material(hit.primitive)
+                .event(front, scene.glass.opaque_to_camera);
+            let surface = match event {
+                // Camera paths here have only specular events: they see
+                // lamps too.
+                SurfaceEvent::Emitter { emitted, .. } => {
+                    if let Some(le) = emitted {
                         radiance += throughput * le;
                     }
                     return radiance;
                 }
-                // Camera paths here have only specular events: they see the lamp.
-                Material::LampFace { radiance: le } => {
-                    if front {
-                        radiance += throughput * le;
-                    }
-                    return radiance;
-                }
-                Material::Glass(glass) if !scene.glass.opaque_to_camera => {
+                SurfaceEvent::Pane { transmittance } => {
                     crossings += 1;
                     if crossings > MAX_GLASS_CROSSINGS {
                         return radiance;
@@ -234,11 +229,11 @@ impl CameraPath<'_> {
                     // crossing multiplies by its transmittance; for a
                     // single pane the blend model (eq. 6 from white) gives
                     // the same value.
-                    throughput *= glass.filter_transmittance();
+                    throughput *= transmittance;
                     ray.origin = offset_origin(p, geometric_normal, ray.direction);
                     continue;
                 }
-                Material::Dielectric { ior } => {
+                SurfaceEvent::Interface { ior } => {
                     if bounces >= self.max_bounces {
                         return radiance;
                     }
@@ -246,9 +241,8 @@ impl CameraPath<'_> {
                     ray = refract_or_reflect(&ray, p, geometric_normal, ior, sampler, &mut solids);
                     continue;
                 }
-                // Glass drawn opaque: a diffuse surface of its colour.
-                Material::Glass(glass) => Surface::diffuse(glass.color),
-                Material::Opaque(surface) => surface,
+                // Glass drawn opaque is a diffuse surface of its colour.
+                SurfaceEvent::Reflector(surface) => surface,
             };
             radiance += throughput
                 * self.direct_lighting(scene, &surface, p, normal, sampler, counts, &mut tracker);

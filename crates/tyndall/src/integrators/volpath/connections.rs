@@ -7,7 +7,7 @@ use super::mis::{FogEventDensities, segment_term};
 use super::segment::{Connections, FogSegment};
 use crate::color::Rgb;
 use crate::integrators::{MAX_GLASS_CROSSINGS, Scatterer};
-use crate::materials::Material;
+use crate::materials::SurfaceEvent;
 use crate::media::Fog;
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
@@ -265,9 +265,9 @@ fn light_flight(
             depth_left -= depth;
         }
         let hit = hit?;
-        match scene.material(hit.primitive) {
-            Material::Glass(glass) if through_glass => {
-                tint *= glass.filter_transmittance();
+        match scene.material(hit.primitive).event(true, false) {
+            SurfaceEvent::Pane { transmittance } if through_glass => {
+                tint *= transmittance;
                 crossings += 1;
                 if crossings > MAX_GLASS_CROSSINGS {
                     return None;

@@ -70,7 +70,7 @@ use super::{
     lambert_direct_lighting, refract_or_reflect,
 };
 use crate::color::Rgb;
-use crate::materials::{Lobe, Material, Surface};
+use crate::materials::{Lobe, SurfaceEvent};
 use crate::media::tracking::{Collision, VolumeTracker};
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
@@ -289,45 +289,44 @@ pub(crate) fn radiance(
             normal,
             front,
         } = SurfaceHit::new(scene, &ray, &hit);
-        let surface = match *scene.material(hit.primitive) {
-            Material::Emissive {
-                radiance: le,
-                two_sided,
+        let event = scene
+            .material(hit.primitive)
+            .event(front, scene.glass.opaque_to_camera);
+        let surface = match event {
+            SurfaceEvent::Emitter {
+                emitted: Some(le),
+                lamp: false,
             } => {
-                if front || two_sided {
-                    let weight = emission_weight(
-                        scene,
-                        strategies,
-                        arrival,
-                        hit.primitive,
-                        p,
-                        ray.direction,
-                    );
-                    radiance += throughput * le * weight;
-                }
+                let weight =
+                    emission_weight(scene, strategies, arrival, hit.primitive, p, ray.direction);
+                radiance += throughput * le * weight;
                 return radiance;
             }
             // A spot's lamp is seen only by paths without a scattering
             // event (camera and specular): scattered light already has
             // the spot by NEE.
-            Material::LampFace { radiance: le } => {
-                if front && matches!(arrival, Arrival::Unweighted) {
+            SurfaceEvent::Emitter {
+                emitted: Some(le),
+                lamp: true,
+            } => {
+                if matches!(arrival, Arrival::Unweighted) {
                     radiance += throughput * le;
                 }
                 return radiance;
             }
-            Material::Glass(glass) if !scene.glass.opaque_to_camera => {
+            SurfaceEvent::Emitter { emitted: None, .. } => return radiance,
+            SurfaceEvent::Pane { transmittance } => {
                 crossings += 1;
                 if crossings > MAX_GLASS_CROSSINGS {
                     return radiance;
                 }
-                throughput *= glass.filter_transmittance();
+                throughput *= transmittance;
                 ray.origin = offset_origin(p, geometric_normal, ray.direction);
                 // The segment after the pane no longer starts at the event.
                 connected_from = Connections::default();
                 continue;
             }
-            Material::Dielectric { ior } => {
+            SurfaceEvent::Interface { ior } => {
                 // A specular event: NEE cannot reach through it.
                 if depth >= max_events {
                     return radiance;
@@ -341,8 +340,7 @@ pub(crate) fn radiance(
                 }
                 continue;
             }
-            Material::Glass(glass) => Surface::diffuse(glass.color),
-            Material::Opaque(surface) => surface,
+            SurfaceEvent::Reflector(surface) => surface,
         };
         if depth >= max_events {
             return radiance;
