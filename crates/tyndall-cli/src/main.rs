@@ -316,21 +316,17 @@ fn render(args: RenderArgs) -> Result<()> {
     desc.settings
         .check_ranges()
         .map_err(|e| anyhow::anyhow!("--{}: {e}", e.setting.replace('_', "-")))?;
-    let scene = build_scene(&desc)?;
-    desc.settings.validate(&scene)?;
+    let (settings, loader_warnings) = (desc.settings, std::mem::take(&mut desc.warnings));
+    // The description moves into the scene: its grids are not held twice.
+    let scene = Scene::from_desc(desc).map_err(SceneError::from)?;
+    settings.validate(&scene)?;
     // Fail on a bad output name or an unwritable destination before
     // spending time on the render: the temporary file beside the target
     // is created now and renamed onto it once the image is complete.
     let output_file = tyndall_image::OutputFile::create(&output)?;
-    let warnings = desc
-        .warnings
-        .iter()
-        .cloned()
-        .chain(desc.settings.warnings(&scene));
-    for w in warnings {
+    for w in loader_warnings.into_iter().chain(settings.warnings(&scene)) {
         eprintln!("warning: {w}");
     }
-    let settings = desc.settings;
     let rect = match args.tile {
         Some((i, n)) => PixelRect::tile(i, n, settings.width, settings.height)?,
         None => PixelRect::full(settings.width, settings.height),

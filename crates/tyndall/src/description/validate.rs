@@ -353,6 +353,8 @@ impl MediumDesc {
         item.color("albedo", self.albedo, true)?;
         item.phase(&self.phase)?;
         let uniform = self.density == Density::Uniform;
+        // The box the density field is mapped to (infinite everywhere).
+        let field_box = self.region.bounds();
         match &self.region {
             RegionDesc::Everywhere if !uniform => {
                 return item.fail(
@@ -367,7 +369,7 @@ impl MediumDesc {
                         item.point("mesh", v)?;
                     }
                 }
-                if self.region.bounds().extent().min_element() <= 0.0 {
+                if field_box.extent().min_element() <= 0.0 {
                     return item.fail("mesh", "the mesh is flat: it encloses no volume".into());
                 }
             }
@@ -391,8 +393,7 @@ impl MediumDesc {
             // Tracking cost: tentative collisions to cross the box where
             // the density is far below its majorant.
             let peak = self.density.max_in(Vec3::ZERO, Vec3::ONE);
-            let extent = self.region.bounds().extent().length();
-            let depth = peak * sigma_t.max_element() * extent;
+            let depth = peak * sigma_t.max_element() * field_box.extent().length();
             if depth.is_nan() || depth > limits::MAX_MAJORANT_DEPTH {
                 return item.fail(
                     "sigma_t",
@@ -460,6 +461,7 @@ mod tests {
         change(&mut desc);
         let e = Scene::build(&desc).err().expect("refused");
         assert_eq!(desc.validate(), Err(e.clone()));
+        assert_eq!(Scene::from_desc(desc.clone()).err(), Some(e.clone()));
         e.field
     }
 
@@ -485,6 +487,9 @@ mod tests {
         assert_eq!(desc.validate(), Ok(()));
         let scene = Scene::build(&desc).expect("builds");
         assert_eq!(scene.lights.len(), 1);
+        let moved = Scene::from_desc(desc).expect("builds");
+        assert_eq!(moved.lights, scene.lights);
+        assert_eq!(moved.geometry.primitives(), scene.geometry.primitives());
     }
 
     #[test]

@@ -426,18 +426,9 @@ pub(super) fn towards(x: Vec3, y: Vec3) -> Option<(Vec3, f32)> {
 
 #[cfg(test)]
 mod tests {
+    use super::spot::tests::spot;
     use super::*;
     use crate::shapes::Quad;
-
-    fn spot(profile: SpotProfile, cutoff_deg: f32) -> SpotLight {
-        SpotLight {
-            position: Vec3::new(0.0, 3.0, 0.0),
-            direction: -Vec3::Y,
-            cos_cutoff: cutoff_deg.to_radians().cos(),
-            profile,
-            intensity: Rgb::ONE,
-        }
-    }
 
     /// The emitted rays' mean throughput is the light's power,
     /// `E[β] = ∫∫ Le·cos θ₀ dA dω = Φ`: checks `sample_le`'s weights

@@ -118,10 +118,11 @@ impl SpotLight {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
-    fn spot(profile: SpotProfile, cutoff_deg: f32) -> SpotLight {
+    /// A spot at (0, 3, 0) pointing down, of unit intensity.
+    pub(in crate::lights) fn spot(profile: SpotProfile, cutoff_deg: f32) -> SpotLight {
         SpotLight {
             position: Vec3::new(0.0, 3.0, 0.0),
             direction: -Vec3::Y,

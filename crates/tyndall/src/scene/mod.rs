@@ -122,6 +122,28 @@ impl Scene {
     /// ([`SceneDesc::lighting_warnings`]).
     pub fn build(desc: &SceneDesc) -> Result<Scene, DescError> {
         desc.validate()?;
+        let volumes = desc
+            .media
+            .iter()
+            .map(|m| build_volume(m.clone()))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Self::assemble(desc, volumes))
+    }
+
+    /// [`Scene::build`] consuming the description, so that its media's
+    /// density grids and meshes move into the scene instead of being
+    /// copied (a large OpenVDB cloud is not held twice).
+    pub fn from_desc(mut desc: SceneDesc) -> Result<Scene, DescError> {
+        desc.validate()?;
+        let volumes = std::mem::take(&mut desc.media)
+            .into_iter()
+            .map(build_volume)
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Self::assemble(&desc, volumes))
+    }
+
+    /// The scene of a validated description, with its volumes built.
+    fn assemble(desc: &SceneDesc, volumes: Vec<Volume>) -> Scene {
         let materials: Vec<Material> = desc.materials.iter().map(|m| m.value).collect();
         let mut primitives = Vec::new();
         let mut lights = Vec::new();
@@ -163,17 +185,12 @@ impl Scene {
             }
         }
         lights.extend(desc.lights.iter().map(|l| Light::from(l.value)));
-        let volumes = desc
-            .media
-            .iter()
-            .map(build_volume)
-            .collect::<Result<Vec<_>, _>>()?;
         let flat_emitters = lights.iter().filter(|l| l.is_flat_emitter()).count();
         let mut light_primitives = vec![None; lights.len()];
         for &(primitive, light) in &area_lights {
             light_primitives[light as usize] = Some(primitive);
         }
-        Ok(Scene {
+        Scene {
             light_primitives,
             camera: desc.camera.value,
             geometry: Geometry::new(primitives),
@@ -186,17 +203,17 @@ impl Scene {
             flat_emitters,
             // Pushed in primitive order, so already sorted.
             area_lights,
-        })
+        }
     }
 }
 
 /// A volume from its (validated) description.
-fn build_volume(m: &MediumDesc) -> Result<Volume, DescError> {
-    let region = match &m.region {
+fn build_volume(m: MediumDesc) -> Result<Volume, DescError> {
+    let region = match m.region {
         RegionDesc::Everywhere => VolumeRegion::Everywhere,
-        RegionDesc::Box(b) => VolumeRegion::Box(*b),
-        RegionDesc::Mesh(triangles) => VolumeRegion::Mesh(MeshRegion::new(triangles.clone())),
+        RegionDesc::Box(b) => VolumeRegion::Box(b),
+        RegionDesc::Mesh(triangles) => VolumeRegion::Mesh(MeshRegion::new(triangles)),
     };
-    Volume::new(m.sigma_t, m.albedo, m.phase, m.density.clone(), region)
+    Volume::new(m.sigma_t, m.albedo, m.phase, m.density, region)
         .map_err(|e| DescError::new(&m.origin, "density", e))
 }
