@@ -186,7 +186,14 @@ impl Geometry {
             return;
         };
         let origin = Vec3A::from(ray.origin);
-        let direction = Vec3A::from(ray.direction);
+        // obvhs orders a child box's planes by the test `direction < 0`
+        // but inverts a zero component with its sign (−0.0 → −1/ε): for
+        // a −0.0 component (from negating a vector such as Y) the two
+        // disagree and the ray misses every box — a camera ray straight
+        // down, or every shadow ray towards a sun straight overhead.
+        // Adding +0.0 turns −0.0 into +0.0 (IEEE 754, round to nearest)
+        // and leaves every other value unchanged.
+        let direction = Vec3A::from(ray.direction) + Vec3A::ZERO;
         let mut bvh_ray = obvhs::ray::Ray::new(origin, direction, 0.0, t_max);
         let mut state = bvh.new_traversal(direction);
         let mut node;
@@ -275,6 +282,43 @@ mod tests {
                 .count();
             assert_eq!(count, brute_count);
         }
+    }
+
+    /// Axis-aligned rays, whose other components are +0.0 or −0.0 (as
+    /// `-Vec3::Y` gives), find the same nearest hit as a brute-force loop.
+    /// With −0.0 components the BVH missed everything: a camera looking
+    /// straight down saw no floor, a sun straight overhead cast no shadow.
+    #[test]
+    fn axis_aligned_rays_with_signed_zeros_hit() {
+        let g = scene();
+        let mut checked = 0;
+        for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
+            // −axis has −0.0 components; adding +0.0 makes them +0.0.
+            for direction in [axis, -axis, -axis + Vec3::ZERO] {
+                for k in 0..40 {
+                    let o = Vec3::new(
+                        k as f32 * 0.91 - 18.0,
+                        (k % 9) as f32 - 4.0,
+                        8.0 - k as f32 * 0.2,
+                    );
+                    let ray = Ray::new(o - direction * 30.0, direction);
+                    let brute = g
+                        .primitives()
+                        .iter()
+                        .enumerate()
+                        .filter_map(|(i, p)| {
+                            p.shape
+                                .intersect(&ray, f32::INFINITY)
+                                .map(|t| (t, i as u32))
+                        })
+                        .min_by(|a, b| a.0.total_cmp(&b.0));
+                    let hit = g.intersect(&ray, f32::INFINITY).map(|h| (h.t, h.primitive));
+                    assert_eq!(hit, brute, "{direction} from {}", ray.origin);
+                    checked += usize::from(brute.is_some());
+                }
+            }
+        }
+        assert!(checked > 20, "the rays must hit something: {checked}");
     }
 
     #[test]
