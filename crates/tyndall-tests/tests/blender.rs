@@ -2,7 +2,8 @@
 //! scenes/blender/make_fog_room.py, default "Standard" lighting mode)
 //! loads with the values set in Blender: light powers in W become W/sr by
 //! P/(4π), the sun's W/m² is kept, spot blend 0 is a hard spot, a
-//! Principled surface with IOR level 0 is pure Lambert.
+//! Principled surface with IOR level 0 is pure Lambert, the emission
+//! panel is an area light.
 
 mod common;
 
@@ -21,8 +22,24 @@ fn blender_export_loads_with_blender_values() {
     let scene = &desc.scene;
     let rel = |a: f32, b: f32| ((a - b) / b).abs() < 1e-5;
     // Values set in make_fog_room.py.
-    let Light::Spot(hard) = scene.lights()[0] else {
+    // The emissive panel (a 0.5 m plane, emission colour (1, 0.9, 0.7) at
+    // strength 4) is an area light, numbered first (emissive shapes come
+    // before the other lights).
+    let Light::Mesh(panel) = &scene.lights()[0] else {
         panic!("{:?}", scene.lights()[0])
+    };
+    assert_eq!(panel.triangles().len(), 2);
+    assert!(rel(panel.area(), 0.25), "{}", panel.area());
+    assert!(
+        (panel.radiance - Rgb::new(4.0, 3.6, 2.8))
+            .abs()
+            .max_element()
+            < 1e-5,
+        "{}",
+        panel.radiance
+    );
+    let Light::Spot(hard) = scene.lights()[1] else {
+        panic!("{:?}", scene.lights()[1])
     };
     assert!(
         rel(hard.intensity.x, 400.0 / (4.0 * PI)),
@@ -36,8 +53,8 @@ fn blender_export_loads_with_blender_values() {
         (hard.direction - Vec3::NEG_Y).length() < 1e-5,
         "Blender's spot points down −Z (up is +Y in glTF)"
     );
-    let Light::Spot(soft) = scene.lights()[1] else {
-        panic!("{:?}", scene.lights()[1])
+    let Light::Spot(soft) = scene.lights()[2] else {
+        panic!("{:?}", scene.lights()[2])
     };
     assert!(rel(soft.intensity.x, 60.0 / (4.0 * PI)));
     // Blender: inner = (size/2)·(1 − blend) = 25°·0.5.
@@ -47,12 +64,12 @@ fn blender_export_loads_with_blender_values() {
             cos_inner: 12.5f32.to_radians().cos()
         }
     );
-    let Light::Point(bulb) = scene.lights()[2] else {
-        panic!("{:?}", scene.lights()[2])
+    let Light::Point(bulb) = scene.lights()[3] else {
+        panic!("{:?}", scene.lights()[3])
     };
     assert!(rel(bulb.intensity.x, 30.0 / (4.0 * PI)));
-    let Light::Directional(sun) = scene.lights()[3] else {
-        panic!("{:?}", scene.lights()[3])
+    let Light::Directional(sun) = scene.lights()[4] else {
+        panic!("{:?}", scene.lights()[4])
     };
     assert!(rel(sun.irradiance.x, 2.0));
     let FieldOfView::Vertical(fov) = scene.camera().fov else {

@@ -97,11 +97,18 @@ fn gltf_loads_into_the_expected_description() {
     assert!(close(b, Vec3::new(-1.0, 0.0, -2.0)), "{b}");
     assert!(close(c, Vec3::new(-1.0, 2.0, 0.0)), "{c}");
 
-    assert_eq!(scene.lights().len(), 4);
+    // The emissive mesh (mesh 3) is an area light, numbered first; then
+    // the punctual lights in node order.
+    assert_eq!(scene.lights().len(), 5);
+    let Light::Mesh(lamp) = &scene.lights()[0] else {
+        panic!("{:?}", scene.lights()[0])
+    };
+    assert_eq!(lamp.radiance, Rgb::new(4.0, 2.0, 0.0));
+    assert_eq!(lamp.triangles().len(), 1);
     // Spot 0 at the child's origin, pointing along R_y(90°)(0,0,−1) = (−1,0,0);
     // 2049 cd / 683 = 3 W/sr times its colour; smooth from 0.2 to 0.5 rad.
-    let Light::Spot(spot) = scene.lights()[0] else {
-        panic!("{:?}", scene.lights()[0])
+    let Light::Spot(spot) = scene.lights()[1] else {
+        panic!("{:?}", scene.lights()[1])
     };
     assert!(close(spot.position, Vec3::new(-1.0, 0.0, 0.0)));
     assert!(close(spot.direction, Vec3::new(-1.0, 0.0, 0.0)));
@@ -114,21 +121,21 @@ fn gltf_loads_into_the_expected_description() {
     );
     assert!(close(spot.intensity, Vec3::new(3.0, 1.5, 0.75)));
     // Sun: 1366 lx / 683 = 2 W/m², travelling down.
-    let Light::Directional(sun) = scene.lights()[1] else {
-        panic!("{:?}", scene.lights()[1])
+    let Light::Directional(sun) = scene.lights()[2] else {
+        panic!("{:?}", scene.lights()[2])
     };
     assert!(close(sun.direction, Vec3::NEG_Y), "{}", sun.direction);
     assert!(close(sun.irradiance, Vec3::splat(2.0)));
     // Point light placed by a matrix: 1366 cd → 2 W/sr; its range is warned about.
-    let Light::Point(point) = scene.lights()[2] else {
-        panic!("{:?}", scene.lights()[2])
+    let Light::Point(point) = scene.lights()[3] else {
+        panic!("{:?}", scene.lights()[3])
     };
     assert!(close(point.position, Vec3::new(0.0, 5.0, 0.0)));
     assert!(close(point.intensity, Vec3::splat(2.0)));
     assert!(desc.warnings.iter().any(|w| w.contains("range")));
     // Blender's blend 0 writes inner == outer: a hard spot, not an error.
-    let Light::Spot(hard) = scene.lights()[3] else {
-        panic!("{:?}", scene.lights()[3])
+    let Light::Spot(hard) = scene.lights()[4] else {
+        panic!("{:?}", scene.lights()[4])
     };
     assert_eq!(hard.profile, SpotProfile::Hard);
     assert!((hard.cos_cutoff - 0.4f32.cos()).abs() < 1e-6);

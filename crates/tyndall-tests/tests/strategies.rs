@@ -229,3 +229,79 @@ fn strategies_agree_under_an_emissive_sphere() {
         &[("light sampling", nee), ("hits", hits)],
     );
 }
+
+/// An emissive triangle mesh in fog over a floor (an octahedron lamp,
+/// one-sided outwards: an area light whose NEE picks a triangle by power
+/// and a point on it by area, and which phase and BSDF sampling hit):
+/// light sampling alone, hits alone, and both, at two scattering events.
+#[test]
+fn strategies_agree_under_an_emissive_mesh() {
+    use glam::Vec3;
+    use tyndall::description::Origin;
+    use tyndall::materials::Material;
+    use tyndall::shapes::{Shape, Triangle};
+    let mut desc = scene(
+        r#"
+        [camera]
+        position = [0, 1.2, 4]
+        look_at = [0, 0.8, 0]
+        fov_y_deg = 45
+        [fog]
+        sigma_t = 0.3
+        albedo = 0.9
+        g = 0.3
+        [materials.floor]
+        type = "diffuse"
+        reflectance = 0.7
+        [[shapes]]
+        type = "quad"
+        corners = [[-3, 0, -3], [-3, 0, 3], [3, 0, 3], [3, 0, -3]]
+        material = "floor"
+        "#,
+    )
+    .desc;
+    // An octahedron stretched along x, its faces wound outwards.
+    let centre = Vec3::new(0.3, 1.0, -0.5);
+    let axes = [Vec3::X * 1.2, Vec3::Y * 0.5, Vec3::Z * 0.8];
+    let mut shapes = Vec::new();
+    for sx in [-1.0f32, 1.0] {
+        for sy in [-1.0f32, 1.0] {
+            for sz in [-1.0f32, 1.0] {
+                let [a, b, c] = [axes[0] * sx, axes[1] * sy, axes[2] * sz].map(|v| centre + v);
+                let t = Triangle::new_one_sided(a, b, c).unwrap();
+                let t = if t.normal.dot(a - centre) > 0.0 {
+                    t
+                } else {
+                    Triangle::new_one_sided(a, c, b).unwrap()
+                };
+                shapes.push(Shape::Triangle(t));
+            }
+        }
+    }
+    let glow = desc.add_material(
+        Material::Emissive {
+            radiance: tyndall::Rgb::new(6.0, 5.0, 4.0),
+            two_sided: false,
+        },
+        Origin::Code,
+    );
+    desc.add_shapes(shapes, glow, Origin::Code);
+    let desc = Loaded::new(desc).expect("scene");
+    let nee = Strategies {
+        surface_nee: true,
+        medium_nee: true,
+        ..Strategies::NONE
+    };
+    let hits = Strategies {
+        surface_hits: true,
+        medium_hits: true,
+        ..Strategies::NONE
+    };
+    check(
+        &desc,
+        "emissive mesh in fog",
+        (40, 30),
+        64,
+        &[("light sampling", nee), ("hits", hits)],
+    );
+}

@@ -248,6 +248,20 @@ impl Triangle {
         })
     }
 
+    /// Area (m²): half the length of `e1 × e2`.
+    pub fn area(&self) -> f32 {
+        0.5 * self.e1.cross(self.e2).length()
+    }
+
+    /// A point uniformly distributed over the triangle's area (density
+    /// `1/A`) from `u ∈ [0,1)²`, by the square-root warp
+    /// `P = v0 + √u₁(1 − u₂)·e1 + √u₁·u₂·e2` (Shirley 1992; pbrt-v4
+    /// §A.5.5 "Sampling a triangle" gives the same density).
+    pub fn point(&self, u: glam::Vec2) -> Vec3 {
+        let s = u.x.sqrt();
+        self.v0 + self.e1 * (s * (1.0 - u.y)) + self.e2 * (s * u.y)
+    }
+
     /// Möller–Trumbore ray/triangle intersection.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
         let p = ray.direction.cross(self.e2);

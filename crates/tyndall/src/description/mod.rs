@@ -294,25 +294,8 @@ impl SceneDesc {
             .iter()
             .filter(|s| self.is_emissive(s.material))
             .collect();
-        let area_lights = emissive
-            .iter()
-            .flat_map(|s| &s.shapes)
-            .filter(|s| !matches!(s, Shape::Triangle(_)))
-            .count();
-        let unsampled = emissive
-            .iter()
-            .flat_map(|s| &s.shapes)
-            .filter(|s| matches!(s, Shape::Triangle(_)))
-            .count();
-        if self.lights.is_empty() && area_lights == 0 {
+        if self.lights.is_empty() && emissive.iter().all(|s| s.shapes.is_empty()) {
             warnings.push("the scene has no lights: only emissive surfaces will be visible".into());
-        }
-        if unsampled > 0 {
-            warnings.push(format!(
-                "{unsampled} emissive triangle(s) (meshes) glow where seen but are not sampled as lights: \
-                 `march` and `single` get no light from them, `volpath` only by chance; \
-                 emissive quads, boxes and spheres are area lights"
-            ));
         }
         let unbounded_fog = self
             .fog

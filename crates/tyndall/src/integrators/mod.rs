@@ -27,7 +27,7 @@ pub use volpath::Volpath;
 
 use crate::accel::Hit;
 use crate::color::Rgb;
-use crate::lights::{Incident, Light};
+use crate::lights::{Incident, Light, LightPoint};
 use crate::materials::{Surface, SurfaceEvent, dielectric_scatter};
 use crate::media::Fog;
 use crate::media::tracking::VolumeTracker;
@@ -449,7 +449,7 @@ fn light_sample_u(light: &Light, sampler: &mut PixelSampler) -> Vec2 {
 /// The point on `light` a receiver connects to (the light's
 /// `sample_point`).
 #[inline]
-fn light_point(light: &Light, sampler: &mut PixelSampler) -> Option<Vec3> {
+fn light_point(light: &Light, sampler: &mut PixelSampler) -> Option<LightPoint> {
     light.sample_point(light_sample_u(light, sampler))
 }
 
@@ -474,7 +474,7 @@ pub(crate) fn sample_light(
 pub(crate) fn scattered_radiance(
     medium: &MediumQuery,
     index: usize,
-    y: Option<Vec3>,
+    y: Option<LightPoint>,
     x: Vec3,
     counts: &mut RayCounts,
     tracker: &mut VolumeTracker,

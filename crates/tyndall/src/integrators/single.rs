@@ -67,7 +67,7 @@ pub(crate) fn in_scattered(
         let u_equiangular = sampler.next_1d();
         let equiangular = y.and_then(|y| {
             let (ea, eb) = light.reach(ray, a, b)?;
-            EquiangularSampler::new(ray, y, ea, eb)
+            EquiangularSampler::new(ray, y.position, ea, eb)
         });
         let n = samples_per_light as f32;
         if let Some(eq) = &equiangular {

@@ -2,7 +2,7 @@
 //! how next event estimation picks their points (solid-angle sampling
 //! where it can).
 
-use super::{Incident, Light, towards};
+use super::{Incident, towards};
 use crate::color::Rgb;
 use crate::sampling::{uniform_cone, uniform_cone_pdf};
 use crate::shapes::{Quad, Sphere};
@@ -46,6 +46,27 @@ impl SphereLight {
         self.sphere.center + self.sphere.radius * uniform_cone(Vec3::Z, -1.0, u)
     }
 
+    /// Unit outward normal at the surface point `y`.
+    pub(super) fn normal(&self, y: Vec3) -> Vec3 {
+        (y - self.sphere.center) / self.sphere.radius
+    }
+
+    /// Light reaching `x` from the surface point `y`: `L·cos θ_y·A/d²`,
+    /// the radiance over the point's density when chosen uniformly by
+    /// area; `None` from inside a one-sided sphere.
+    pub(super) fn incident(&self, x: Vec3, y: Vec3) -> Option<Incident> {
+        let (direction, d2) = towards(x, y)?;
+        let normal = self.normal(y);
+        let cos_y = -direction.dot(normal);
+        let cos_y = if self.two_sided { cos_y.abs() } else { cos_y };
+        (cos_y > 0.0).then(|| Incident {
+            direction,
+            distance: d2.sqrt(),
+            irradiance: self.radiance * (cos_y * self.area() / d2),
+            light_normal: Some(normal),
+        })
+    }
+
     /// `cos θmax` of the cone the sphere subtends from `x`, if `x` is
     /// outside it.
     fn cone(&self, x: Vec3) -> Option<f32> {
@@ -61,7 +82,7 @@ impl SphereLight {
     pub fn sample_incident(&self, x: Vec3, u: Vec2) -> Option<(Incident, f32)> {
         let Some(cos_max) = self.cone(x) else {
             let y = self.point(u);
-            let incident = Light::Sphere(*self).incident(x, Some(y))?;
+            let incident = self.incident(x, y)?;
             let pdf = self.pdf(x, y, incident.direction);
             return Some((incident, pdf));
         };
@@ -82,6 +103,7 @@ impl SphereLight {
                 direction,
                 distance,
                 irradiance: self.radiance / pdf,
+                light_normal: Some(self.normal(x + direction * distance)),
             },
             pdf,
         ))
@@ -94,8 +116,7 @@ impl SphereLight {
         if let Some(cos_max) = self.cone(x) {
             return uniform_cone_pdf(cos_max);
         }
-        let normal = (y - self.sphere.center) / self.sphere.radius;
-        let cos = normal.dot(direction).abs();
+        let cos = self.normal(y).dot(direction).abs();
         let d2 = (y - x).length_squared();
         if cos > 0.0 {
             d2 / (self.area() * cos)
@@ -203,6 +224,21 @@ fn is_rectangle(quad: &Quad) -> bool {
 }
 
 impl QuadLight {
+    /// Light reaching `x` from the point `y` of the quad: `L·cos θ_y·A/d²`,
+    /// the radiance over the point's density when chosen uniformly by
+    /// area; `None` behind a one-sided quad.
+    pub(super) fn incident(&self, x: Vec3, y: Vec3) -> Option<Incident> {
+        let (direction, d2) = towards(x, y)?;
+        let cos_y = -direction.dot(self.quad.normal);
+        let cos_y = if self.two_sided { cos_y.abs() } else { cos_y };
+        (cos_y > 0.0).then(|| Incident {
+            direction,
+            distance: d2.sqrt(),
+            irradiance: self.radiance * (cos_y * self.quad.area() / d2),
+            light_normal: Some(self.quad.normal),
+        })
+    }
+
     /// Light from a point of this light chosen for the receiver `x`:
     /// uniformly in solid angle for a rectangle, uniformly in area
     /// otherwise. Returns the incident light divided by the point's
@@ -224,12 +260,13 @@ impl QuadLight {
                     direction,
                     distance: d2.sqrt(),
                     irradiance: self.radiance * rect.solid_angle,
+                    light_normal: Some(self.quad.normal),
                 },
                 pdf,
             ));
         }
         let y = self.quad.point(u.x, u.y);
-        let incident = Light::Quad(*self).incident(x, Some(y))?;
+        let incident = self.incident(x, y)?;
         let pdf = self.pdf(x, y, incident.direction);
         Some((incident, pdf))
     }

@@ -1,12 +1,13 @@
-//! Light sources: point, spot (the paper's §3.2), directional, quad and
-//! sphere area lights. Any number of each.
+//! Light sources: point, spot (the paper's §3.2), directional, and area
+//! lights: quads, spheres and triangle meshes. Any number of each.
 //!
 //! A light owns its physics, pbrt-style, behind one enum ([`Light`]):
 //! integrators call its methods and name no kind.
 //!
 //! - Towards a receiving point `x` (next event estimation):
 //!   [`Light::sample_point`] picks the emitting point `y` (the light's
-//!   position, or a uniformly chosen point of an area light),
+//!   position, or a uniformly chosen point of an area light, with its
+//!   surface normal: a [`LightPoint`]),
 //!   [`Light::incident`] gives the light arriving at `x` from `y` before
 //!   occlusion, glass and fog are applied, and [`Light::sample_li`] /
 //!   [`Light::pdf_li`] sample and weigh that point in solid angle
@@ -14,17 +15,18 @@
 //! - Away from the light (paths traced from it): [`Light::sample_le`] and
 //!   [`Light::pdf_le`]; [`Light::power`] is the total flux.
 //! - Capabilities integrators choose strategies by: [`Light::is_delta`],
-//!   [`Light::position`], [`Light::origin`], [`Light::is_flat_emitter`], [`Light::area`],
-//!   [`Light::normal`].
+//!   [`Light::position`], [`Light::origin`], [`Light::is_flat_emitter`], [`Light::area`].
 //!
 //! Spotlights also clip a ray to the part inside their cone
 //! ([`Light::reach`]), which the integrators use so that no march step or
 //! distance sample is spent outside the beam.
 
 mod area;
+mod mesh;
 mod spot;
 
 pub use area::{QuadLight, SphereLight, SphericalRectangle};
+pub use mesh::MeshLight;
 pub use spot::{SpotLight, SpotProfile};
 
 use crate::color::Rgb;
@@ -51,13 +53,45 @@ pub struct DirectionalLight {
 }
 
 /// The closed set of light kinds.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Light {
     Point(PointLight),
     Spot(SpotLight),
     Directional(DirectionalLight),
     Quad(QuadLight),
     Sphere(SphereLight),
+    Mesh(MeshLight),
+}
+
+/// A point light leaves from: the position of a point or spot light, or a
+/// point of an area light's surface with the unit normal there (the side
+/// a one-sided emitter emits from). A mesh light's normal depends on the
+/// triangle the point lies on, so the point carries it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightPoint {
+    pub position: Vec3,
+    /// The emitting surface's unit normal at `position`; `None` for point
+    /// and spot lights.
+    pub normal: Option<Vec3>,
+}
+
+impl LightPoint {
+    /// The point of a point or spot light.
+    pub fn delta(position: Vec3) -> Self {
+        Self {
+            position,
+            normal: None,
+        }
+    }
+
+    /// A point of an emitting surface whose unit normal there is `normal`
+    /// (for example where a ray hit an emitter).
+    pub fn on_surface(position: Vec3, normal: Vec3) -> Self {
+        Self {
+            position,
+            normal: Some(normal),
+        }
+    }
 }
 
 /// Light arriving at a point from one emitting point, before occlusion,
@@ -73,6 +107,21 @@ pub struct Incident {
     /// [`Light::sample_point`]: `I(dir)/d²` for point and spot lights,
     /// `L·cos θ_y·A/d²` for an area light of area A, `E` for a sun.
     pub irradiance: Rgb,
+    /// The emitting surface's unit normal at the light's point (area
+    /// lights); `None` for point, spot and directional lights.
+    pub light_normal: Option<Vec3>,
+}
+
+impl Incident {
+    /// The light's point this light comes from, seen from the receiver
+    /// `x`; meaningless for a directional light (infinitely far).
+    #[inline]
+    pub fn light_point(&self, x: Vec3) -> LightPoint {
+        LightPoint {
+            position: x + self.direction * self.distance,
+            normal: self.light_normal,
+        }
+    }
 }
 
 impl Light {
@@ -80,13 +129,20 @@ impl Light {
     /// point or spot light, a uniformly distributed point (density 1/A) on
     /// an area light from `u ∈ [0,1)²`, `None` for a directional light.
     #[inline]
-    pub fn sample_point(&self, u: Vec2) -> Option<Vec3> {
+    pub fn sample_point(&self, u: Vec2) -> Option<LightPoint> {
         match self {
-            Light::Point(p) => Some(p.position),
-            Light::Spot(s) => Some(s.position),
+            Light::Point(p) => Some(LightPoint::delta(p.position)),
+            Light::Spot(s) => Some(LightPoint::delta(s.position)),
             Light::Directional(_) => None,
-            Light::Quad(q) => Some(q.quad.point(u.x, u.y)),
-            Light::Sphere(s) => Some(s.point(u)),
+            Light::Quad(q) => Some(LightPoint::on_surface(
+                q.quad.point(u.x, u.y),
+                q.quad.normal,
+            )),
+            Light::Sphere(s) => {
+                let y = s.point(u);
+                Some(LightPoint::on_surface(y, s.normal(y)))
+            }
+            Light::Mesh(m) => Some(m.sample_point(u)),
         }
     }
 
@@ -95,12 +151,13 @@ impl Light {
     /// spotlight's cone, behind a one-sided emitter), so callers skip the
     /// shadow ray — the paper's cone test before the shadow ray.
     #[inline]
-    pub fn incident(&self, x: Vec3, y: Option<Vec3>) -> Option<Incident> {
+    pub fn incident(&self, x: Vec3, y: Option<LightPoint>) -> Option<Incident> {
         match (self, y) {
             (Light::Directional(d), _) => Some(Incident {
                 direction: -d.direction,
                 distance: f32::INFINITY,
                 irradiance: d.irradiance,
+                light_normal: None,
             }),
             (Light::Point(p), _) => {
                 let (direction, d2) = towards(x, p.position)?;
@@ -108,6 +165,7 @@ impl Light {
                     direction,
                     distance: d2.sqrt(),
                     irradiance: p.intensity / d2,
+                    light_normal: None,
                 })
             }
             (Light::Spot(s), _) => {
@@ -117,30 +175,13 @@ impl Light {
                     direction,
                     distance: d2.sqrt(),
                     irradiance: s.intensity * (falloff / d2),
+                    light_normal: None,
                 })
             }
-            (Light::Quad(q), Some(y)) => {
-                let (direction, d2) = towards(x, y)?;
-                let cos_y = -direction.dot(q.quad.normal);
-                let cos_y = if q.two_sided { cos_y.abs() } else { cos_y };
-                (cos_y > 0.0).then(|| Incident {
-                    direction,
-                    distance: d2.sqrt(),
-                    irradiance: q.radiance * (cos_y * q.quad.area() / d2),
-                })
-            }
-            (Light::Sphere(s), Some(y)) => {
-                let (direction, d2) = towards(x, y)?;
-                let normal = (y - s.sphere.center) / s.sphere.radius;
-                let cos_y = -direction.dot(normal);
-                let cos_y = if s.two_sided { cos_y.abs() } else { cos_y };
-                (cos_y > 0.0).then(|| Incident {
-                    direction,
-                    distance: d2.sqrt(),
-                    irradiance: s.radiance * (cos_y * s.area() / d2),
-                })
-            }
-            (Light::Quad(_) | Light::Sphere(_), None) => None,
+            (Light::Quad(q), Some(y)) => q.incident(x, y.position),
+            (Light::Sphere(s), Some(y)) => s.incident(x, y.position),
+            (Light::Mesh(m), Some(y)) => m.incident(x, y),
+            (Light::Quad(_) | Light::Sphere(_) | Light::Mesh(_), None) => None,
         }
     }
 
@@ -181,8 +222,8 @@ pub enum LightOrigin {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LeSample {
     /// The emitting point y₀: the light's position, or a point of an area
-    /// light's surface.
-    pub point: Vec3,
+    /// light's surface with its normal.
+    pub point: LightPoint,
     /// The emitted ray along the sampled direction, from y₀ (moved just
     /// off an area light's surface).
     pub ray: Ray,
@@ -213,7 +254,7 @@ impl Light {
         match self {
             Light::Point(p) => Some(p.position),
             Light::Spot(s) => Some(s.position),
-            Light::Directional(_) | Light::Quad(_) | Light::Sphere(_) => None,
+            Light::Directional(_) | Light::Quad(_) | Light::Sphere(_) | Light::Mesh(_) => None,
         }
     }
 
@@ -232,13 +273,14 @@ impl Light {
             Light::Directional(d) => LightOrigin::Parallel {
                 direction: d.direction,
             },
-            Light::Quad(_) | Light::Sphere(_) => LightOrigin::Surface,
+            Light::Quad(_) | Light::Sphere(_) | Light::Mesh(_) => LightOrigin::Surface,
         }
     }
 
     /// Whether the light is an area light with a flat emitting surface (a
     /// quad): [`Light::sample_le`] starts rays on it, and its geometry
-    /// term has one normal.
+    /// term has one normal. A triangle mesh is not: its normal varies
+    /// from triangle to triangle.
     #[inline]
     pub fn is_flat_emitter(&self) -> bool {
         matches!(self, Light::Quad(_))
@@ -251,25 +293,16 @@ impl Light {
         match self {
             Light::Quad(q) => q.quad.area(),
             Light::Sphere(s) => s.area(),
+            Light::Mesh(m) => m.area(),
             Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 0.0,
-        }
-    }
-
-    /// Unit normal of an area light's surface at its point `y` (the side
-    /// a one-sided light emits from); `None` for delta lights.
-    #[inline]
-    pub fn normal(&self, y: Vec3) -> Option<Vec3> {
-        match self {
-            Light::Quad(q) => Some(q.quad.normal),
-            Light::Sphere(s) => Some((y - s.sphere.center) / s.sphere.radius),
-            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => None,
         }
     }
 
     /// Light reaching the receiver `x` from a point of this light chosen
     /// for it (next event estimation), divided by the point's density:
     /// uniform in solid angle for a rectangle and from outside a sphere,
-    /// uniform in area otherwise (`u ∈ [0,1)²`; delta lights use their
+    /// uniform in area otherwise (a mesh: a triangle chosen by its power,
+    /// see [`MeshLight`]) (`u ∈ [0,1)²`; delta lights use their
     /// fixed point and ignore `u`). Also returns the choice's solid-angle
     /// density for MIS ([`Light::pdf_li`]), `None` for delta lights, which
     /// no sampled direction can hit.
@@ -282,6 +315,12 @@ impl Light {
             Light::Sphere(s) => s
                 .sample_incident(x, u)
                 .map(|(incident, pdf)| (incident, Some(pdf))),
+            Light::Mesh(m) => {
+                let y = m.sample_point(u);
+                let incident = m.incident(x, y)?;
+                let pdf = m.pdf(x, y, incident.direction);
+                Some((incident, Some(pdf)))
+            }
             Light::Point(_) | Light::Spot(_) | Light::Directional(_) => self
                 .incident(x, self.sample_point(Vec2::ZERO))
                 .map(|i| (i, None)),
@@ -289,13 +328,15 @@ impl Light {
     }
 
     /// Density per unit solid angle, seen from `x`, with which
-    /// [`Light::sample_li`] picks the point `y` of an area light in the
-    /// unit direction `direction` from `x`; 0 for delta lights.
+    /// [`Light::sample_li`] picks the point `y` of an area light (with its
+    /// surface normal) in the unit direction `direction` from `x`; 0 for
+    /// delta lights.
     #[inline]
-    pub fn pdf_li(&self, x: Vec3, y: Vec3, direction: Vec3) -> f32 {
+    pub fn pdf_li(&self, x: Vec3, y: LightPoint, direction: Vec3) -> f32 {
         match self {
-            Light::Quad(q) => q.pdf(x, y, direction),
-            Light::Sphere(s) => s.pdf(x, y, direction),
+            Light::Quad(q) => q.pdf(x, y.position, direction),
+            Light::Sphere(s) => s.pdf(x, y.position, direction),
+            Light::Mesh(m) => m.pdf(x, y, direction),
             Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 0.0,
         }
     }
@@ -307,13 +348,13 @@ impl Light {
     /// on its back side if it is two-sided and `u_side ≥ ½`. `None` where
     /// the sampled ray carries nothing (a spot's profile is 0 at its cut)
     /// and for lights whose emission is not sampled (directional lights,
-    /// emissive spheres).
+    /// emissive spheres and meshes).
     pub fn sample_le(&self, u_point: Vec2, u_direction: Vec2, u_side: f32) -> Option<LeSample> {
         match self {
             Light::Point(p) => {
                 let direction = uniform_cone(Vec3::Z, -1.0, u_direction);
                 Some(LeSample {
-                    point: p.position,
+                    point: LightPoint::delta(p.position),
                     ray: Ray {
                         origin: p.position,
                         direction,
@@ -329,7 +370,7 @@ impl Light {
                 }
                 let solid_angle = 2.0 * PI * (1.0 - s.cos_cutoff);
                 Some(LeSample {
-                    point: s.position,
+                    point: LightPoint::delta(s.position),
                     ray: Ray {
                         origin: s.position,
                         direction,
@@ -347,7 +388,7 @@ impl Light {
                 let point = q.quad.point(u_point.x, u_point.y);
                 let direction = cosine_hemisphere(normal, u_direction);
                 Some(LeSample {
-                    point,
+                    point: LightPoint::on_surface(point, q.quad.normal),
                     ray: Ray {
                         origin: offset_origin(point, normal, direction),
                         direction,
@@ -356,7 +397,7 @@ impl Light {
                     beta: q.radiance * (q.quad.area() * PI * sides),
                 })
             }
-            Light::Directional(_) | Light::Sphere(_) => None,
+            Light::Directional(_) | Light::Sphere(_) | Light::Mesh(_) => None,
         }
     }
 
@@ -377,7 +418,11 @@ impl Light {
                 let sides = if q.two_sided { 2.0 } else { 1.0 };
                 1.0 / (q.quad.area() * PI * sides)
             }
-            Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Sphere(_) => 0.0,
+            Light::Point(_)
+            | Light::Spot(_)
+            | Light::Directional(_)
+            | Light::Sphere(_)
+            | Light::Mesh(_) => 0.0,
         }
     }
 
@@ -410,6 +455,10 @@ impl Light {
             Light::Sphere(s) => {
                 let sides = if s.two_sided { 2.0 } else { 1.0 };
                 s.radiance * (PI * s.area() * sides)
+            }
+            Light::Mesh(m) => {
+                let sides = if m.two_sided { 2.0 } else { 1.0 };
+                m.radiance * (PI * m.area() * sides)
             }
         }
     }

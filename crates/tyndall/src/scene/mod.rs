@@ -10,7 +10,7 @@ use crate::accel::{Geometry, Primitive};
 use crate::camera::CameraSpec;
 use crate::color::Rgb;
 use crate::description::{DescError, MediumDesc, RegionDesc, SceneDesc};
-use crate::lights::{Light, QuadLight, SphereLight};
+use crate::lights::{Light, MeshLight, QuadLight, SphereLight};
 use crate::materials::Material;
 use crate::media::Fog;
 use crate::media::volume::{MeshRegion, Volume, VolumeRegion};
@@ -30,12 +30,13 @@ pub struct Scene {
     pub(crate) background: Rgb,
     pub(crate) glass: GlassSettings,
     /// (primitive, light) pairs of area lights, by primitive: the
-    /// emissive quad or sphere a path may hit and the light that samples
-    /// it.
+    /// emissive quad, sphere or triangle a path may hit and the light that
+    /// samples it (one light for all the triangles of a mesh).
     area_lights: Vec<(u32, u32)>,
     /// How many of the lights have a flat emitting surface.
     flat_emitters: usize,
-    /// The primitive of each light that has geometry, by light.
+    /// The primitive of each light that is one primitive (quads and
+    /// spheres), by light.
     light_primitives: Vec<Option<u32>>,
 }
 
@@ -88,8 +89,9 @@ impl Scene {
             .map(|i| self.area_lights[i].1 as usize)
     }
 
-    /// The primitive that is light number `light`'s geometry, if it has
-    /// any (area lights).
+    /// The primitive that is light number `light`'s geometry, if it is one
+    /// primitive (quad and sphere lights; a mesh light's point lies on
+    /// one of many).
     pub fn light_primitive(&self, light: usize) -> Option<u32> {
         self.light_primitives.get(light).copied().flatten()
     }
@@ -109,17 +111,16 @@ impl Scene {
 impl Scene {
     /// Builds the runtime scene from a description: checks it
     /// ([`SceneDesc::validate`]), makes every emissive quad (a box's faces
-    /// included) and sphere an area light — sampled by every integrator's
-    /// NEE and weighed by MIS where BSDF or phase sampling hits it, as in
-    /// Mitsuba, Cycles and pbrt — builds the BVH, and the volumes with
-    /// their majorant grids. Errors name the item's origin.
+    /// included), sphere and triangle mesh (the triangles of one item) an
+    /// area light — sampled by every integrator's NEE and weighed by MIS
+    /// where BSDF or phase sampling hits it, as in Mitsuba, Cycles and
+    /// pbrt — builds the BVH, and the volumes with their majorant grids.
+    /// Errors name the item's origin.
     ///
     /// Thin glass is always two-sided: a pane tints light the same
     /// whichever way it crosses, so one-sided culling (the course code's,
     /// for opaque back faces) never applies to it — for camera rays,
-    /// shadow rays and shadow maps alike. Emissive triangles (meshes) glow
-    /// where seen but are not sampled yet
-    /// ([`SceneDesc::lighting_warnings`]).
+    /// shadow rays and shadow maps alike.
     pub fn build(desc: &SceneDesc) -> Result<Scene, DescError> {
         desc.validate()?;
         let volumes = desc
@@ -150,6 +151,9 @@ impl Scene {
         let mut area_lights = Vec::new();
         for item in &desc.shapes {
             let material = &materials[item.material as usize];
+            // An emissive item's triangles: one mesh light.
+            let mut mesh = Vec::new();
+            let mut mesh_primitives = Vec::new();
             for &shape in &item.shapes {
                 let shape = match material {
                     Material::Glass(_) => shape.two_sided(),
@@ -171,7 +175,11 @@ impl Scene {
                             radiance,
                             two_sided,
                         })),
-                        Shape::Triangle(_) => None,
+                        Shape::Triangle(triangle) => {
+                            mesh.push(triangle);
+                            mesh_primitives.push(primitives.len() as u32);
+                            None
+                        }
                     };
                     if let Some(light) = light {
                         area_lights.push((primitives.len() as u32, lights.len() as u32));
@@ -183,12 +191,27 @@ impl Scene {
                     material: item.material,
                 });
             }
+            if let Material::Emissive {
+                radiance,
+                two_sided,
+            } = *material
+                && let Some(light) = MeshLight::new(mesh, radiance, two_sided)
+            {
+                let index = lights.len() as u32;
+                area_lights.extend(mesh_primitives.iter().map(|&p| (p, index)));
+                lights.push(Light::Mesh(light));
+            }
         }
+        // By primitive, for `area_light_at`'s binary search (an item's
+        // mesh light is numbered after its quads and spheres).
+        area_lights.sort_unstable_by_key(|&(primitive, _)| primitive);
         lights.extend(desc.lights.iter().map(|l| Light::from(l.value)));
         let flat_emitters = lights.iter().filter(|l| l.is_flat_emitter()).count();
         let mut light_primitives = vec![None; lights.len()];
         for &(primitive, light) in &area_lights {
-            light_primitives[light as usize] = Some(primitive);
+            if !matches!(lights[light as usize], Light::Mesh(_)) {
+                light_primitives[light as usize] = Some(primitive);
+            }
         }
         Scene {
             light_primitives,
@@ -201,7 +224,6 @@ impl Scene {
             background: desc.background,
             glass: desc.glass,
             flat_emitters,
-            // Pushed in primitive order, so already sorted.
             area_lights,
         }
     }

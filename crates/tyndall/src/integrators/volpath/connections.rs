@@ -81,11 +81,11 @@ pub(super) fn connect_light_vertex(
         let to_light = -direction;
         let phase_y1 = fog.phase.eval(to_light.dot(first.omega));
         let t = first.distance;
-        let p_connect = first.segment.light_vertex_terms(t, light, y0);
+        let p_connect = first.segment.light_vertex_terms(t, light, y0.position);
         let p_omega = light.pdf_li(y1, y0, to_light);
         let samples = strategies.later_equiangular();
         let equiangular = segment_term(&first.segment, t, samples, light, y0);
-        let weight = first.segment.connection_term(t, light, y0)
+        let weight = first.segment.connection_term(t, light, y0.position)
             / FogEventDensities::new(strategies, p_omega, phase_y1, equiangular, p_connect).total();
         sum += emitted * fog.albedo * first.value * (phase_y1 * weight);
     }
@@ -143,11 +143,11 @@ pub(super) fn connect_light_vertex(
     };
     let to_light = -direction;
     let phase_y1 = fog.phase.eval(to_light.dot(back));
-    let p_connect = segment.light_vertex_terms(t12, light, y0);
+    let p_connect = segment.light_vertex_terms(t12, light, y0.position);
     let p_omega = light.pdf_li(y1, y0, to_light);
     let samples = strategies.later_equiangular();
     let equiangular = segment_term(&segment, t12, samples, light, y0);
-    let weight = segment.second_vertex_term(t12, light, y0)
+    let weight = segment.second_vertex_term(t12, light, y0.position)
         / FogEventDensities::new(strategies, p_omega, phase_y1, equiangular, p_connect).total();
     // f/p of x → y2 → y1 → y0: f(x)·T(x, y2)/t² · (σs/σt)² · p(y2) ·
     // β·n_q (the second flight's density cancels p(y1), T(y1, y2)

@@ -15,7 +15,7 @@
 
 use super::Arrival;
 use super::segment::FogSegment;
-use crate::lights::Light;
+use crate::lights::{Light, LightPoint};
 use crate::sampling::EquiangularSampler;
 use crate::scene::Scene;
 use crate::settings::Strategies;
@@ -103,12 +103,13 @@ pub(super) fn segment_term(
     t: f32,
     counts: EquiangularCounts,
     light: &Light,
-    y: Vec3,
+    y: LightPoint,
 ) -> f32 {
     let samples = counts.of(light);
-    let Some(normal) = light.normal(y) else {
+    let Some(normal) = y.normal else {
         return 0.0;
     };
+    let y = y.position;
     if samples == 0 {
         return 0.0;
     }
@@ -154,7 +155,8 @@ pub(super) fn emission_weight(
             if !hits {
                 return 0.0;
             }
-            let p_light = scene.lights[index].pdf_li(from, p, direction);
+            let y = LightPoint::on_surface(p, scene.geometry.normal(primitive, p));
+            let p_light = scene.lights[index].pdf_li(from, y, direction);
             balance_of_two(pdf, nee, p_light)
         }
         (
@@ -170,8 +172,9 @@ pub(super) fn emission_weight(
                 return 0.0;
             }
             let light = &scene.lights[index];
-            let p_light = light.pdf_li(segment.medium.ray.at(t), p, direction);
-            let q = segment_term(&segment, t, samples, light, p);
+            let y = LightPoint::on_surface(p, scene.geometry.normal(primitive, p));
+            let p_light = light.pdf_li(segment.medium.ray.at(t), y, direction);
+            let q = segment_term(&segment, t, samples, light, y);
             let p_connect = segment.light_vertex_terms(t, light, p);
             pdf / FogEventDensities::new(strategies, p_light, pdf, q, p_connect).total()
         }

@@ -42,13 +42,13 @@ pub(super) fn medium_nee(
         };
         let weight = match p_light {
             Some(p_light) => {
-                let y = x + incident.direction * incident.distance;
+                let y = incident.light_point(x);
                 let q = if equiangular.covers(index) {
                     segment_term(segment, t, equiangular.counts, light, y)
                 } else {
                     0.0
                 };
-                let p_connect = segment.light_vertex_terms(t, light, y);
+                let p_connect = segment.light_vertex_terms(t, light, y.position);
                 let p_phase = medium.phase(&incident);
                 p_light / FogEventDensities::new(strategies, p_light, p_phase, q, p_connect).total()
             }

@@ -7,6 +7,7 @@ use super::Volpath;
 use super::mis::{EquiangularCounts, FogEventDensities, on};
 use crate::color::Rgb;
 use crate::integrators::{MediumQuery, media_transmittance, scattered_light};
+use crate::lights::LightPoint;
 use crate::media::tracking::VolumeTracker;
 use crate::media::{Fog, free_flight, transmittance};
 use crate::ray::Ray;
@@ -15,7 +16,6 @@ use crate::sampling::EquiangularSampler;
 use crate::scene::Scene;
 use crate::settings::Strategies;
 use crate::visibility::RayCounts;
-use glam::Vec3;
 
 /// The part `[a, b]` of a path segment inside the fog.
 #[derive(Clone, Copy)]
@@ -117,7 +117,7 @@ pub(super) struct EquiangularNee {
 struct SegmentLight {
     sampler: EquiangularSampler,
     u: f32,
-    point: Vec3,
+    point: LightPoint,
     /// Samples taken towards the light.
     n: u32,
 }
@@ -149,12 +149,12 @@ impl EquiangularNee {
                 }
                 let u = sampler.next_1d();
                 let point = if light.is_delta() {
-                    light.position()?
+                    LightPoint::delta(light.position()?)
                 } else {
                     light.sample_point(sampler.next_2d())?
                 };
                 let (ea, eb) = light.reach(ray, segment.a, segment.b)?;
-                let sampler = EquiangularSampler::new(ray, point, ea, eb)?;
+                let sampler = EquiangularSampler::new(ray, point.position, ea, eb)?;
                 Some(SegmentLight {
                     sampler,
                     u,
@@ -204,7 +204,7 @@ impl EquiangularNee {
                 }
                 let p_flight = segment.flight_pdf(t);
                 // The integrand T(a, t)·σs·(eq. 1) over the summed densities.
-                let denominator = match light.normal(entry.point) {
+                let denominator = match entry.point.normal {
                     // An area light.
                     Some(normal) => {
                         // E = L·A·G (area sampling), so the (t, y)
@@ -212,7 +212,7 @@ impl EquiangularNee {
                         let g = normal.dot(incident.direction).abs()
                             / (incident.distance * incident.distance);
                         let p_omega = light.pdf_li(x, entry.point, incident.direction);
-                        let p_connect = segment.light_vertex_terms(t, light, entry.point);
+                        let p_connect = segment.light_vertex_terms(t, light, entry.point.position);
                         // This estimator's own density is n·p_e, above.
                         let others = FogEventDensities::new(
                             strategies,
