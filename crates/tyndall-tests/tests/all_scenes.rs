@@ -1,5 +1,5 @@
 //! One scene, one answer (issue 9): every scene under `scenes/` (native
-//! .toml and legacy .obj, recursively) is rendered small with each
+//! .toml, legacy .obj and glTF, recursively) is rendered small with each
 //! integrator it supports; no image may hold NaN or ∞, and `march` (small
 //! step), `single` and `volpath --max-depth 1` — three estimators of the
 //! same single-scattering equation — must agree within their own noise.
@@ -42,9 +42,9 @@ const SEEDS: [u64; 2] = [1, 2];
 /// The march's step: small against every scene's features and fog.
 const MARCH_STEP: f32 = 0.05;
 
-/// Legacy scenes carry no fog; as in the paper, the test gives them fog
-/// of density 0.1, with a physical albedo so that all three integrators
-/// render them.
+/// Legacy and glTF scenes carry no fog; as in the paper, the test gives
+/// them fog of density 0.1 (as `--density` does), with a physical albedo
+/// so that all three integrators render them.
 const LEGACY_DENSITY: f32 = 0.1;
 const LEGACY_ALBEDO: f32 = 0.9;
 /// The paper's non-physical albedo, which only `march` renders (every
@@ -70,6 +70,11 @@ const VOLPATH_DIFFERS: &[(&str, &str)] = &[
          setting of the two computes the same reflected light",
     ),
     (
+        "fog-room.gltf",
+        "a glossy metal box (Blender's metallic Principled surface): as for stained-glass.toml, \
+         volpath adds the emitters seen in its reflection, single does not count them the same way",
+    ),
+    (
         "reflective_spheres.obj",
         "a glossy sphere reflecting the ceiling light: as for stained-glass.toml, volpath adds \
          the emitter seen in the reflection, single does not count it the same way",
@@ -87,7 +92,7 @@ fn scene_files(dir: &Path, out: &mut Vec<PathBuf>) {
             scene_files(&path, out);
         } else if matches!(
             path.extension().and_then(|e| e.to_str()),
-            Some("toml" | "obj")
+            Some("toml" | "obj" | "gltf" | "glb")
         ) {
             out.push(path);
         }
@@ -104,8 +109,9 @@ fn file_name(path: &Path) -> &str {
 }
 
 fn load(path: &Path) -> Loaded {
-    let loaded = if path.extension().is_some_and(|e| e == "obj") {
-        common::load_legacy(path, LegacyOptions::default()).map(|mut desc| {
+    let extension = path.extension().and_then(|e| e.to_str());
+    let loaded = if matches!(extension, Some("obj" | "gltf" | "glb")) {
+        common::load_any(path, LegacyOptions::default()).map(|mut desc| {
             desc.override_fog(Some(LEGACY_DENSITY), Some(LEGACY_ALBEDO))
                 .expect("fog");
             desc
