@@ -21,6 +21,7 @@ fn triangle(material: usize) -> MeshData {
         indices: Some(vec![0, 1, 2]),
         mode: None,
         material: Some(material),
+        normals: None,
     }
 }
 
@@ -221,6 +222,7 @@ fn gltf_and_toml_render_the_same_image() {
         indices: Some(indices.clone()),
         mode: None,
         material: Some(0),
+        normals: None,
     };
     let gltf_path = write_gltf(&dir, "room", &[mesh], doc);
     let mut obj = String::new();
@@ -439,6 +441,109 @@ fn toml_includes_gltf() {
         m.contains("bad-include.toml:")
             && m.contains("bad.gltf")
             && m.contains("meshes[0].primitives[0]"),
+        "{m}"
+    );
+}
+
+/// Vertex normals shade (issue 12): a floor of two triangles whose
+/// corner normals lean by different amounts, under a sun straight overhead, is lit as
+/// `ρ/π·E·(n·up)` with `n` the corner normals interpolated at the seen
+/// point by its barycentric weights (computed here from areas), by
+/// `single` and `volpath`; without the NORMAL attribute it is lit as a
+/// flat floor, `ρ/π·E`. A zero NORMAL is an error naming the primitive.
+#[test]
+fn vertex_normals_shade_smoothly() {
+    use tyndall::IntegratorKind;
+    use tyndall::ray::Ray;
+    let positions = vec![
+        [-2.0, 0.0, -2.0],
+        [2.0, 0.0, -2.0],
+        [2.0, 0.0, 2.0],
+        [-2.0, 0.0, 2.0],
+    ];
+    let lean = |p: [f32; 3]| Vec3::new(0.3 * (p[0] + 2.0), 1.0, 0.2 * (p[2] + 2.0)).normalize();
+    let normals: Vec<[f32; 3]> = positions.iter().map(|&p| lean(p).to_array()).collect();
+    let indices = vec![0, 2, 1, 0, 3, 2];
+    let (rho, lux) = (0.6f32, 1366.0f32);
+    // A sun along its node's −z turned −90° about x: straight down.
+    let s = FRAC_1_SQRT_2;
+    let doc = json!({
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_specular"],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "intensity": lux}]}},
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [
+            {"mesh": 0},
+            {"rotation": [-s, 0.0, 0.0, s], "extensions": {"KHR_lights_punctual": {"light": 0}}}
+        ],
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [rho, rho, rho, 1.0], "metallicFactor": 0.0},
+                       "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}]
+    });
+    let floor = |normals: Option<Vec<[f32; 3]>>| MeshData {
+        positions: positions.clone(),
+        indices: Some(indices.clone()),
+        mode: None,
+        material: Some(0),
+        normals,
+    };
+    let dir = test_dir("vertex-normals");
+    let smooth = common::load_gltf(&write_gltf(
+        &dir,
+        "smooth",
+        &[floor(Some(normals.clone()))],
+        doc.clone(),
+    ))
+    .expect("loads");
+    let flat =
+        common::load_gltf(&write_gltf(&dir, "flat", &[floor(None)], doc.clone())).expect("loads");
+
+    let seen = [0.4f32, 0.3];
+    // The triangle holding the point, and its barycentric weights as
+    // ratios of areas in the floor's plane.
+    let area = |a: [f32; 3], b: [f32; 3], c: [f32; 3]| {
+        0.5 * ((b[0] - a[0]) * (c[2] - a[2]) - (c[0] - a[0]) * (b[2] - a[2]))
+    };
+    let p = [seen[0], 0.0, seen[1]];
+    let n = indices
+        .chunks(3)
+        .find_map(|t| {
+            let [a, b, c] = [0, 1, 2].map(|k| positions[t[k] as usize]);
+            let whole = area(a, b, c);
+            let w = [area(p, b, c), area(a, p, c), area(a, b, p)].map(|x| x / whole);
+            w.iter().all(|&x| x >= 0.0).then(|| {
+                (0..3)
+                    .map(|k| lean(positions[t[k] as usize]) * w[k])
+                    .sum::<Vec3>()
+                    .normalize()
+            })
+        })
+        .expect("the point lies on the floor");
+    let irradiance = lux / 683.0;
+    let expected_smooth = rho / std::f32::consts::PI * irradiance * n.y;
+    let expected_flat = rho / std::f32::consts::PI * irradiance;
+    assert!(expected_flat - expected_smooth > 0.03 * expected_flat);
+    let ray = Ray::new(Vec3::new(seen[0], 1.0, seen[1]), Vec3::new(0.0, -1.0, 0.0));
+    for kind in [IntegratorKind::Single, IntegratorKind::Volpath] {
+        for (desc, expected, what) in [
+            (&smooth, expected_smooth, "smooth"),
+            (&flat, expected_flat, "flat"),
+        ] {
+            let (mean, stderr) = common::estimate_ray(desc, kind, 0.1, ray, 64);
+            // A sun and a Lambert floor with nothing else to see: every
+            // sample is the same value, up to f32 rounding.
+            assert!(stderr.y <= 1e-6 * expected, "{kind:?} {what}: {stderr}");
+            assert!(
+                (mean.y - expected).abs() < 1e-5 * expected,
+                "{kind:?} {what}: {} vs {expected}",
+                mean.y
+            );
+        }
+    }
+
+    let mut zero = normals;
+    zero[2] = [0.0, 0.0, 0.0];
+    let m = load_error("zero-normal", &[floor(Some(zero))], doc);
+    assert!(
+        m.contains("meshes[0].primitives[0]") && m.contains("NORMAL"),
         "{m}"
     );
 }

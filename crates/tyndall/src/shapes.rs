@@ -262,6 +262,21 @@ impl Triangle {
         self.v0 + self.e1 * (s * (1.0 - u.y)) + self.e2 * (s * u.y)
     }
 
+    /// The barycentric weights `(b1, b2)` of the corners `v0 + e1` and
+    /// `v0 + e2` at the point `p` of the triangle's plane (`v0` weighs
+    /// `1 − b1 − b2`), from the normal equations of `p − v0 = b1·e1 + b2·e2`.
+    pub fn barycentric(&self, p: Vec3) -> (f32, f32) {
+        let d = p - self.v0;
+        let (e11, e12, e22) = (
+            self.e1.dot(self.e1),
+            self.e1.dot(self.e2),
+            self.e2.dot(self.e2),
+        );
+        let (d1, d2) = (d.dot(self.e1), d.dot(self.e2));
+        let det = e11 * e22 - e12 * e12;
+        ((e22 * d1 - e12 * d2) / det, (e11 * d2 - e12 * d1) / det)
+    }
+
     /// Möller–Trumbore ray/triangle intersection.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
         let p = ray.direction.cross(self.e2);

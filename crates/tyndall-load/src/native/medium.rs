@@ -60,7 +60,9 @@ impl Loader<'_> {
                 return Err(self.err(&span, "mesh", "give a medium a `box` or a `mesh`, not both"));
             }
             (Some(b), None) => RegionDesc::Box(self.bounds(&span, "box", b.min, b.max)?),
-            (None, Some(file)) => RegionDesc::Mesh(self.mesh(&span, "mesh", file, placement)?),
+            (None, Some(file)) => {
+                RegionDesc::Mesh(self.mesh(&span, "mesh", file, placement)?.triangles)
+            }
             (None, None) => match &vdb {
                 Some((grid, world)) => {
                     RegionDesc::Box(vdb_world_bounds(grid, *world).ok_or_else(|| {

@@ -8,7 +8,7 @@
 //! the loader's or the validation's — is reported at the offending key's
 //! line and column.
 
-use crate::mesh::{MeshTransform, load_obj_mesh};
+use crate::mesh::{MeshTransform, MeshTriangles, load_obj_mesh};
 use crate::source::{SceneError, SourceText};
 use glam::Vec3;
 use serde_spanned::Spanned;
@@ -29,7 +29,7 @@ use tyndall::phase::PhaseFunction;
 use tyndall::settings::{
     DEFAULT_MAP_RESOLUTION, IntegratorKind, RenderSettings, VisibilityMode, check_map_resolution,
 };
-use tyndall::shapes::{Bounds, Quad, Shape, Sphere, Triangle, box_faces};
+use tyndall::shapes::{Bounds, Quad, Shape, Sphere, box_faces};
 
 mod medium;
 mod tables;
@@ -466,26 +466,31 @@ impl Loader<'_> {
             }) => {
                 let m = self.material_id(&span, material, ids)?;
                 let placement = (*translate, *scale, *rotate_deg);
-                let triangles = self.mesh(&span, "file", file, placement)?;
-                scene.add_shapes(
-                    triangles.into_iter().map(Shape::Triangle).collect(),
-                    m,
-                    origin,
-                );
+                let mesh = self.mesh(&span, "file", file, placement)?;
+                if mesh.vertex_normals.is_empty() {
+                    scene.add_shapes(
+                        mesh.triangles.into_iter().map(Shape::Triangle).collect(),
+                        m,
+                        origin,
+                    );
+                } else {
+                    scene.add_smooth_mesh(mesh.triangles, mesh.vertex_normals, m, origin);
+                }
             }
         }
         Ok(())
     }
 
     /// The triangles of mesh file `file` (named by key `key`), placed by
-    /// (translate, scale, rotate_deg).
+    /// (translate, scale, rotate_deg), with their vertex normals if the
+    /// file gives them.
     fn mesh(
         &mut self,
         span: &Range<usize>,
         key: &str,
         file: &str,
         (translate, scale, rotate_deg): (Option<V3>, Option<ColorValue>, Option<V3>),
-    ) -> Result<Vec<Triangle>, SceneError> {
+    ) -> Result<MeshTriangles, SceneError> {
         let transform = self.placement(span, (translate, scale, rotate_deg))?;
         let path = self.relative(file);
         let triangles = load_obj_mesh(&path, &transform).map_err(|m| self.err(span, key, m))?;
@@ -496,7 +501,7 @@ impl Loader<'_> {
                 triangles.skipped_degenerate
             ));
         }
-        Ok(triangles.triangles)
+        Ok(triangles)
     }
 
     /// A placement from optional `translate`, `scale` and `rotate_deg`.

@@ -13,6 +13,8 @@ pub struct MeshData {
     /// glTF primitive mode; 4 (triangles) when `None`.
     pub mode: Option<u32>,
     pub material: Option<usize>,
+    /// Vertex normals (the NORMAL attribute), one per position.
+    pub normals: Option<Vec<[f32; 3]>>,
 }
 
 /// A fresh directory for one test's files.
@@ -62,6 +64,21 @@ pub fn write_gltf(dir: &Path, name: &str, meshes: &[MeshData], mut doc: Value) -
                 "count": indices.len(), "type": "SCALAR"
             }));
             attributes["indices"] = json!(accessors.len() - 1);
+        }
+        if let Some(normals) = &mesh.normals {
+            let offset = bin.len();
+            for n in normals {
+                for c in n {
+                    bin.extend_from_slice(&c.to_le_bytes());
+                }
+            }
+            views
+                .push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bin.len() - offset}));
+            accessors.push(json!({
+                "bufferView": views.len() - 1, "componentType": 5126,
+                "count": normals.len(), "type": "VEC3"
+            }));
+            attributes["attributes"]["NORMAL"] = json!(accessors.len() - 1);
         }
         if let Some(mode) = mesh.mode {
             attributes["mode"] = json!(mode);

@@ -26,6 +26,7 @@ use crate::media::volume::Density;
 use crate::phase::PhaseFunction;
 use crate::settings::RenderSettings;
 use crate::shapes::{Bounds, Shape, Triangle};
+use glam::Vec3;
 use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -91,6 +92,11 @@ pub struct ShapeDesc {
     pub shapes: Vec<Shape>,
     pub material: MaterialId,
     pub origin: Origin,
+    /// A smooth mesh's vertex normals, for shading: one unit normal per
+    /// corner of each triangle of `shapes` (in the order `v0`, `v0 + e1`,
+    /// `v0 + e2`), interpolated across it (Phong 1975). Empty for flat
+    /// shading, the only kind quads and spheres have.
+    pub vertex_normals: Vec<[Vec3; 3]>,
 }
 
 /// A light that is not a shape. Area lights are shapes with an emissive
@@ -253,6 +259,24 @@ impl SceneDesc {
             shapes,
             material,
             origin,
+            vertex_normals: Vec::new(),
+        });
+    }
+
+    /// Adds a smooth mesh: its triangles with a unit normal per corner
+    /// (see [`ShapeDesc::vertex_normals`]).
+    pub fn add_smooth_mesh(
+        &mut self,
+        triangles: Vec<Triangle>,
+        vertex_normals: Vec<[Vec3; 3]>,
+        material: MaterialId,
+        origin: Origin,
+    ) {
+        self.shapes.push(ShapeDesc {
+            shapes: triangles.into_iter().map(Shape::Triangle).collect(),
+            material,
+            origin,
+            vertex_normals,
         });
     }
 

@@ -164,11 +164,14 @@ impl SceneDesc {
         for shape in &self.shapes {
             check(self.validate_shape(shape));
             if self.is_emissive(shape.material) {
-                lights += shape
+                // Each quad and sphere is a light; the triangles together
+                // are one mesh light.
+                let triangles = shape
                     .shapes
                     .iter()
-                    .filter(|s| !matches!(s, Shape::Triangle(_)))
+                    .filter(|s| matches!(s, Shape::Triangle(_)))
                     .count();
+                lights += shape.shapes.len() - triangles + usize::from(triangles > 0);
                 if lights > limits::MAX_LIGHTS && counted.is_ok() {
                     counted = Err(too_many_lights(&shape.origin, "material"));
                 }
@@ -244,6 +247,31 @@ impl SceneDesc {
                     for v in [t.v0, t.v0 + t.e1, t.v0 + t.e2] {
                         item.point("file", v)?;
                     }
+                }
+            }
+        }
+        if shape.vertex_normals.is_empty() {
+            return Ok(());
+        }
+        if shape.vertex_normals.len() != shape.shapes.len()
+            || !shape.shapes.iter().all(|s| matches!(s, Shape::Triangle(_)))
+        {
+            return item.fail(
+                "normals",
+                format!(
+                    "{} vertex-normal triples for {} shapes: a smooth mesh has one per triangle",
+                    shape.vertex_normals.len(),
+                    shape.shapes.len()
+                ),
+            );
+        }
+        for (t, corners) in shape.vertex_normals.iter().enumerate() {
+            for n in corners {
+                if !(n.is_finite() && (n.length() - 1.0).abs() < 1e-3) {
+                    return item.fail(
+                        "normals",
+                        format!("triangle {t} has a vertex normal {n} that is not a unit vector"),
+                    );
                 }
             }
         }

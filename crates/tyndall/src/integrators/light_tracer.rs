@@ -23,8 +23,8 @@
 
 use super::volpath::{MAX_PATH_EVENTS, survives_roulette};
 use super::{
-    MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, TRACKING_STREAM, media_transmittance,
-    refract_or_reflect,
+    MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, SurfaceNormals, TRACKING_STREAM,
+    media_transmittance, refract_or_reflect,
 };
 use crate::camera::Camera;
 use crate::color::Rgb;
@@ -278,8 +278,12 @@ impl Tracer<'_> {
                     } else {
                         -geometric_normal
                     };
+                    // Light paths shade with the geometric normal: the
+                    // adjoint of interpolated normals (Veach 1997 §5.3)
+                    // is not applied.
                     if surface.diffuse != Rgb::ZERO {
-                        let diffuse = Scatterer::Surface { surface, normal };
+                        let normals = SurfaceNormals::flat(normal);
+                        let diffuse = Scatterer::Surface { surface, normals };
                         self.connect(p, &diffuse, beta, &mut tracker, splats, counts);
                     }
                     // Continue by the lobes, as `volpath` does.

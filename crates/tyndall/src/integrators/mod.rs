@@ -205,7 +205,7 @@ impl CameraPath<'_> {
             let SurfaceHit {
                 p,
                 geometric_normal,
-                normal,
+                normals,
                 front,
             } = SurfaceHit::new(scene, &ray, &hit);
             let event = scene
@@ -245,13 +245,18 @@ impl CameraPath<'_> {
                 SurfaceEvent::Reflector(surface) => surface,
             };
             radiance += throughput
-                * self.direct_lighting(scene, &surface, p, normal, sampler, counts, &mut tracker);
+                * self.direct_lighting(scene, &surface, p, normals, sampler, counts, &mut tracker);
             if !surface.has_specular() || bounces >= self.max_bounces {
                 return radiance;
             }
-            let Some(direction) = surface.reflect(ray.direction, normal, sampler.next_2d()) else {
+            let Some(direction) =
+                surface.reflect(ray.direction, normals.shading, sampler.next_2d())
+            else {
                 return radiance;
             };
+            if !normals.reflects(direction) {
+                return radiance;
+            }
             bounces += 1;
             throughput *= surface.specular;
             ray = Ray {
@@ -262,15 +267,15 @@ impl CameraPath<'_> {
     }
 
     /// Reflected radiance from direct lighting at surface point `p` with
-    /// unit normal `normal` facing the viewer: `Σ ρ/π · E · cos θ · V ·
-    /// Tr_glass · T_fog`, one sample per light.
+    /// `normals` facing the viewer: `Σ ρ/π · E · cos θ · V · Tr_glass ·
+    /// T_fog`, one sample per light.
     #[allow(clippy::too_many_arguments)]
     fn direct_lighting(
         &self,
         scene: &Scene,
         surface: &Surface,
         p: Vec3,
-        normal: Vec3,
+        normals: SurfaceNormals,
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
         tracker: &mut VolumeTracker,
@@ -280,7 +285,7 @@ impl CameraPath<'_> {
             self.visibility,
             surface,
             p,
-            normal,
+            normals,
             sampler,
             counts,
             tracker,
@@ -290,8 +295,9 @@ impl CameraPath<'_> {
 }
 
 /// Direct lighting of the Lambertian lobe of `surface` at point `p` with
-/// unit normal `normal` facing the viewer, one sample per light:
-/// `Σ ρ/π · E · cos θ · V · Tr_glass · T_media · w`, where
+/// `normals` facing the viewer, one sample per light:
+/// `Σ ρ/π · E · cos θ · V · Tr_glass · T_media · w` (θ from the shading
+/// normal; light from below the geometric surface does not count), where
 /// `w = weight(p_light, ω)` is the caller's MIS weight given the light
 /// sample's solid-angle density (`None` for delta lights) and unit
 /// direction ω towards it.
@@ -301,7 +307,7 @@ pub(crate) fn lambert_direct_lighting(
     visibility: &Visibility,
     surface: &Surface,
     p: Vec3,
-    normal: Vec3,
+    normals: SurfaceNormals,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
     tracker: &mut VolumeTracker,
@@ -315,16 +321,16 @@ pub(crate) fn lambert_direct_lighting(
         let Some((incident, p_light)) = sample_light(light, p, sampler) else {
             continue;
         };
-        let cos = normal.dot(incident.direction);
-        if cos <= 0.0 {
+        if !normals.reflects(incident.direction) {
             continue;
         }
+        let cos = normals.shading.dot(incident.direction);
         let arriving = light_arriving(
             scene,
             visibility,
             index,
             p,
-            Some(normal),
+            Some(normals.geometric),
             &incident,
             counts,
             tracker,
@@ -383,12 +389,12 @@ pub(crate) fn refract_or_reflect(
 }
 
 /// Where a ray meets a surface: the point, the geometric normal, the
-/// normal turned to face the arriving ray, and whether the ray meets the
+/// normals turned to face the arriving ray, and whether the ray meets the
 /// front (the side the geometric normal points to).
 pub(crate) struct SurfaceHit {
     pub p: Vec3,
     pub geometric_normal: Vec3,
-    pub normal: Vec3,
+    pub normals: SurfaceNormals,
     pub front: bool,
 }
 
@@ -397,17 +403,50 @@ impl SurfaceHit {
         let p = ray.at(hit.t);
         let geometric_normal = scene.geometry.normal(hit.primitive, p);
         let front = geometric_normal.dot(ray.direction) < 0.0;
-        let normal = if front {
+        let geometric = if front {
             geometric_normal
         } else {
             -geometric_normal
         };
+        let shading = scene
+            .shading_normal(hit.primitive, p)
+            .map_or(geometric, |n| if n.dot(geometric) < 0.0 { -n } else { n });
         Self {
             p,
             geometric_normal,
-            normal,
+            normals: SurfaceNormals { shading, geometric },
             front,
         }
+    }
+}
+
+/// The normals of an opaque surface point, both turned to face the side a
+/// path arrived from: `shading`, the mesh's vertex normals interpolated
+/// (Phong 1975; `geometric` itself on flat shapes), orients the BSDF;
+/// `geometric` decides which side a direction leaves on and offsets rays.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SurfaceNormals {
+    pub shading: Vec3,
+    pub geometric: Vec3,
+}
+
+impl SurfaceNormals {
+    /// Both normals the geometric one (light paths, flat shapes).
+    pub fn flat(geometric: Vec3) -> Self {
+        Self {
+            shading: geometric,
+            geometric,
+        }
+    }
+
+    /// Whether the unit direction `omega` leaves on the arrival side of
+    /// both normals, the only directions an opaque surface scatters to.
+    /// Above the shading normal but below the geometric surface a ray
+    /// would pass through it and leak light (pbrt-v4 §10.1.1 discards
+    /// such directions in the same way).
+    #[inline]
+    pub fn reflects(&self, omega: Vec3) -> bool {
+        self.shading.dot(omega) > 0.0 && self.geometric.dot(omega) > 0.0
     }
 }
 
@@ -585,9 +624,12 @@ pub(crate) enum Scatterer<'a> {
         phase: &'a PhaseFunction,
         arriving: Vec3,
     },
-    /// An opaque surface with unit normal `normal` facing the side the
-    /// path arrived from; connections join its Lambertian lobe.
-    Surface { surface: Surface, normal: Vec3 },
+    /// An opaque surface with its normals facing the side the path
+    /// arrived from; connections join its Lambertian lobe.
+    Surface {
+        surface: Surface,
+        normals: SurfaceNormals,
+    },
 }
 
 impl Scatterer<'_> {
@@ -602,8 +644,12 @@ impl Scatterer<'_> {
                 let p = phase.eval(omega.dot(arriving));
                 Some((Rgb::splat(p), p))
             }
-            Scatterer::Surface { surface, normal } => (normal.dot(omega) > 0.0)
-                .then(|| (surface.eval(normal, omega), surface.pdf(normal, omega))),
+            Scatterer::Surface { surface, normals } => normals.reflects(omega).then(|| {
+                (
+                    surface.eval(normals.shading, omega),
+                    surface.pdf(normals.shading, omega),
+                )
+            }),
         }
     }
 
@@ -611,7 +657,7 @@ impl Scatterer<'_> {
     pub fn origin(&self, x: Vec3, omega: Vec3) -> Vec3 {
         match *self {
             Scatterer::Medium { .. } => x,
-            Scatterer::Surface { normal, .. } => offset_origin(x, normal, omega),
+            Scatterer::Surface { normals, .. } => offset_origin(x, normals.geometric, omega),
         }
     }
 }

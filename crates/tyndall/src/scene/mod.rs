@@ -6,6 +6,8 @@
 
 pub use crate::description::GlassSettings;
 
+mod shading_normals;
+
 use crate::accel::{Geometry, Primitive};
 use crate::camera::CameraSpec;
 use crate::color::Rgb;
@@ -15,6 +17,8 @@ use crate::materials::Material;
 use crate::media::Fog;
 use crate::media::volume::{MeshRegion, Volume, VolumeRegion};
 use crate::shapes::Shape;
+use glam::Vec3;
+use shading_normals::ShadingNormals;
 
 /// Everything the integrators need to know about the world.
 pub struct Scene {
@@ -38,6 +42,8 @@ pub struct Scene {
     /// The primitive of each light that is one primitive (quads and
     /// spheres), by light.
     light_primitives: Vec<Option<u32>>,
+    /// Vertex normals of smooth meshes.
+    shading_normals: ShadingNormals,
 }
 
 impl Scene {
@@ -106,6 +112,18 @@ impl Scene {
     pub fn material(&self, primitive: u32) -> &Material {
         &self.materials[self.geometry.primitive(primitive).material as usize]
     }
+
+    /// The shading normal at the point `p` of `primitive`: its vertex
+    /// normals interpolated, if it is a triangle of a smooth mesh
+    /// ([`ShapeDesc::vertex_normals`](crate::description::ShapeDesc));
+    /// not oriented to any side.
+    #[inline]
+    pub fn shading_normal(&self, primitive: u32, p: Vec3) -> Option<Vec3> {
+        match &self.geometry.primitive(primitive).shape {
+            Shape::Triangle(triangle) => self.shading_normals.at(primitive, triangle, p),
+            Shape::Sphere(_) | Shape::Quad(_) => None,
+        }
+    }
 }
 
 impl Scene {
@@ -149,7 +167,12 @@ impl Scene {
         let mut primitives = Vec::new();
         let mut lights = Vec::new();
         let mut area_lights = Vec::new();
+        let mut shading_normals = ShadingNormals::default();
         for item in &desc.shapes {
+            let first = primitives.len() as u32;
+            for (k, &corners) in item.vertex_normals.iter().enumerate() {
+                shading_normals.insert(first + k as u32, corners);
+            }
             let material = &materials[item.material as usize];
             // An emissive item's triangles: one mesh light.
             let mut mesh = Vec::new();
@@ -225,6 +248,7 @@ impl Scene {
             glass: desc.glass,
             flat_emitters,
             area_lights,
+            shading_normals,
         }
     }
 }

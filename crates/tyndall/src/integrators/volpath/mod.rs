@@ -286,7 +286,7 @@ pub(crate) fn radiance(
         let SurfaceHit {
             p,
             geometric_normal,
-            normal,
+            normals,
             front,
         } = SurfaceHit::new(scene, &ray, &hit);
         let event = scene
@@ -356,7 +356,7 @@ pub(crate) fn radiance(
                 balance_of_two(
                     p_light,
                     strategies.surface_hits,
-                    surface.pdf(normal, direction),
+                    surface.pdf(normals.shading, direction),
                 )
             })
         };
@@ -368,7 +368,7 @@ pub(crate) fn radiance(
                     visibility,
                     &surface,
                     p,
-                    normal,
+                    normals,
                     sampler,
                     counts,
                     &mut tracker,
@@ -380,7 +380,7 @@ pub(crate) fn radiance(
         let connects = connections && depth < max_events && !surface.has_specular();
         let twice = connects && depth + 1 < max_events;
         if connects && let Some(fog) = &scene.fog {
-            let vertex = Scatterer::Surface { surface, normal };
+            let vertex = Scatterer::Surface { surface, normals };
             let at = LightVertexOrigin {
                 x: p,
                 vertex: &vertex,
@@ -392,9 +392,12 @@ pub(crate) fn radiance(
         }
         let choice = sampler.next_1d();
         let u = sampler.next_2d();
-        let Some(sample) = surface.sample(ray.direction, normal, choice, u) else {
+        let Some(sample) = surface.sample(ray.direction, normals.shading, choice, u) else {
             return radiance;
         };
+        if !normals.reflects(sample.direction) {
+            return radiance;
+        }
         throughput *= sample.weight;
         let direction = sample.direction;
         match sample.lobe {

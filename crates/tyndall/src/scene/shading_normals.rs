@@ -1,0 +1,81 @@
+//! Shading normals of smooth meshes: a unit normal per triangle corner,
+//! interpolated across the triangle by its barycentric weights (Phong
+//! 1975, "Illumination for computer generated pictures"), so that a
+//! tessellated curved surface shades smoothly.
+
+use crate::shapes::Triangle;
+use glam::Vec3;
+
+/// The vertex normals of the primitives that have them, by primitive.
+#[derive(Debug, Default)]
+pub(crate) struct ShadingNormals {
+    /// Per primitive, its index in `corners` or [`NONE`]; empty while no
+    /// primitive has vertex normals (flat scenes store nothing).
+    slot: Vec<u32>,
+    corners: Vec<[Vec3; 3]>,
+}
+
+const NONE: u32 = u32::MAX;
+
+impl ShadingNormals {
+    /// Records the corner normals of primitive `primitive` (numbered in
+    /// increasing order as the scene is built).
+    pub fn insert(&mut self, primitive: u32, corners: [Vec3; 3]) {
+        let index = primitive as usize;
+        if self.slot.len() <= index {
+            self.slot.resize(index + 1, NONE);
+        }
+        self.slot[index] = self.corners.len() as u32;
+        self.corners.push(corners);
+    }
+
+    /// The interpolated unit shading normal of triangle `triangle`
+    /// (primitive `primitive`) at its point `p`, if it has vertex normals.
+    /// Barycentric weights are clamped to the triangle, against rounding
+    /// at its edges; a zero sum of normals falls back to flat shading.
+    #[inline]
+    pub fn at(&self, primitive: u32, triangle: &Triangle, p: Vec3) -> Option<Vec3> {
+        let slot = *self.slot.get(primitive as usize)?;
+        if slot == NONE {
+            return None;
+        }
+        let [n0, n1, n2] = self.corners[slot as usize];
+        let (b1, b2) = triangle.barycentric(p);
+        let (b1, b2) = (b1.clamp(0.0, 1.0), b2.clamp(0.0, 1.0));
+        let b0 = (1.0 - b1 - b2).max(0.0);
+        (n0 * b0 + n1 * b1 + n2 * b2).try_normalize()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// At the corners the shading normal is the corner's; at the centroid
+    /// it is the normalised mean; primitives without normals get none.
+    #[test]
+    fn interpolates_corner_normals() {
+        let (a, b, c) = (
+            Vec3::ZERO,
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, 3.0),
+        );
+        let triangle = Triangle::new(a, b, c).unwrap();
+        let corners = [
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(0.6, 0.8, 0.0),
+            Vec3::new(0.0, 0.8, -0.6),
+        ];
+        let mut normals = ShadingNormals::default();
+        normals.insert(2, corners);
+        for (p, n) in [(a, corners[0]), (b, corners[1]), (c, corners[2])] {
+            let got = normals.at(2, &triangle, p).unwrap();
+            assert!((got - n).length() < 1e-6, "{p}: {got} vs {n}");
+        }
+        let centroid = (a + b + c) / 3.0;
+        let mean = (corners[0] + corners[1] + corners[2]).normalize();
+        assert!((normals.at(2, &triangle, centroid).unwrap() - mean).length() < 1e-6);
+        assert_eq!(normals.at(1, &triangle, centroid), None);
+        assert_eq!(normals.at(3, &triangle, centroid), None);
+    }
+}
