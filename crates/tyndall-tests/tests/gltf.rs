@@ -22,6 +22,7 @@ fn triangle(material: usize) -> MeshData {
         mode: None,
         material: Some(material),
         normals: None,
+        uvs: None,
     }
 }
 
@@ -223,6 +224,7 @@ fn gltf_and_toml_render_the_same_image() {
         mode: None,
         material: Some(0),
         normals: None,
+        uvs: None,
     };
     let gltf_path = write_gltf(&dir, "room", &[mesh], doc);
     let mut obj = String::new();
@@ -484,6 +486,7 @@ fn vertex_normals_shade_smoothly() {
         mode: None,
         material: Some(0),
         normals,
+        uvs: None,
     };
     let dir = test_dir("vertex-normals");
     let smooth = common::load_gltf(&write_gltf(
@@ -546,4 +549,99 @@ fn vertex_normals_shade_smoothly() {
         m.contains("meshes[0].primitives[0]") && m.contains("NORMAL"),
         "{m}"
     );
+}
+
+/// A base colour texture colours the surface point by point (issue 12):
+/// a floor whose texture coordinates map it onto a 2×2 image of red,
+/// green, blue and white texels (written as PNG here), under a sun
+/// straight overhead, is lit as `factor·texel/π·E` at each texel's
+/// centre and as the mean of two texels halfway between them (bilinear
+/// filtering), by `single` and `volpath`. Without TEXCOORD_0 the
+/// texture's mean colour applies, with a warning.
+#[test]
+fn base_colour_texture_colours_points() {
+    use tyndall::IntegratorKind;
+    use tyndall::ray::Ray;
+    let dir = test_dir("texture");
+    let texels = [
+        Rgb::new(1.0, 0.0, 0.0),
+        Rgb::new(0.0, 1.0, 0.0),
+        Rgb::new(0.0, 0.0, 1.0),
+        Rgb::new(1.0, 1.0, 1.0),
+    ];
+    tyndall_image::output::write_image(
+        &tyndall::Image::from_pixels(2, 2, texels.to_vec()),
+        &dir.join("checker.png"),
+        0.0,
+    )
+    .expect("png");
+    let positions = vec![
+        [-2.0, 0.0, -2.0],
+        [2.0, 0.0, -2.0],
+        [2.0, 0.0, 2.0],
+        [-2.0, 0.0, 2.0],
+    ];
+    // u along x, v along z, the image over the whole floor.
+    let uv = |p: [f32; 3]| [(p[0] + 2.0) / 4.0, (p[2] + 2.0) / 4.0];
+    let factor = 0.8f32;
+    let s = FRAC_1_SQRT_2;
+    let doc = json!({
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_specular"],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "intensity": 683.0}]}},
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [
+            {"mesh": 0},
+            {"rotation": [-s, 0.0, 0.0, s], "extensions": {"KHR_lights_punctual": {"light": 0}}}
+        ],
+        "images": [{"uri": "checker.png"}],
+        "samplers": [{"wrapS": 33071, "wrapT": 33071}],
+        "textures": [{"source": 0, "sampler": 0}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [factor, factor, factor, 1.0],
+                                                "baseColorTexture": {"index": 0},
+                                                "metallicFactor": 0.0},
+                       "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}]
+    });
+    let floor = |uvs: Option<Vec<[f32; 2]>>| MeshData {
+        positions: positions.clone(),
+        indices: Some(vec![0, 2, 1, 0, 3, 2]),
+        mode: None,
+        material: Some(0),
+        normals: None,
+        uvs,
+    };
+    let textured = common::load_gltf(&write_gltf(
+        &dir,
+        "textured",
+        &[floor(Some(positions.iter().map(|&p| uv(p)).collect()))],
+        doc.clone(),
+    ))
+    .expect("loads");
+    let untextured =
+        common::load_gltf(&write_gltf(&dir, "no-uvs", &[floor(None)], doc)).expect("loads");
+    assert!(
+        untextured.warnings.iter().any(|w| w.contains("TEXCOORD_0")),
+        "{:?}",
+        untextured.warnings
+    );
+    // E = 683 lx / 683 lm/W = 1 W/m².
+    let lit = |colour: Rgb| colour * (factor / std::f32::consts::PI);
+    let mean = (texels[0] + texels[1] + texels[2] + texels[3]) / 4.0;
+    let cases = [
+        (&textured, [-1.0, -1.0], lit(texels[0])),
+        (&textured, [1.0, -1.0], lit(texels[1])),
+        (&textured, [-1.0, 1.0], lit(texels[2])),
+        (&textured, [1.0, 1.0], lit(texels[3])),
+        (&textured, [0.0, -1.0], lit((texels[0] + texels[1]) / 2.0)),
+        (&untextured, [0.7, -1.3], lit(mean)),
+    ];
+    for kind in [IntegratorKind::Single, IntegratorKind::Volpath] {
+        for (desc, [x, z], expected) in cases {
+            let ray = Ray::new(Vec3::new(x, 1.0, z), Vec3::new(0.0, -1.0, 0.0));
+            let (got, _) = common::estimate_ray(desc, kind, 0.1, ray, 16);
+            assert!(
+                (got - expected).abs().max_element() < 1e-5,
+                "{kind:?} at ({x}, {z}): {got} vs {expected}"
+            );
+        }
+    }
 }

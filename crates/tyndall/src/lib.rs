@@ -42,6 +42,7 @@ pub mod scene;
 pub mod settings;
 pub(crate) mod shadow_maps;
 pub mod shapes;
+pub mod texture;
 pub(crate) mod visibility;
 
 pub use color::Rgb;

@@ -5,28 +5,46 @@
 use super::{DEFAULT_IOR, GltfLoader};
 use crate::source::SceneError;
 use ::gltf::image::Format;
-use tyndall::color::{Rgb, srgb_to_linear};
+use ::gltf::texture::WrappingMode;
+use std::sync::Arc;
+use tyndall::color::Rgb;
 use tyndall::description::SceneDesc;
 use tyndall::glass::Glass;
 use tyndall::materials::{Material, MaterialId, Surface};
+use tyndall::texture::{Texture, TextureId, Wrap};
+
+/// Most texels a texture may have (a 16384² image): larger ones are
+/// refused rather than decoded.
+const MAX_TEXELS: u64 = 1 << 28;
+
+/// The base colour texture of an opaque material: the scene's texture
+/// that multiplies its diffuse reflectance, and which TEXCOORD set its
+/// coordinates come from.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct BaseTexture {
+    pub texture: TextureId,
+    pub tex_coord: u32,
+}
 
 impl GltfLoader<'_> {
+    /// The scene's material for a glTF material (added on first use) and
+    /// its base colour texture, if the material keeps one.
     pub(super) fn material_id(
         &mut self,
         material: &::gltf::Material,
         scene: &mut SceneDesc,
-    ) -> Result<MaterialId, SceneError> {
-        if let Some(&id) = self.materials.get(&material.index()) {
-            return Ok(id);
+    ) -> Result<(MaterialId, Option<BaseTexture>), SceneError> {
+        if let Some(&converted) = self.materials.get(&material.index()) {
+            return Ok(converted);
         }
-        let converted = self.material(material)?;
+        let (converted, texture) = self.material(material, scene)?;
         let element = match material.index() {
             Some(i) => format!("materials[{i}]"),
             None => "the default material".into(),
         };
         let id = scene.add_material(converted, self.origin(element));
-        self.materials.insert(material.index(), id);
-        Ok(id)
+        self.materials.insert(material.index(), (id, texture));
+        Ok((id, texture))
     }
 
     /// Tyndall's material for a glTF material, first match wins:
@@ -47,25 +65,46 @@ impl GltfLoader<'_> {
     ///    `c·m + F0·(1 − m)`, the glTF BRDF's mix at normal incidence; the
     ///    roughness of the reflective lobe is glTF's `roughness²` (its α).
     ///
-    /// A base-colour texture multiplies the factor by the texture's mean
-    /// linear colour: Tyndall has no textures yet.
-    fn material(&mut self, material: &::gltf::Material) -> Result<Material, SceneError> {
+    /// A base colour texture (sRGB-decoded, bilinear, the sampler's wrap
+    /// modes) multiplies an opaque surface's diffuse reflectance at each
+    /// point, and is returned to be bound to the primitives; where the
+    /// base colour also enters elsewhere — a metal's specular colour,
+    /// thin glass — the texture's mean colour stands for it, with a
+    /// warning.
+    fn material(
+        &mut self,
+        material: &::gltf::Material,
+        scene: &mut SceneDesc,
+    ) -> Result<(Material, Option<BaseTexture>), SceneError> {
         let element = match material.index() {
             Some(i) => format!("materials[{i}]"),
             None => "the default material".to_string(),
         };
         let pbr = material.pbr_metallic_roughness();
         let factor = pbr.base_color_factor();
-        let mut base = Rgb::new(factor[0], factor[1], factor[2]);
-        if !(base.is_finite() && base.min_element() >= 0.0 && base.max_element() <= 1.0) {
+        let base_factor = Rgb::new(factor[0], factor[1], factor[2]);
+        if !(base_factor.is_finite()
+            && base_factor.min_element() >= 0.0
+            && base_factor.max_element() <= 1.0)
+        {
             return Err(self.err(
                 &element,
                 format!("baseColorFactor must be in [0, 1], got {factor:?}"),
             ));
         }
-        if let Some(info) = pbr.base_color_texture() {
-            base *= self.texture_average(&element, &info.texture())?;
-        }
+        // The base colour's mean over the texture, where one colour must
+        // stand for it.
+        let (base, texture) = match pbr.base_color_texture() {
+            Some(info) => {
+                let (id, mean) = self.texture(&element, &info.texture(), scene)?;
+                let texture = BaseTexture {
+                    texture: id,
+                    tex_coord: info.tex_coord(),
+                };
+                (base_factor * mean, Some(texture))
+            }
+            None => (base_factor, None),
+        };
         let emissive_strength = material.emissive_strength().unwrap_or(1.0);
         let emission = Rgb::from_array(material.emissive_factor()) * emissive_strength;
         if !(emission.is_finite() && emission.min_element() >= 0.0) {
@@ -81,10 +120,13 @@ impl GltfLoader<'_> {
                     "emissiveTexture is ignored: the surface emits emissiveFactor",
                 );
             }
-            return Ok(Material::Emissive {
-                radiance: emission,
-                two_sided: material.double_sided(),
-            });
+            return Ok((
+                Material::Emissive {
+                    radiance: emission,
+                    two_sided: material.double_sided(),
+                },
+                None,
+            ));
         }
         let ior = material.ior().unwrap_or(DEFAULT_IOR);
         if !(ior.is_finite() && (1.0..=10.0).contains(&ior)) {
@@ -110,7 +152,7 @@ impl GltfLoader<'_> {
                         "attenuationColor/attenuationDistance are ignored: the dielectric's inside is clear",
                     );
                 }
-                return Ok(Material::Dielectric { ior });
+                return Ok((Material::Dielectric { ior }, None));
             }
             if t < 1.0 {
                 self.warn(
@@ -120,10 +162,19 @@ impl GltfLoader<'_> {
                     ),
                 );
             }
-            return Ok(Material::Glass(Glass {
-                color: base,
-                alpha: 1.0,
-            }));
+            if texture.is_some() {
+                self.warn(
+                    &element,
+                    "baseColorTexture of thin glass is averaged to one colour",
+                );
+            }
+            return Ok((
+                Material::Glass(Glass {
+                    color: base,
+                    alpha: 1.0,
+                }),
+                None,
+            ));
         }
         let metallic = pbr.metallic_factor();
         let roughness = pbr.roughness_factor();
@@ -155,9 +206,18 @@ impl GltfLoader<'_> {
         if !f0.is_finite() {
             return Err(self.err(&element, "KHR_materials_specular factors must be finite"));
         }
-        let diffuse = base * (1.0 - metallic) * (1.0 - f0.max_element());
+        // With a texture the diffuse reflectance is the factor's, which
+        // the texture multiplies point by point.
+        let diffuse_base = if texture.is_some() { base_factor } else { base };
+        let diffuse = diffuse_base * (1.0 - metallic) * (1.0 - f0.max_element());
         let specular = base * metallic + f0 * (1.0 - metallic);
-        Ok(Material::Opaque(if specular == Rgb::ZERO {
+        if texture.is_some() && metallic > 0.0 {
+            self.warn(
+                &element,
+                "the metal's colour (baseColorTexture × metallicFactor) is the texture's mean",
+            );
+        }
+        let surface = if specular == Rgb::ZERO {
             Surface::diffuse(diffuse)
         } else {
             Surface {
@@ -165,19 +225,26 @@ impl GltfLoader<'_> {
                 specular,
                 roughness: roughness * roughness,
             }
-        }))
+        };
+        // A surface with no diffuse reflectance has nothing to texture.
+        let texture = texture.filter(|_| diffuse != Rgb::ZERO);
+        Ok((Material::Opaque(surface), texture))
     }
 
-    /// The mean linear-RGB colour of a texture's image (sRGB-decoded,
-    /// alpha ignored).
-    fn texture_average(
+    /// The scene's texture for a glTF texture (its image, sRGB 8-bit,
+    /// with its sampler's wrap modes; added on first use) and its mean
+    /// linear colour. Sixteen-bit images keep their high bytes; one and
+    /// two channels are grey (alpha is ignored).
+    fn texture(
         &mut self,
         element: &str,
         texture: &::gltf::Texture,
-    ) -> Result<Rgb, SceneError> {
+        scene: &mut SceneDesc,
+    ) -> Result<(TextureId, Rgb), SceneError> {
         let index = texture.source().index();
-        if let Some(&mean) = self.texture_averages.get(&index) {
-            return Ok(mean);
+        let key = (index, texture.sampler().index());
+        if let Some(&id) = self.textures.get(&key) {
+            return Ok((id, scene.textures[id as usize].value.mean()));
         }
         let image = self
             .images
@@ -201,46 +268,53 @@ impl GltfLoader<'_> {
                 ));
             }
         };
+        if u64::from(image.width) * u64::from(image.height) > MAX_TEXELS {
+            return Err(self.err(
+                element,
+                format!(
+                    "images[{index}] is {}×{}: at most {MAX_TEXELS} texels are supported",
+                    image.width, image.height
+                ),
+            ));
+        }
         let stride = channels * bytes;
-        let mut sum = [0.0f64; 3];
-        let mut count = 0usize;
-        for pixel in image.pixels.chunks_exact(stride) {
-            let channel = |c: usize| -> f32 {
-                let c = c.min(channels - 1);
-                let v = if bytes == 1 {
-                    pixel[c] as f32 / 255.0
-                } else {
-                    u16::from_ne_bytes([pixel[2 * c], pixel[2 * c + 1]]) as f32 / 65535.0
+        let texels = image
+            .pixels
+            .chunks_exact(stride)
+            .map(|pixel| {
+                // The high byte of a 16-bit channel (stored native-endian
+                // by the gltf crate).
+                let channel = |c: usize| -> u8 {
+                    let c = c.min(channels - 1);
+                    if bytes == 1 {
+                        pixel[c]
+                    } else {
+                        (u16::from_ne_bytes([pixel[2 * c], pixel[2 * c + 1]]) >> 8) as u8
+                    }
                 };
-                srgb_to_linear(v)
-            };
-            // One and two channels are grey (+ alpha).
-            let rgb = if channels <= 2 {
-                [channel(0); 3]
-            } else {
-                [channel(0), channel(1), channel(2)]
-            };
-            for (s, v) in sum.iter_mut().zip(rgb) {
-                *s += v as f64;
-            }
-            count += 1;
-        }
-        if count == 0 {
-            return Err(self.err(element, format!("images[{index}] has no pixels")));
-        }
-        let mean = Rgb::new(
-            (sum[0] / count as f64) as f32,
-            (sum[1] / count as f64) as f32,
-            (sum[2] / count as f64) as f32,
-        );
-        self.warn(
-            element,
-            format!(
-                "baseColorTexture (images[{index}]) is averaged to one colour {:?}: Tyndall has no textures",
-                mean.to_array()
-            ),
-        );
-        self.texture_averages.insert(index, mean);
-        Ok(mean)
+                if channels <= 2 {
+                    [channel(0); 3]
+                } else {
+                    [channel(0), channel(1), channel(2)]
+                }
+            })
+            .collect();
+        let sampler = texture.sampler();
+        let wrap = |mode: WrappingMode| match mode {
+            WrappingMode::Repeat => Wrap::Repeat,
+            WrappingMode::ClampToEdge => Wrap::Clamp,
+            WrappingMode::MirroredRepeat => Wrap::Mirror,
+        };
+        let made = Texture::new(
+            image.width,
+            image.height,
+            texels,
+            [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())],
+        )
+        .map_err(|m| self.err(element, format!("images[{index}]: {m}")))?;
+        let mean = made.mean();
+        let id = scene.add_texture(Arc::new(made), self.origin(format!("images[{index}]")));
+        self.textures.insert(key, id);
+        Ok((id, mean))
     }
 }

@@ -12,22 +12,25 @@
 
 mod materials;
 
+use materials::BaseTexture;
+
 use crate::photometry::{candela_to_watts_per_sr, lux_to_watts_per_m2};
 use crate::source::SceneError;
 use ::gltf::khr_lights_punctual::Kind;
 use ::gltf::mesh::Mode;
 use ::gltf::{Accessor, Semantic};
-use glam::{Mat3, Mat4, Vec3};
+use glam::{Mat3, Mat4, Vec2, Vec3};
 use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
 use tyndall::camera::{CameraSpec, FieldOfView};
 use tyndall::color::Rgb;
-use tyndall::description::{LightDesc, Origin, SceneDesc, Sourced};
+use tyndall::description::{LightDesc, Origin, SceneDesc, Sourced, SurfaceTexture};
 use tyndall::lights::{DirectionalLight, PointLight, SpotLight, SpotProfile};
 use tyndall::materials::MaterialId;
 use tyndall::settings::MAX_IMAGE_SIDE;
-use tyndall::shapes::{Bounds, Shape, Triangle};
+use tyndall::shapes::{Bounds, Triangle};
+use tyndall::texture::TextureId;
 
 /// Extensions this loader interprets; any other listed in
 /// `extensionsUsed` is ignored with a warning (and, if required, refused
@@ -135,7 +138,7 @@ pub fn add_to_scene(
         buffers,
         images,
         materials: HashMap::new(),
-        texture_averages: HashMap::new(),
+        textures: HashMap::new(),
         warnings: Vec::new(),
         camera: None,
         bounds: Bounds::EMPTY,
@@ -217,10 +220,12 @@ struct GltfLoader<'a> {
     path: &'a Path,
     buffers: Vec<::gltf::buffer::Data>,
     images: Vec<::gltf::image::Data>,
-    /// Tyndall material of each glTF material (`None`: the default one).
-    materials: HashMap<Option<usize>, MaterialId>,
-    /// Mean linear colour of each image, by image index.
-    texture_averages: HashMap<usize, Rgb>,
+    /// Tyndall material of each glTF material (`None`: the default one),
+    /// with the base colour texture that multiplies its diffuse
+    /// reflectance, if any.
+    materials: HashMap<Option<usize>, (MaterialId, Option<BaseTexture>)>,
+    /// The scene's texture made of each (image, sampler) pair.
+    textures: HashMap<(usize, Option<usize>), TextureId>,
     warnings: Vec<String>,
     camera: Option<GltfCamera>,
     bounds: Bounds,
@@ -499,7 +504,7 @@ impl GltfLoader<'_> {
                     true,
                 )?;
             }
-            let material = self.material_id(&primitive.material(), scene)?;
+            let (material, base_texture) = self.material_id(&primitive.material(), scene)?;
             let mut triangles = Vec::new();
             let buffers = &self.buffers;
             let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
@@ -541,6 +546,32 @@ impl GltfLoader<'_> {
                     ),
                 ));
             }
+            // The base colour texture's coordinates (TEXCOORD_n), if the
+            // material has one.
+            let mut missing_coords = None;
+            let tex_coords: Option<Vec<[f32; 2]>> = match base_texture {
+                Some(texture) => match reader.read_tex_coords(texture.tex_coord) {
+                    Some(coords) => Some(coords.into_f32().collect()),
+                    None => {
+                        missing_coords = Some(texture.tex_coord);
+                        None
+                    }
+                },
+                None => None,
+            };
+            if let Some(coords) = &tex_coords
+                && coords.len() != positions.len()
+            {
+                return Err(self.err(
+                    &element,
+                    format!(
+                        "TEXCOORD has {} entries but POSITION has {}",
+                        coords.len(),
+                        positions.len()
+                    ),
+                ));
+            }
+            let mut corner_uvs = Vec::new();
             let mut corner_normals = Vec::new();
             let indices: Vec<u32> = match primitive.indices() {
                 Some(_) => reader
@@ -589,6 +620,9 @@ impl GltfLoader<'_> {
                 match Triangle::new(a, b, c) {
                     Some(triangle) => {
                         self.bounds = self.bounds.union(triangle.bounds());
+                        if let Some(coords) = &tex_coords {
+                            corner_uvs.push(order.map(|i| Vec2::from_array(coords[i as usize])));
+                        }
                         if let Some(normals) = &normals {
                             let corner = |i: u32| normals[i as usize];
                             let n = order.map(corner);
@@ -605,16 +639,21 @@ impl GltfLoader<'_> {
                     None => self.skipped_degenerate += 1,
                 }
             }
-            let origin = self.origin(element);
-            if normals.is_some() {
-                scene.add_smooth_mesh(triangles, corner_normals, material, origin);
-            } else {
-                scene.add_shapes(
-                    triangles.into_iter().map(Shape::Triangle).collect(),
-                    material,
-                    origin,
+            if let Some(n) = missing_coords {
+                self.warn(
+                    &element,
+                    format!(
+                        "the material's baseColorTexture uses TEXCOORD_{n}, which the primitive \
+                         does not have: the texture's mean colour applies"
+                    ),
                 );
             }
+            let origin = self.origin(element);
+            let texture = base_texture.map(|t| SurfaceTexture {
+                texture: t.texture,
+                uvs: corner_uvs,
+            });
+            scene.add_mesh(triangles, corner_normals, texture, material, origin);
         }
         Ok(())
     }

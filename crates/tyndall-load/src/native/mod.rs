@@ -467,15 +467,7 @@ impl Loader<'_> {
                 let m = self.material_id(&span, material, ids)?;
                 let placement = (*translate, *scale, *rotate_deg);
                 let mesh = self.mesh(&span, "file", file, placement)?;
-                if mesh.vertex_normals.is_empty() {
-                    scene.add_shapes(
-                        mesh.triangles.into_iter().map(Shape::Triangle).collect(),
-                        m,
-                        origin,
-                    );
-                } else {
-                    scene.add_smooth_mesh(mesh.triangles, mesh.vertex_normals, m, origin);
-                }
+                scene.add_mesh(mesh.triangles, mesh.vertex_normals, None, m, origin);
             }
         }
         Ok(())

@@ -15,6 +15,8 @@ pub struct MeshData {
     pub material: Option<usize>,
     /// Vertex normals (the NORMAL attribute), one per position.
     pub normals: Option<Vec<[f32; 3]>>,
+    /// Texture coordinates (the TEXCOORD_0 attribute), one per position.
+    pub uvs: Option<Vec<[f32; 2]>>,
 }
 
 /// A fresh directory for one test's files.
@@ -79,6 +81,21 @@ pub fn write_gltf(dir: &Path, name: &str, meshes: &[MeshData], mut doc: Value) -
                 "count": normals.len(), "type": "VEC3"
             }));
             attributes["attributes"]["NORMAL"] = json!(accessors.len() - 1);
+        }
+        if let Some(uvs) = &mesh.uvs {
+            let offset = bin.len();
+            for uv in uvs {
+                for c in uv {
+                    bin.extend_from_slice(&c.to_le_bytes());
+                }
+            }
+            views
+                .push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bin.len() - offset}));
+            accessors.push(json!({
+                "bufferView": views.len() - 1, "componentType": 5126,
+                "count": uvs.len(), "type": "VEC2"
+            }));
+            attributes["attributes"]["TEXCOORD_0"] = json!(accessors.len() - 1);
         }
         if let Some(mode) = mesh.mode {
             attributes["mode"] = json!(mode);

@@ -26,7 +26,8 @@ use crate::media::volume::Density;
 use crate::phase::PhaseFunction;
 use crate::settings::RenderSettings;
 use crate::shapes::{Bounds, Shape, Triangle};
-use glam::Vec3;
+use crate::texture::{Texture, TextureId};
+use glam::{Vec2, Vec3};
 use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -97,6 +98,19 @@ pub struct ShapeDesc {
     /// `v0 + e2`), interpolated across it (Phong 1975). Empty for flat
     /// shading, the only kind quads and spheres have.
     pub vertex_normals: Vec<[Vec3; 3]>,
+    /// A colour texture over the mesh's triangles, if any.
+    pub texture: Option<SurfaceTexture>,
+}
+
+/// A colour texture over a mesh: the texture multiplies the diffuse
+/// reflectance of the mesh's material (a glTF base colour texture), at
+/// the texture coordinates interpolated across each triangle from one per
+/// corner (in the order of [`ShapeDesc::vertex_normals`]). Without
+/// coordinates (`uvs` empty) the texture's mean colour applies everywhere.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SurfaceTexture {
+    pub texture: TextureId,
+    pub uvs: Vec<[Vec2; 3]>,
 }
 
 /// A light that is not a shape. Area lights are shapes with an emissive
@@ -176,6 +190,9 @@ pub struct SceneDesc {
     pub camera: Sourced<CameraSpec>,
     /// Materials, indexed by [`ShapeDesc::material`].
     pub materials: Vec<Sourced<Material>>,
+    /// Colour textures, indexed by [`SurfaceTexture::texture`]; shared,
+    /// not copied, by descriptions and scenes.
+    pub textures: Vec<Sourced<Arc<Texture>>>,
     pub shapes: Vec<ShapeDesc>,
     pub lights: Vec<Sourced<LightDesc>>,
     /// Homogeneous grey fog (the paper's medium).
@@ -234,6 +251,7 @@ impl SceneDesc {
         Self {
             camera,
             materials: Vec::new(),
+            textures: Vec::new(),
             shapes: Vec::new(),
             lights: Vec::new(),
             fog: None,
@@ -253,6 +271,12 @@ impl SceneDesc {
         (self.materials.len() - 1) as MaterialId
     }
 
+    /// Adds a texture; its index is what [`SurfaceTexture`]s name.
+    pub fn add_texture(&mut self, texture: Arc<Texture>, origin: Origin) -> TextureId {
+        self.textures.push(Sourced::new(texture, origin));
+        (self.textures.len() - 1) as TextureId
+    }
+
     /// Adds shapes sharing one material.
     pub fn add_shapes(&mut self, shapes: Vec<Shape>, material: MaterialId, origin: Origin) {
         self.shapes.push(ShapeDesc {
@@ -260,15 +284,18 @@ impl SceneDesc {
             material,
             origin,
             vertex_normals: Vec::new(),
+            texture: None,
         });
     }
 
-    /// Adds a smooth mesh: its triangles with a unit normal per corner
-    /// (see [`ShapeDesc::vertex_normals`]).
-    pub fn add_smooth_mesh(
+    /// Adds a mesh with per-corner attributes: a unit normal per corner
+    /// for smooth shading (see [`ShapeDesc::vertex_normals`]; empty for
+    /// flat shading) and a colour texture, if any.
+    pub fn add_mesh(
         &mut self,
         triangles: Vec<Triangle>,
         vertex_normals: Vec<[Vec3; 3]>,
+        texture: Option<SurfaceTexture>,
         material: MaterialId,
         origin: Origin,
     ) {
@@ -277,6 +304,7 @@ impl SceneDesc {
             material,
             origin,
             vertex_normals,
+            texture,
         });
     }
 

@@ -7,7 +7,9 @@
 //! (docs/scene-format.md), so that a loader that keeps its text can point
 //! at that key.
 
-use super::{DescError, LightDesc, MediumDesc, Origin, RegionDesc, SceneDesc, ShapeDesc};
+use super::{
+    DescError, LightDesc, MediumDesc, Origin, RegionDesc, SceneDesc, ShapeDesc, SurfaceTexture,
+};
 use crate::camera::FieldOfView;
 use crate::color::Rgb;
 use crate::limits;
@@ -250,6 +252,9 @@ impl SceneDesc {
                 }
             }
         }
+        if let Some(texture) = &shape.texture {
+            self.validate_texture(shape, texture, &item)?;
+        }
         if shape.vertex_normals.is_empty() {
             return Ok(());
         }
@@ -276,6 +281,53 @@ impl SceneDesc {
             }
         }
         Ok(())
+    }
+}
+
+impl SceneDesc {
+    fn validate_texture(
+        &self,
+        shape: &ShapeDesc,
+        texture: &SurfaceTexture,
+        item: &Item,
+    ) -> Result<(), DescError> {
+        if texture.texture as usize >= self.textures.len() {
+            return item.fail(
+                "texture",
+                format!(
+                    "texture {} does not exist (the scene has {})",
+                    texture.texture,
+                    self.textures.len()
+                ),
+            );
+        }
+        if !shape.shapes.iter().all(|s| matches!(s, Shape::Triangle(_))) {
+            return item.fail("texture", "only triangle meshes can be textured".into());
+        }
+        if texture.uvs.is_empty() {
+            return Ok(());
+        }
+        if texture.uvs.len() != shape.shapes.len() {
+            return item.fail(
+                "uvs",
+                format!(
+                    "{} texture-coordinate triples for {} shapes: a textured mesh has one per triangle",
+                    texture.uvs.len(),
+                    shape.shapes.len()
+                ),
+            );
+        }
+        match texture
+            .uvs
+            .iter()
+            .position(|c| !c.iter().all(|uv| uv.is_finite()))
+        {
+            Some(t) => item.fail(
+                "uvs",
+                format!("triangle {t} has texture coordinates that are not finite"),
+            ),
+            None => Ok(()),
+        }
     }
 }
 

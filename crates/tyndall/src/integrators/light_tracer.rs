@@ -272,6 +272,7 @@ impl Tracer<'_> {
                     if !self.scattering_allowed(caustic) || depth >= self.max_depth {
                         return;
                     }
+                    let surface = scene.surface_at(surface, hit.primitive, p);
                     depth += 1;
                     let normal = if geometric_normal.dot(ray.direction) < 0.0 {
                         geometric_normal

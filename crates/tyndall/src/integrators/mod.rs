@@ -242,7 +242,7 @@ impl CameraPath<'_> {
                     continue;
                 }
                 // Glass drawn opaque is a diffuse surface of its colour.
-                SurfaceEvent::Reflector(surface) => surface,
+                SurfaceEvent::Reflector(surface) => scene.surface_at(surface, hit.primitive, p),
             };
             radiance += throughput
                 * self.direct_lighting(scene, &surface, p, normals, sampler, counts, &mut tracker);

@@ -7,6 +7,7 @@
 pub use crate::description::GlassSettings;
 
 mod shading_normals;
+mod surface_textures;
 
 use crate::accel::{Geometry, Primitive};
 use crate::camera::CameraSpec;
@@ -14,11 +15,13 @@ use crate::color::Rgb;
 use crate::description::{DescError, MediumDesc, RegionDesc, SceneDesc};
 use crate::lights::{Light, MeshLight, QuadLight, SphereLight};
 use crate::materials::Material;
+use crate::materials::Surface;
 use crate::media::Fog;
 use crate::media::volume::{MeshRegion, Volume, VolumeRegion};
 use crate::shapes::Shape;
 use glam::Vec3;
 use shading_normals::ShadingNormals;
+use surface_textures::SurfaceTextures;
 
 /// Everything the integrators need to know about the world.
 pub struct Scene {
@@ -44,6 +47,8 @@ pub struct Scene {
     light_primitives: Vec<Option<u32>>,
     /// Vertex normals of smooth meshes.
     shading_normals: ShadingNormals,
+    /// Colour textures and the triangles they cover.
+    textures: SurfaceTextures,
 }
 
 impl Scene {
@@ -124,6 +129,24 @@ impl Scene {
             Shape::Sphere(_) | Shape::Quad(_) => None,
         }
     }
+
+    /// The surface `surface` (the material of `primitive`) at its point
+    /// `p`: its diffuse reflectance multiplied by the colour of the
+    /// primitive's texture there, if it is a textured triangle
+    /// ([`ShapeDesc::texture`](crate::description::ShapeDesc)).
+    #[inline]
+    pub fn surface_at(&self, surface: Surface, primitive: u32, p: Vec3) -> Surface {
+        let Shape::Triangle(triangle) = &self.geometry.primitive(primitive).shape else {
+            return surface;
+        };
+        match self.textures.at(primitive, triangle, p) {
+            Some(colour) => Surface {
+                diffuse: surface.diffuse * colour,
+                ..surface
+            },
+            None => surface,
+        }
+    }
 }
 
 impl Scene {
@@ -168,10 +191,18 @@ impl Scene {
         let mut lights = Vec::new();
         let mut area_lights = Vec::new();
         let mut shading_normals = ShadingNormals::default();
+        let mut textures =
+            SurfaceTextures::new(desc.textures.iter().map(|t| t.value.clone()).collect());
         for item in &desc.shapes {
             let first = primitives.len() as u32;
             for (k, &corners) in item.vertex_normals.iter().enumerate() {
                 shading_normals.insert(first + k as u32, corners);
+            }
+            if let Some(texture) = &item.texture {
+                for k in 0..item.shapes.len() {
+                    let uvs = texture.uvs.get(k).copied();
+                    textures.bind(first + k as u32, texture.texture, uvs);
+                }
             }
             let material = &materials[item.material as usize];
             // An emissive item's triangles: one mesh light.
@@ -249,6 +280,7 @@ impl Scene {
             flat_emitters,
             area_lights,
             shading_normals,
+            textures,
         }
     }
 }

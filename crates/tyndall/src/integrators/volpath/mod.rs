@@ -340,7 +340,7 @@ pub(crate) fn radiance(
                 }
                 continue;
             }
-            SurfaceEvent::Reflector(surface) => surface,
+            SurfaceEvent::Reflector(surface) => scene.surface_at(surface, hit.primitive, p),
         };
         if depth >= max_events {
             return radiance;
