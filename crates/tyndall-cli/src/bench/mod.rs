@@ -8,6 +8,7 @@
 //! is interpolated log-log between the two ladder points around it
 //! (Monte Carlo error falls like 1/spp, time grows like spp).
 
+mod load;
 mod maps;
 mod smoke;
 
@@ -27,9 +28,12 @@ pub struct BenchArgs {
     /// Directory holding the repository's scenes (for the reference and fig. 7 cases).
     #[arg(long, default_value = "scenes")]
     pub(crate) scenes: PathBuf,
-    /// Where long reference renders are cached.
+    /// Where long reference renders (and generated scenes) are cached.
     #[arg(long, default_value = "target/tyndall-bench")]
-    cache: PathBuf,
+    pub(crate) cache: PathBuf,
+    /// A sparse OpenVDB cloud to time loading (`--only load`).
+    #[arg(long)]
+    pub(crate) vdb: Option<PathBuf>,
     /// Timed runs per point (the median is reported).
     #[arg(long, default_value_t = 3)]
     pub(crate) runs: usize,
@@ -42,8 +46,9 @@ pub struct BenchArgs {
     /// Which part to run: `equal-error` (time to equal error per integrator),
     /// `maps` (shadow maps against shadow rays), `volpath` (the path tracer
     /// against Mitsuba 3's multiple-scattering references), `smoke` (the path tracer in the voxel
-    /// smoke, and its cost against homogeneous media) or `all`.
-    #[arg(long, default_value = "all", value_parser = ["all", "equal-error", "maps", "volpath", "smoke"])]
+    /// smoke, and its cost against homogeneous media), `load` (loading a
+    /// million-triangle glTF and, with `--vdb`, a sparse OpenVDB cloud) or `all`.
+    #[arg(long, default_value = "all", value_parser = ["all", "equal-error", "maps", "volpath", "smoke", "load"])]
     only: String,
     /// Stop a curve after a point whose render takes longer than this (seconds).
     #[arg(long, default_value_t = 20.0)]
@@ -131,6 +136,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     if all || args.only == "smoke" {
         smoke::run(&args)?;
+    }
+    if all || args.only == "load" {
+        load::run(&args)?;
     }
     Ok(())
 }
