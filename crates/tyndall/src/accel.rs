@@ -248,6 +248,15 @@ mod tests {
         Geometry::new(prims)
     }
 
+    /// The nearest hit of `ray` among all primitives, by a loop over them.
+    fn nearest_by_scan(g: &Geometry, ray: &Ray) -> Option<(f32, u32)> {
+        g.primitives()
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| p.shape.intersect(ray, f32::INFINITY).map(|t| (t, i as u32)))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+    }
+
     /// The BVH's nearest hit equals a brute-force loop over all primitives.
     #[test]
     fn bvh_matches_brute_force() {
@@ -258,18 +267,8 @@ mod tests {
                 Vec3::new(0.0, 0.0, 10.0),
                 Vec3::new(a.sin() * 1.5, (a * 3.1).cos() * 0.4, -1.0),
             );
-            let brute = g
-                .primitives()
-                .iter()
-                .enumerate()
-                .filter_map(|(i, p)| {
-                    p.shape
-                        .intersect(&ray, f32::INFINITY)
-                        .map(|t| (t, i as u32))
-                })
-                .min_by(|a, b| a.0.total_cmp(&b.0));
             let hit = g.intersect(&ray, f32::INFINITY).map(|h| (h.t, h.primitive));
-            assert_eq!(hit, brute, "ray {k}");
+            assert_eq!(hit, nearest_by_scan(&g, &ray), "ray {k}");
             let mut count = 0;
             g.for_each_hit(&ray, f32::INFINITY, |_, _| {
                 count += 1;
@@ -302,16 +301,7 @@ mod tests {
                         8.0 - k as f32 * 0.2,
                     );
                     let ray = Ray::new(o - direction * 30.0, direction);
-                    let brute = g
-                        .primitives()
-                        .iter()
-                        .enumerate()
-                        .filter_map(|(i, p)| {
-                            p.shape
-                                .intersect(&ray, f32::INFINITY)
-                                .map(|t| (t, i as u32))
-                        })
-                        .min_by(|a, b| a.0.total_cmp(&b.0));
+                    let brute = nearest_by_scan(&g, &ray);
                     let hit = g.intersect(&ray, f32::INFINITY).map(|h| (h.t, h.primitive));
                     assert_eq!(hit, brute, "{direction} from {}", ray.origin);
                     checked += usize::from(brute.is_some());

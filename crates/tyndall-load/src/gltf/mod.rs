@@ -10,7 +10,10 @@
 //! (`materials.rs`). Errors name the file and the
 //! element (`meshes[2].primitives[0]`, `nodes[3]`, `materials[1]`).
 
+mod glb;
 mod materials;
+
+pub use glb::glb_bytes;
 
 use materials::BaseTexture;
 

@@ -123,30 +123,13 @@ pub fn to_glb(dir: &Path, name: &str) -> PathBuf {
     let mut doc: Value =
         serde_json::from_slice(&std::fs::read(dir.join(format!("{name}.gltf"))).expect("gltf"))
             .expect("json");
-    let mut bin = std::fs::read(dir.join(format!("{name}.bin"))).expect("bin");
+    let bin = std::fs::read(dir.join(format!("{name}.bin"))).expect("bin");
     doc["buffers"][0]
         .as_object_mut()
         .expect("buffer")
         .remove("uri");
-    let mut json = serde_json::to_vec(&doc).expect("json");
-    while json.len() % 4 != 0 {
-        json.push(b' ');
-    }
-    while bin.len() % 4 != 0 {
-        bin.push(0);
-    }
-    let total = 12 + 8 + json.len() + 8 + bin.len();
-    let mut glb = Vec::with_capacity(total);
-    glb.extend_from_slice(b"glTF");
-    glb.extend_from_slice(&2u32.to_le_bytes());
-    glb.extend_from_slice(&(total as u32).to_le_bytes());
-    glb.extend_from_slice(&(json.len() as u32).to_le_bytes());
-    glb.extend_from_slice(b"JSON");
-    glb.extend_from_slice(&json);
-    glb.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-    glb.extend_from_slice(b"BIN\0");
-    glb.extend_from_slice(&bin);
+    let json = serde_json::to_vec(&doc).expect("json");
     let path = dir.join(format!("{name}.glb"));
-    std::fs::write(&path, glb).expect("write glb");
+    std::fs::write(&path, tyndall_load::gltf::glb_bytes(&json, &bin)).expect("write glb");
     path
 }

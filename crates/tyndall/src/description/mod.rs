@@ -102,6 +102,14 @@ pub struct ShapeDesc {
     pub texture: Option<SurfaceTexture>,
 }
 
+impl ShapeDesc {
+    /// Whether every shape is a triangle (a mesh, which may carry
+    /// per-corner attributes).
+    pub fn is_mesh(&self) -> bool {
+        self.shapes.iter().all(|s| matches!(s, Shape::Triangle(_)))
+    }
+}
+
 /// A colour texture over a mesh: the texture multiplies the diffuse
 /// reflectance of the mesh's material (a glTF base colour texture), at
 /// the texture coordinates interpolated across each triangle from one per

@@ -258,18 +258,16 @@ impl SceneDesc {
         if shape.vertex_normals.is_empty() {
             return Ok(());
         }
-        if shape.vertex_normals.len() != shape.shapes.len()
-            || !shape.shapes.iter().all(|s| matches!(s, Shape::Triangle(_)))
-        {
-            return item.fail(
-                "normals",
-                format!(
-                    "{} vertex-normal triples for {} shapes: a smooth mesh has one per triangle",
-                    shape.vertex_normals.len(),
-                    shape.shapes.len()
-                ),
-            );
+        if !shape.is_mesh() {
+            return item.fail("normals", "only triangle meshes have vertex normals".into());
         }
+        per_triangle(
+            shape,
+            shape.vertex_normals.len(),
+            "vertex-normal",
+            "normals",
+            &item,
+        )?;
         for (t, corners) in shape.vertex_normals.iter().enumerate() {
             for n in corners {
                 if !(n.is_finite() && (n.length() - 1.0).abs() < 1e-3) {
@@ -301,22 +299,13 @@ impl SceneDesc {
                 ),
             );
         }
-        if !shape.shapes.iter().all(|s| matches!(s, Shape::Triangle(_))) {
+        if !shape.is_mesh() {
             return item.fail("texture", "only triangle meshes can be textured".into());
         }
         if texture.uvs.is_empty() {
             return Ok(());
         }
-        if texture.uvs.len() != shape.shapes.len() {
-            return item.fail(
-                "uvs",
-                format!(
-                    "{} texture-coordinate triples for {} shapes: a textured mesh has one per triangle",
-                    texture.uvs.len(),
-                    shape.shapes.len()
-                ),
-            );
-        }
+        per_triangle(shape, texture.uvs.len(), "texture-coordinate", "uvs", item)?;
         match texture
             .uvs
             .iter()
@@ -329,6 +318,27 @@ impl SceneDesc {
             None => Ok(()),
         }
     }
+}
+
+/// Checks that a mesh attribute (`field`, `what` in the message) has
+/// `count` entries, one per triangle.
+fn per_triangle(
+    shape: &ShapeDesc,
+    count: usize,
+    what: &str,
+    field: &'static str,
+    item: &Item,
+) -> Result<(), DescError> {
+    if count == shape.shapes.len() {
+        return Ok(());
+    }
+    item.fail(
+        field,
+        format!(
+            "{count} {what} triples for {} triangles: a mesh has one per triangle",
+            shape.shapes.len()
+        ),
+    )
 }
 
 /// The names a surface's reflectances go by in the native format: a
