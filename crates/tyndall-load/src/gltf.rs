@@ -47,6 +47,22 @@ const DEFAULT_IOR: f32 = 1.5;
 /// Vertical field of view of the default view when the file has no camera.
 const DEFAULT_FOV_Y_DEG: f32 = 40.0;
 
+/// Where a glTF spot's smooth falloff reaches full intensity, as `cos θ`:
+/// where Blender and Cycles put it. Blender's importer turns the cone
+/// angles into a spot blend `b = 1 − inner/outer` (its exporter writes
+/// `inner = outer·(1 − b)`), and Cycles shapes a spot by
+/// `smoothstep((cos θ − cos θo)/((1 − cos θo)·b))` (`spot_smooth` in
+/// intern/cycles/scene/light.cpp), so full intensity starts at
+/// `cos θo + (1 − cos θo)·b`, not at `cos(inner)` (they agree for the
+/// default inner angle 0). With this, Tyndall's `smooth` profile is
+/// Cycles' curve exactly (scenes/blender/README.md measures it). Returns
+/// `cos θo` or less for a hard edge (`inner == outer`).
+fn smooth_cos_inner(inner: f32, outer: f32) -> f32 {
+    let blend = 1.0 - inner / outer;
+    let cos_outer = outer.cos();
+    cos_outer + (1.0 - cos_outer) * blend
+}
+
 /// The camera a glTF file names.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GltfCamera {
@@ -390,12 +406,11 @@ impl GltfLoader<'_> {
                     ));
                 }
                 // Blender's spot blend 0 writes inner == outer: a hard edge.
-                let profile = if inner_cone_angle >= outer_cone_angle {
+                let cos_inner = smooth_cos_inner(inner_cone_angle, outer_cone_angle);
+                let profile = if cos_inner <= outer_cone_angle.cos() {
                     SpotProfile::Hard
                 } else {
-                    SpotProfile::Smooth {
-                        cos_inner: inner_cone_angle.cos(),
-                    }
+                    SpotProfile::Smooth { cos_inner }
                 };
                 LightDesc::Spot(SpotLight {
                     position,
