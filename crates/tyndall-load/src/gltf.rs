@@ -47,20 +47,12 @@ const DEFAULT_IOR: f32 = 1.5;
 /// Vertical field of view of the default view when the file has no camera.
 const DEFAULT_FOV_Y_DEG: f32 = 40.0;
 
-/// Where a glTF spot's smooth falloff reaches full intensity, as `cos θ`:
-/// where Blender and Cycles put it. Blender's importer turns the cone
-/// angles into a spot blend `b = 1 − inner/outer` (its exporter writes
-/// `inner = outer·(1 − b)`), and Cycles shapes a spot by
-/// `smoothstep((cos θ − cos θo)/((1 − cos θo)·b))` (`spot_smooth` in
-/// intern/cycles/scene/light.cpp), so full intensity starts at
-/// `cos θo + (1 − cos θo)·b`, not at `cos(inner)` (they agree for the
-/// default inner angle 0). With this, Tyndall's `smooth` profile is
-/// Cycles' curve exactly (scenes/blender/README.md measures it). Returns
-/// `cos θo` or less for a hard edge (`inner == outer`).
+/// `cos θ` where a glTF spot's smooth falloff reaches full intensity, as in
+/// Blender and Cycles: Blender imports the cone as a blend `b = 1 − inner/outer`
+/// and Cycles' smoothstep runs over `(cos θ − cos θo)/((1 − cos θo)·b)`
+/// (`spot_smooth`, intern/cycles/scene/light.cpp); `≤ cos θo` is a hard edge.
 fn smooth_cos_inner(inner: f32, outer: f32) -> f32 {
-    let blend = 1.0 - inner / outer;
-    let cos_outer = outer.cos();
-    cos_outer + (1.0 - cos_outer) * blend
+    outer.cos() + (1.0 - outer.cos()) * (1.0 - inner / outer)
 }
 
 /// The camera a glTF file names.
