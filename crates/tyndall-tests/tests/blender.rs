@@ -57,13 +57,13 @@ fn blender_export_loads_with_blender_values() {
         panic!("{:?}", scene.lights()[2])
     };
     assert!(rel(soft.intensity.x, 60.0 / (4.0 * PI)));
-    // Blender: inner = (size/2)·(1 − blend) = 25°·0.5.
-    assert_eq!(
-        soft.profile,
-        SpotProfile::Smooth {
-            cos_inner: 12.5f32.to_radians().cos()
-        }
-    );
+    // Blender: inner = (size/2)·(1 − blend) = 25°·0.5; Cycles' smoothstep
+    // reaches full intensity at cos 25° + (1 − cos 25°)·blend.
+    let SpotProfile::Smooth { cos_inner } = soft.profile else {
+        panic!("{:?}", soft.profile)
+    };
+    let cos_outer = 25f32.to_radians().cos();
+    assert!((cos_inner - (cos_outer + (1.0 - cos_outer) * 0.5)).abs() < 1e-6);
     let Light::Point(bulb) = scene.lights()[3] else {
         panic!("{:?}", scene.lights()[3])
     };

@@ -115,12 +115,12 @@ fn gltf_loads_into_the_expected_description() {
     assert!(close(spot.position, Vec3::new(-1.0, 0.0, 0.0)));
     assert!(close(spot.direction, Vec3::new(-1.0, 0.0, 0.0)));
     assert!((spot.cos_cutoff - 0.5f32.cos()).abs() < 1e-6);
-    assert_eq!(
-        spot.profile,
-        SpotProfile::Smooth {
-            cos_inner: 0.2f32.cos()
-        }
-    );
+    // Blender's blend 1 − 0.2/0.5 = 0.6: full intensity from
+    // cos 0.5 + (1 − cos 0.5)·0.6, as Cycles renders the imported spot.
+    let SpotProfile::Smooth { cos_inner } = spot.profile else {
+        panic!("{:?}", spot.profile)
+    };
+    assert!((cos_inner - (0.5f32.cos() + (1.0 - 0.5f32.cos()) * 0.6)).abs() < 1e-6);
     assert!(close(spot.intensity, Vec3::new(3.0, 1.5, 0.75)));
     // Sun: 1366 lx / 683 = 2 W/m², travelling down.
     let Light::Directional(sun) = scene.lights()[2] else {

@@ -53,6 +53,14 @@ const DEFAULT_IOR: f32 = 1.5;
 /// Vertical field of view of the default view when the file has no camera.
 const DEFAULT_FOV_Y_DEG: f32 = 40.0;
 
+/// `cos θ` where a glTF spot's smooth falloff reaches full intensity, as in
+/// Blender and Cycles: Blender imports the cone as a blend `b = 1 − inner/outer`
+/// and Cycles' smoothstep runs over `(cos θ − cos θo)/((1 − cos θo)·b)`
+/// (`spot_smooth`, intern/cycles/scene/light.cpp); `≤ cos θo` is a hard edge.
+fn smooth_cos_inner(inner: f32, outer: f32) -> f32 {
+    outer.cos() + (1.0 - outer.cos()) * (1.0 - inner / outer)
+}
+
 /// The camera a glTF file names.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GltfCamera {
@@ -398,12 +406,11 @@ impl GltfLoader<'_> {
                     ));
                 }
                 // Blender's spot blend 0 writes inner == outer: a hard edge.
-                let profile = if inner_cone_angle >= outer_cone_angle {
+                let cos_inner = smooth_cos_inner(inner_cone_angle, outer_cone_angle);
+                let profile = if cos_inner <= outer_cone_angle.cos() {
                     SpotProfile::Hard
                 } else {
-                    SpotProfile::Smooth {
-                        cos_inner: inner_cone_angle.cos(),
-                    }
+                    SpotProfile::Smooth { cos_inner }
                 };
                 LightDesc::Spot(SpotLight {
                     position,
