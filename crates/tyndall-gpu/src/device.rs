@@ -100,15 +100,16 @@ impl Gpu {
     }
 }
 
-/// Compiles WGSL `source` and its compute `entry_point` into a pipeline
-/// (bind group layout derived from the shader), returning compilation and
-/// validation errors instead of letting wgpu panic on them.
-pub(crate) fn compute_pipeline(
+/// Compiles WGSL `source` into one compute pipeline per entry point, with
+/// `layout` (or one derived from the shader for `None`), returning
+/// compilation and validation errors instead of letting wgpu panic.
+pub(crate) fn compute_pipelines<const N: usize>(
     gpu: &Gpu,
     label: &str,
     source: &str,
-    entry_point: &str,
-) -> Result<wgpu::ComputePipeline, GpuError> {
+    layout: Option<&wgpu::PipelineLayout>,
+    entry_points: [&str; N],
+) -> Result<[wgpu::ComputePipeline; N], GpuError> {
     let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
     let module = gpu
         .device
@@ -116,18 +117,19 @@ pub(crate) fn compute_pipeline(
             label: Some(label),
             source: wgpu::ShaderSource::Wgsl(source.into()),
         });
-    let pipeline = gpu
-        .device
-        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(label),
-            layout: None,
-            module: &module,
-            entry_point: Some(entry_point),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+    let pipelines = entry_points.map(|entry_point| {
+        gpu.device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry_point),
+                layout,
+                module: &module,
+                entry_point: Some(entry_point),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+    });
     match pollster::block_on(scope.pop()) {
-        None => Ok(pipeline),
+        None => Ok(pipelines),
         Some(e) => Err(GpuError::Shader {
             label: label.to_string(),
             message: e.to_string(),

@@ -2,7 +2,7 @@
 //! GPU for a list of inputs, so tests can compare them with the Rust
 //! functions they transcribe ("one formula, two languages", issue 14).
 
-use crate::device::{Gpu, GpuError, compute_pipeline};
+use crate::device::{Gpu, GpuError, compute_pipelines};
 use crate::readback::read_buffer;
 use crate::shaders;
 use wgpu::util::DeviceExt;
@@ -46,11 +46,12 @@ pub fn evaluate(
         return Ok(Vec::new());
     }
     let device = &gpu.device;
-    let pipeline = compute_pipeline(
+    let [pipeline] = compute_pipelines(
         gpu,
         "formula probe",
         &shaders::formula_probe(),
-        formula.entry_point(),
+        None,
+        [formula.entry_point()],
     )?;
     let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("probe inputs"),

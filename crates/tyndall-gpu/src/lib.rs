@@ -5,25 +5,32 @@
 //!
 //! # Design
 //!
-//! - **Compute, not raster.** Every stage — camera rays, the march along
-//!   each pixel's ray, direct light on surfaces — is one compute kernel
-//!   (`shaders/march.wgsl`, one invocation per pixel and frame). The CPU
+//! - **Compute, not raster.** Every stage — the shadow maps (one
+//!   invocation per texel), camera rays, the march along each pixel's ray,
+//!   direct light on surfaces (one invocation per pixel and frame) — is a
+//!   compute kernel (`shaders/maps.wgsl`, `shaders/march.wgsl`). The CPU
 //!   march is a per-pixel loop; a compute kernel is that loop
 //!   transcribed, so its estimator (lattice, jitter, interleaving strata,
 //!   the budget of steps) is the CPU's step for step, and it runs without
 //!   a window or render targets. A raster pass for primary visibility
 //!   would need a second code path for reflections and glass, which
-//!   follow the ray on from the first hit anyway.
+//!   follow the ray on from the first hit anyway; a rasterised shadow map
+//!   keeps one depth per texel, where the coloured deep map needs every
+//!   pane before the first opaque surface (a ray per texel finds them).
 //! - **Visibility: the flat primitive list.** Camera and shadow rays test
 //!   every primitive (spheres, quads, triangles) in a loop. The reference
 //!   scenes have tens of primitives, so a BVH would cost more in upload
 //!   and traversal state than it saves; its cost is linear in the
 //!   primitive count, which a GPU BVH would make logarithmic for meshes.
-//! - **Shadow rays, not yet shadow maps.** Each march step sends an
-//!   exact shadow ray per light, tinted by the glass it crosses under
-//!   both glass models, so the GPU image converges to the CPU `march`
-//!   image rendered with `--visibility rays`. Issue 14's per-light depth
-//!   and coloured transmittance maps are not implemented here yet.
+//! - **Visibility: maps or rays, as on the CPU.** With
+//!   [`GpuVisibility::Maps`] every light gets the CPU's deep coloured
+//!   shadow map (`tyndall::shadow_maps`: same projections, texel rays,
+//!   glass layers, percentage-closer filtering and bias), rendered on the
+//!   GPU in two passes — depths and layer counts, offsets summed on the
+//!   host, then the layers — and each march step or surface looks it up.
+//!   With [`GpuVisibility::ShadowRays`] each lookup is an exact shadow
+//!   ray instead. Either way the image converges to the CPU `march` image
+//!   with the same `--visibility`.
 //! - **One formula, two languages.** `shaders/formulas.wgsl` holds the
 //!   physics (HG phase, spot profiles, glass tint under the filter and
 //!   blend models, Beer–Lambert transmittance) once in WGSL, each
@@ -42,10 +49,11 @@
 
 pub mod device;
 pub mod formula_probe;
+mod maps;
 pub mod march;
 mod readback;
 pub mod scene_buffers;
 mod shaders;
 
 pub use device::{AdapterSummary, Gpu, GpuError};
-pub use march::{GpuMarch, MarchSettings, render};
+pub use march::{GpuMarch, GpuVisibility, MarchSettings, render};

@@ -3,7 +3,8 @@
 //! march jitter (inside the pixel's interleaving stratum, as on the CPU),
 //! so the mean converges to the CPU `march` image.
 
-use crate::device::{Gpu, GpuError, compute_pipeline};
+use crate::device::{Gpu, GpuError, compute_pipelines};
+use crate::maps;
 use crate::readback::read_buffer;
 use crate::scene_buffers::{GpuLight, GpuMaterial, GpuPrimitive, SceneBuffers};
 use crate::shaders;
@@ -27,6 +28,18 @@ pub struct MarchSettings {
     /// Most reflective-layer bounces a camera path follows.
     pub max_bounces: u32,
     pub seed: u64,
+    /// How march steps and surfaces see lights past geometry.
+    pub visibility: GpuVisibility,
+}
+
+/// Visibility towards lights on the GPU, as `tyndall::settings::VisibilityMode`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GpuVisibility {
+    /// An exact shadow ray per step and light.
+    ShadowRays,
+    /// Per-light depth and coloured transmittance maps of `resolution`²
+    /// texels per face, rendered on the GPU before the frames.
+    Maps { resolution: u32 },
 }
 
 /// The uniform block of `march.wgsl` (`Params`).
@@ -52,7 +65,8 @@ struct Params {
     opaque_to_camera: u32,
     max_bounces: u32,
     step_budget: u32,
-    pad: [u32; 2],
+    use_maps: u32,
+    map_resolution: u32,
 }
 
 fn v4(v: Vec3, w: f32) -> [f32; 4] {
@@ -76,13 +90,20 @@ fn camera_frame(spec: &CameraSpec, width: u32, height: u32) -> (Vec3, Vec3, Vec3
     (forward, right, up, Vec2::new(tan_y * aspect, tan_y))
 }
 
-/// A scene on the GPU with its running per-pixel sums.
+/// A scene on the GPU with its shadow maps and running per-pixel sums.
 pub struct GpuMarch {
     params: Params,
     params_buffer: wgpu::Buffer,
-    accumulation: wgpu::Buffer,
-    pipeline: wgpu::ComputePipeline,
+    /// Bindings 0–8 of `march.wgsl`/`maps.wgsl`; binding 9 (the layers)
+    /// is added when the bind group is made.
+    buffers: Vec<wgpu::Buffer>,
+    layers: wgpu::Buffer,
+    layout: wgpu::BindGroupLayout,
+    march_pipeline: wgpu::ComputePipeline,
+    map_count_pipeline: wgpu::ComputePipeline,
+    map_layers_pipeline: wgpu::ComputePipeline,
     bind_group: wgpu::BindGroup,
+    face_count: u32,
     frames: u32,
 }
 
@@ -99,9 +120,54 @@ fn storage<T: Pod + Default>(gpu: &Gpu, label: &str, items: &[T]) -> wgpu::Buffe
         })
 }
 
+/// A read-write storage buffer of `size` bytes (at least 16).
+fn scratch(gpu: &Gpu, label: &str, size: u64) -> wgpu::Buffer {
+    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(16),
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// Which bindings of the march's module are written by some kernel.
+const READ_WRITE_BINDINGS: [u32; 4] = [4, 7, 8, 9];
+
+fn bind_group_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
+    let entries: Vec<_> = (0..10u32)
+        .map(|binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: if binding == 0 {
+                wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                }
+            } else {
+                wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage {
+                        read_only: !READ_WRITE_BINDINGS.contains(&binding),
+                    },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                }
+            },
+            count: None,
+        })
+        .collect();
+    gpu.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("march"),
+            entries: &entries,
+        })
+}
+
 impl GpuMarch {
-    /// Uploads `scene` and prepares an empty accumulation of
-    /// `settings.width × settings.height` pixels.
+    /// Uploads `scene`, renders its shadow maps if asked for, and prepares
+    /// an empty accumulation of `settings.width × settings.height` pixels.
     pub fn new(gpu: &Gpu, scene: &Scene, settings: &MarchSettings) -> Result<Self, GpuError> {
         let buffers = SceneBuffers::new(scene)?;
         if !(settings.step > 0.0 && settings.step.is_finite()) {
@@ -113,6 +179,10 @@ impl GpuMarch {
         let (forward, right, up, half_extent) =
             camera_frame(scene.camera(), settings.width, settings.height);
         let glass = scene.glass();
+        let map_resolution = match settings.visibility {
+            GpuVisibility::ShadowRays => 0,
+            GpuVisibility::Maps { resolution } => resolution,
+        };
         let mut params = Params {
             camera_position: v4(scene.camera().position, 0.0),
             camera_forward: v4(forward, 0.0),
@@ -139,6 +209,8 @@ impl GpuMarch {
             // The CPU march's cap: MAX_MARCH_STEPS over the lights.
             step_budget: (MAX_MARCH_STEPS / buffers.lights.len().max(1) as u64)
                 .min(u32::MAX as u64) as u32,
+            use_maps: (map_resolution > 0) as u32,
+            map_resolution,
             ..Default::default()
         };
         if let Some(fog) = scene.fog() {
@@ -154,51 +226,119 @@ impl GpuMarch {
             params.fog_min = v4(min, 1.0);
             params.fog_max = v4(max, bounded);
         }
-        let device = &gpu.device;
-        let pipeline = compute_pipeline(gpu, "march", &shaders::march(), "march_frame")?;
-        let params_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("march params"),
-            contents: bytemuck::bytes_of(&params),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        });
-        let primitives = storage::<GpuPrimitive>(gpu, "primitives", &buffers.primitives);
-        let materials = storage::<GpuMaterial>(gpu, "materials", &buffers.materials);
-        let lights = storage::<GpuLight>(gpu, "lights", &buffers.lights);
+        let (light_maps, faces) = if map_resolution > 0 {
+            maps::faces(scene, map_resolution)
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        let texels = faces.len() as u64 * map_resolution as u64 * map_resolution as u64;
+        let limit = gpu.device.limits().max_storage_buffer_binding_size as u64;
+        if texels * 4 + 4 > limit {
+            return Err(GpuError::Unsupported(format!(
+                "shadow maps of {} faces of {map_resolution}² texels exceed this GPU's storage buffer size ({limit} bytes); lower the resolution",
+                faces.len()
+            )));
+        }
+        let layout = bind_group_layout(gpu);
+        let pipeline_layout =
+            gpu.device
+                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some("march"),
+                    bind_group_layouts: &[Some(&layout)],
+                    immediate_size: 0,
+                });
+        let [march_pipeline, map_count_pipeline, map_layers_pipeline] = compute_pipelines(
+            gpu,
+            "march",
+            &shaders::march(),
+            Some(&pipeline_layout),
+            ["march_frame", "map_count", "map_layers"],
+        )?;
+        let params_buffer =
+            gpu.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("march params"),
+                    contents: bytemuck::bytes_of(&params),
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                });
         let pixels = settings.width as u64 * settings.height as u64;
-        let accumulation = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("accumulation"),
-            size: pixels * 16,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let entries = [
-            &params_buffer,
-            &primitives,
-            &materials,
-            &lights,
-            &accumulation,
+        let buffers = vec![
+            storage::<GpuPrimitive>(gpu, "primitives", &buffers.primitives),
+            storage::<GpuMaterial>(gpu, "materials", &buffers.materials),
+            storage::<GpuLight>(gpu, "lights", &buffers.lights),
+            scratch(gpu, "accumulation", pixels * 16),
+            storage(gpu, "faces", &faces),
+            storage(gpu, "light maps", &light_maps),
+            scratch(gpu, "map depths", texels * 4),
+            scratch(gpu, "layer offsets", (texels + 1) * 4),
         ];
-        let entries: Vec<_> = entries
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
-            })
-            .collect();
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("march"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        });
-        Ok(Self {
+        let layers = scratch(gpu, "layers", 16);
+        let bind_group = make_bind_group(gpu, &layout, &params_buffer, &buffers, &layers);
+        let mut march = Self {
             params,
             params_buffer,
-            accumulation,
-            pipeline,
+            buffers,
+            layers,
+            layout,
+            march_pipeline,
+            map_count_pipeline,
+            map_layers_pipeline,
             bind_group,
+            face_count: faces.len() as u32,
             frames: 0,
-        })
+        };
+        if map_resolution > 0 {
+            march.build_maps(gpu)?;
+        }
+        Ok(march)
+    }
+
+    /// Renders every light's depth and coloured transmittance map: a
+    /// counting pass (depths and layers per texel), offsets summed on the
+    /// host, then the layers. Waits for the GPU.
+    pub fn build_maps(&mut self, gpu: &Gpu) -> Result<(), GpuError> {
+        let r = self.params.map_resolution;
+        if r == 0 || self.face_count == 0 {
+            return Ok(());
+        }
+        let groups = (r.div_ceil(8), r.div_ceil(8), self.face_count);
+        self.dispatch(gpu, &self.map_count_pipeline, groups);
+        let texels = self.face_count as u64 * r as u64 * r as u64;
+        let offsets_buffer = &self.buffers[7];
+        let bytes = read_buffer(gpu, offsets_buffer, texels * 4)?;
+        let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
+        let mut offsets = Vec::with_capacity(counts.len() + 1);
+        let mut total = 0u64;
+        offsets.push(0u32);
+        for count in counts {
+            total += count as u64;
+            offsets.push(u32::try_from(total).map_err(|_| {
+                GpuError::Unsupported("more glass layers in the shadow maps than 2³²".into())
+            })?);
+        }
+        gpu.queue
+            .write_buffer(offsets_buffer, 0, bytemuck::cast_slice(&offsets));
+        self.layers = scratch(gpu, "layers", total * 16);
+        self.bind_group = make_bind_group(
+            gpu,
+            &self.layout,
+            &self.params_buffer,
+            &self.buffers,
+            &self.layers,
+        );
+        self.dispatch(gpu, &self.map_layers_pipeline, groups);
+        self.wait(gpu)
+    }
+
+    fn dispatch(&self, gpu: &Gpu, pipeline: &wgpu::ComputePipeline, groups: (u32, u32, u32)) {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            pass.dispatch_workgroups(groups.0, groups.1, groups.2);
+        }
+        gpu.queue.submit([encoder.finish()]);
     }
 
     /// Frames summed so far.
@@ -218,14 +358,7 @@ impl GpuMarch {
             self.params.frame = self.frames;
             gpu.queue
                 .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&self.params));
-            let mut encoder = gpu.device.create_command_encoder(&Default::default());
-            {
-                let mut pass = encoder.begin_compute_pass(&Default::default());
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &self.bind_group, &[]);
-                pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
-            }
-            gpu.queue.submit([encoder.finish()]);
+            self.dispatch(gpu, &self.march_pipeline, (w.div_ceil(8), h.div_ceil(8), 1));
             self.frames += 1;
         }
     }
@@ -244,7 +377,7 @@ impl GpuMarch {
             self.params.half_extent_resolution[2] as u32,
             self.params.half_extent_resolution[3] as u32,
         );
-        let bytes = read_buffer(gpu, &self.accumulation, w as u64 * h as u64 * 16)?;
+        let bytes = read_buffer(gpu, &self.buffers[3], w as u64 * h as u64 * 16)?;
         let sums: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
         let pixels = sums
             .iter()
@@ -271,4 +404,29 @@ pub fn render(
     march.submit_frames(gpu, frames);
     march.wait(gpu)?;
     march.image(gpu)
+}
+
+/// The bind group of bindings 0 (`params`), 1–8 (`buffers`) and 9 (`layers`).
+fn make_bind_group(
+    gpu: &Gpu,
+    layout: &wgpu::BindGroupLayout,
+    params: &wgpu::Buffer,
+    buffers: &[wgpu::Buffer],
+    layers: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    let all = std::iter::once(params)
+        .chain(buffers)
+        .chain(std::iter::once(layers));
+    let entries: Vec<_> = all
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("march"),
+        layout,
+        entries: &entries,
+    })
 }

@@ -96,7 +96,7 @@ impl SceneBuffers {
                 "heterogeneous volumes (only the box fog is rendered on the GPU)".into(),
             ));
         }
-        check_blend_panes(scene)?;
+        check_panes(scene)?;
         let primitives = scene
             .geometry()
             .primitives()
@@ -121,18 +121,15 @@ impl SceneBuffers {
     }
 }
 
-/// Most panes a blend-model shadow ray orders on the GPU
-/// (`MAX_BLEND_PANES` in `march.wgsl`).
-const MAX_BLEND_PANES: usize = 16;
+/// Most panes a ray keeps on the GPU: a blend-model shadow ray, to apply
+/// them in order, and a shadow-map texel, as its layers
+/// (`MAX_BLEND_PANES` in `march.wgsl`, `MAX_MAP_LAYERS` in `maps.wgsl`).
+const MAX_PANES: usize = 16;
 
-/// Under the blend model a shadow ray keeps the panes it crosses to apply
-/// them in order; the GPU has room for [`MAX_BLEND_PANES`]. A ray crosses
-/// a quad or triangle at most once and a sphere twice, so scenes whose
-/// glass could exceed that are refused rather than tinted wrongly.
-fn check_blend_panes(scene: &Scene) -> Result<(), GpuError> {
-    if scene.glass().model != tyndall::glass::GlassModel::Blend {
-        return Ok(());
-    }
+/// A ray crosses a quad or triangle at most once and a sphere twice;
+/// scenes whose glass a ray could cross more than [`MAX_PANES`] times are
+/// refused rather than tinted wrongly.
+fn check_panes(scene: &Scene) -> Result<(), GpuError> {
     let crossings: usize = scene
         .geometry()
         .primitives()
@@ -140,9 +137,9 @@ fn check_blend_panes(scene: &Scene) -> Result<(), GpuError> {
         .filter(|p| matches!(scene.materials()[p.material as usize], Material::Glass(_)))
         .map(|p| if matches!(p.shape, Shape::Sphere(_)) { 2 } else { 1 })
         .sum();
-    if crossings > MAX_BLEND_PANES {
+    if crossings > MAX_PANES {
         return Err(GpuError::Unsupported(format!(
-            "the blend glass model with glass a ray may cross {crossings} times (the GPU orders at most {MAX_BLEND_PANES} panes per shadow ray)"
+            "glass a ray may cross {crossings} times (the GPU keeps at most {MAX_PANES} panes per shadow ray or map texel)"
         )));
     }
     Ok(())

@@ -1,6 +1,7 @@
 //! `--gpu` images against CPU `march` images (issue 14): the GPU march
-//! and the CPU march (exact shadow rays) estimate the same image, so their
-//! difference is Monte Carlo noise only.
+//! and the CPU march estimate the same image — with exact shadow rays, and
+//! with shadow maps of the same resolution, which both sides render by the
+//! same rules — so their difference is Monte Carlo noise only.
 //!
 //! The bound, derived rather than tuned: two independent estimates G and C
 //! of the same image differ per pixel by E[(G − C)²] = Var G + Var C. The
@@ -19,26 +20,30 @@ mod support;
 use std::path::Path;
 use tyndall::settings::VisibilityMode;
 use tyndall::{Image, IntegratorKind, RenderSettings, Scene, SceneDesc};
-use tyndall_gpu::{MarchSettings, render};
+use tyndall_gpu::{GpuVisibility, MarchSettings, render};
 use tyndall_image::metrics::relative_mse;
 
 const WIDTH: u32 = 64;
 const HEIGHT: u32 = 48;
 /// Samples per pixel of each render (CPU) and frames (GPU).
-const SPP: u32 = 256;
+const SPP: u32 = 64;
 
 fn scenes_dir() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
 }
 
-fn settings(desc: &SceneDesc, seed: u64) -> RenderSettings {
+/// Shadow-map resolution of the map tests: small, so that a map texel
+/// covers several pixels and a mismatch in the maps would show.
+const MAP_RESOLUTION: u32 = 128;
+
+fn settings(desc: &SceneDesc, seed: u64, visibility: VisibilityMode) -> RenderSettings {
     RenderSettings {
         width: WIDTH,
         height: HEIGHT,
         spp: SPP,
         seed,
         integrator: IntegratorKind::March,
-        visibility: VisibilityMode::ShadowRays,
+        visibility,
         ..desc.settings
     }
 }
@@ -57,20 +62,47 @@ fn gpu(gpu: &tyndall_gpu::Gpu, scene: &Scene, settings: &RenderSettings) -> Imag
         interleave: settings.interleave,
         max_bounces: settings.max_bounces,
         seed: settings.seed,
+        visibility: match settings.visibility {
+            VisibilityMode::ShadowRays => GpuVisibility::ShadowRays,
+            VisibilityMode::Maps { resolution } => GpuVisibility::Maps { resolution },
+        },
     };
     render(gpu, scene, &march, settings.spp).expect("GPU render")
 }
 
-/// Renders `desc` twice on each side and checks the bound of the module
-/// documentation; returns relMSE(GPU, CPU) for the report.
+/// Renders `desc` twice on each side, with shadow rays and with maps, and
+/// checks the bound of the module documentation.
 fn gpu_matches_cpu(name: &str, desc: SceneDesc) {
     let Some(device) = support::gpu_or_skip(name) else {
         return;
     };
     let scene = Scene::build(&desc).expect("scene builds");
-    let (a, b) = (settings(&desc, 1), settings(&desc, 2));
-    let (c1, c2) = (cpu(&scene, &a), cpu(&scene, &b));
-    let (g1, g2) = (gpu(&device, &scene, &a), gpu(&device, &scene, &b));
+    for visibility in [
+        VisibilityMode::ShadowRays,
+        VisibilityMode::Maps {
+            resolution: MAP_RESOLUTION,
+        },
+    ] {
+        let label = format!("{name}, {}", visibility.name());
+        images_agree(&label, &device, &scene, &desc, visibility);
+    }
+}
+
+fn images_agree(
+    name: &str,
+    device: &tyndall_gpu::Gpu,
+    scene: &Scene,
+    desc: &SceneDesc,
+    visibility: VisibilityMode,
+) {
+    let (a, b) = (settings(desc, 1, visibility), settings(desc, 2, visibility));
+    let start = std::time::Instant::now();
+    let (c1, c2) = (cpu(scene, &a), cpu(scene, &b));
+    let cpu_seconds = start.elapsed().as_secs_f64();
+    let start = std::time::Instant::now();
+    let (g1, g2) = (gpu(device, scene, &a), gpu(device, scene, &b));
+    let gpu_seconds = start.elapsed().as_secs_f64();
+    eprintln!("{name}: two CPU renders {cpu_seconds:.1} s, two GPU renders {gpu_seconds:.1} s");
     let noise_cpu = relative_mse(&c2, &c1);
     let noise_gpu = relative_mse(&g2, &g1);
     let expected = 0.5 * (noise_cpu + noise_gpu);

@@ -8,6 +8,8 @@
 //! is interpolated log-log between the two ladder points around it
 //! (Monte Carlo error falls like 1/spp, time grows like spp).
 
+#[cfg(feature = "gpu")]
+mod gpu;
 mod maps;
 mod smoke;
 
@@ -45,6 +47,9 @@ pub struct BenchArgs {
     /// smoke, and its cost against homogeneous media) or `all`.
     #[arg(long, default_value = "all", value_parser = ["all", "equal-error", "maps", "volpath", "smoke"])]
     only: String,
+    /// Benchmark the GPU march instead (frames per second; see bench/gpu.rs).
+    #[arg(long)]
+    gpu: bool,
     /// Stop a curve after a point whose render takes longer than this (seconds).
     #[arg(long, default_value_t = 20.0)]
     max_seconds: f64,
@@ -104,6 +109,9 @@ impl Method {
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
+    if args.gpu {
+        return run_gpu(&args);
+    }
     let quick = args.quick;
     println!(
         "# tyndall bench{}\n",
@@ -133,6 +141,16 @@ pub fn run(args: BenchArgs) -> Result<()> {
         smoke::run(&args)?;
     }
     Ok(())
+}
+
+#[cfg(feature = "gpu")]
+fn run_gpu(args: &BenchArgs) -> Result<()> {
+    gpu::run(args)
+}
+
+#[cfg(not(feature = "gpu"))]
+fn run_gpu(_: &BenchArgs) -> Result<()> {
+    bail!("--gpu: this tyndall was built without the `gpu` feature")
 }
 
 /// Time to relative MSE of `volpath` against the multiple-scattering

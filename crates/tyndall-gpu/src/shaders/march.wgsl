@@ -5,10 +5,11 @@
 // (Keller & Heidrich 2001), shades the surface it ends on with direct
 // light, and adds the sample to the pixel's running sum.
 //
-// Visibility towards lights is exact: a shadow ray tested against every
-// primitive, tinted by the glass it crosses under the scene's glass model
-// (tyndall::visibility, shadow rays). Structs mirror scene_buffers.rs and
-// march.rs.
+// Visibility towards lights (tyndall::visibility) is either exact — a
+// shadow ray tested against every primitive, tinted by the glass it
+// crosses under the scene's glass model — or read from the deep coloured
+// shadow maps of maps.wgsl (appended to this file). Structs mirror
+// scene_buffers.rs and march.rs.
 
 struct Primitive {
     kind: u32,
@@ -66,8 +67,9 @@ struct Params {
     opaque_to_camera: u32,
     max_bounces: u32,
     step_budget: u32,
-    pad0: u32,
-    pad1: u32,
+    // 1: visibility from the maps of maps.wgsl; 0: shadow rays
+    use_maps: u32,
+    map_resolution: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -386,7 +388,7 @@ fn incident(i: u32, x: vec3<f32>) -> Incident {
 // E·V·Tr_glass·T_fog: light `i` arriving at `x` as `inc`, from a point in
 // fog (`on_surface` false) or on a surface with unit normal `normal`
 // (the shadow ray then starts just off it).
-fn light_arriving(x: vec3<f32>, on_surface: bool, normal: vec3<f32>, inc: Incident) -> vec3<f32> {
+fn light_arriving(i: u32, x: vec3<f32>, on_surface: bool, normal: vec3<f32>, inc: Incident) -> vec3<f32> {
     var origin = x;
     if on_surface {
         origin = offset_origin(x, normal, inc.direction);
@@ -395,7 +397,12 @@ fn light_arriving(x: vec3<f32>, on_surface: bool, normal: vec3<f32>, inc: Incide
     if distance < INFINITE {
         distance = inc.distance - dot(origin - x, inc.direction);
     }
-    let glass = shadow_transmittance(origin, inc.direction, distance);
+    var glass: vec3<f32>;
+    if params.use_maps != 0u {
+        glass = map_transmittance(i, origin, on_surface, normal, inc.direction);
+    } else {
+        glass = shadow_transmittance(origin, inc.direction, distance);
+    }
     if all(glass == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
@@ -452,7 +459,7 @@ fn in_scattered(ray: Ray, t_hit: f32, stratum: u32, strata: u32) -> vec3<f32> {
                 continue;
             }
             let phase = phase_hg(g, dot(inc.direction, ray.direction));
-            sum += camera_t * sigma_s * phase * light_arriving(x, false, vec3<f32>(0.0), inc);
+            sum += camera_t * sigma_s * phase * light_arriving(i, x, false, vec3<f32>(0.0), inc);
         }
     }
     return sum * h;
@@ -473,7 +480,7 @@ fn direct_lighting(diffuse: vec3<f32>, x: vec3<f32>, normal: vec3<f32>) -> vec3<
         if cos_theta <= 0.0 {
             continue;
         }
-        sum += light_arriving(x, true, normal, inc) * cos_theta;
+        sum += light_arriving(i, x, true, normal, inc) * cos_theta;
     }
     return sum * diffuse / PI;
 }
