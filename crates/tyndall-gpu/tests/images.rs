@@ -8,12 +8,20 @@
 //! noise of each side is measured from the data, by a second render of
 //! that side with another seed: relMSE(G, G') ≈ 2·v_G and relMSE(C, C') ≈
 //! 2·v_C (relMSE as `tyndall compare`, the mean over pixels of
-//! (c − r)²/(r² + 0.01)). So with no bias, relMSE(G, C) ≈ (relMSE(G, G')
-//! + relMSE(C, C'))/2 =: expected. Each is a mean over W·H = 3072 pixels,
+//! (c − r)²/(r² + 0.01)). So with no bias, relMSE(G, C) ≈
+//! (relMSE(G, G') + relMSE(C, C'))/2 =: expected. Each is a mean over W·H = 3072 pixels,
 //! whose spread between runs is a few per cent; the test allows 1.5 ×
 //! expected, so a systematic difference whose relMSE is half the noise's
 //! fails it. Issue 14's target for converged images, relMSE ≤ 2e-3, is
 //! checked too: the noise at these frame counts is below it.
+//!
+//! One exception to "finite variance": a camera ray passing within a step
+//! or so of a point or spot light meets the 1/d² of eq. 1, whose march
+//! estimate has unbounded variance (a lattice point may land arbitrarily
+//! close to the light). Such pixels — the spot's apex in fig. 3 — are a
+//! handful; every mean above is taken over the pixels without the worst
+//! 0.1 % (4 of 3072) of that comparison, which leaves any difference
+//! spread over the image in full view.
 
 mod support;
 
@@ -21,7 +29,20 @@ use std::path::Path;
 use tyndall::settings::VisibilityMode;
 use tyndall::{Image, IntegratorKind, RenderSettings, Scene, SceneDesc};
 use tyndall_gpu::{GpuVisibility, MarchSettings, render};
-use tyndall_image::metrics::relative_mse;
+use tyndall_image::metrics::pixel_relative_se;
+/// relMSE (as `tyndall compare`) over all pixels but the worst 0.1 %
+/// (see the module documentation).
+fn trimmed_relative_mse(candidate: &Image, reference: &Image) -> f64 {
+    let mut errors: Vec<f64> = candidate
+        .pixels()
+        .iter()
+        .zip(reference.pixels())
+        .map(|(c, r)| pixel_relative_se(*c, *r))
+        .collect();
+    errors.sort_by(f64::total_cmp);
+    let kept = errors.len() - errors.len().div_ceil(1000);
+    errors[..kept].iter().sum::<f64>() / kept as f64
+}
 
 const WIDTH: u32 = 64;
 const HEIGHT: u32 = 48;
@@ -103,10 +124,10 @@ fn images_agree(
     let (g1, g2) = (gpu(device, scene, &a), gpu(device, scene, &b));
     let gpu_seconds = start.elapsed().as_secs_f64();
     eprintln!("{name}: two CPU renders {cpu_seconds:.1} s, two GPU renders {gpu_seconds:.1} s");
-    let noise_cpu = relative_mse(&c2, &c1);
-    let noise_gpu = relative_mse(&g2, &g1);
+    let noise_cpu = trimmed_relative_mse(&c2, &c1);
+    let noise_gpu = trimmed_relative_mse(&g2, &g1);
     let expected = 0.5 * (noise_cpu + noise_gpu);
-    let measured = relative_mse(&g1, &c1);
+    let measured = trimmed_relative_mse(&g1, &c1);
     eprintln!(
         "{name}: relMSE(GPU, CPU) = {measured:.3e}; noise: CPU {noise_cpu:.3e}, GPU {noise_gpu:.3e}; expected {expected:.3e}"
     );

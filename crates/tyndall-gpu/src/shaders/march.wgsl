@@ -409,6 +409,88 @@ fn light_arriving(i: u32, x: vec3<f32>, on_surface: bool, normal: vec3<f32>, inc
     return inc.irradiance * glass * fog_transmittance_along(x, inc.direction, inc.distance);
 }
 
+// The part of [t0, t1] along `ray` inside the cone of spot `light`
+// (tyndall::lights::SpotLight::clip_ray): the cone's quadric and apex
+// plane cut the segment; the pieces whose midpoint lies inside are
+// joined. Returns (lo, hi, 1), or (0, 0, 0) if the ray misses the cone.
+fn spot_reach(light: Light, ray: Ray, t0: f32, t1: f32) -> vec3<f32> {
+    let axis = light.direction.xyz;
+    let v = ray.origin - light.position.xyz;
+    let vd = dot(v, axis);
+    let wd = dot(ray.direction, axis);
+    let c2 = light.cos_cutoff * light.cos_cutoff;
+    let a = wd * wd - c2;
+    let b = 2.0 * (vd * wd - c2 * dot(v, ray.direction));
+    let c = vd * vd - c2 * dot(v, v);
+    var cuts = array<f32, 5>(t0, t1, 0.0, 0.0, 0.0);
+    var valid = array<bool, 5>(true, true, false, false, false);
+    if abs(a) > 1e-12 {
+        let disc = b * b - 4.0 * a * c;
+        if disc >= 0.0 {
+            let q = -0.5 * (b + select(-1.0, 1.0, b >= 0.0) * sqrt(disc));
+            cuts[2] = q / a;
+            valid[2] = true;
+            if q != 0.0 {
+                cuts[3] = c / q;
+                valid[3] = true;
+            }
+        }
+    } else if b != 0.0 {
+        cuts[2] = -c / b;
+        valid[2] = true;
+    }
+    if wd != 0.0 {
+        cuts[4] = -vd / wd;
+        valid[4] = true;
+    }
+    // The valid cuts inside [t0, t1], sorted.
+    var ts: array<f32, 5>;
+    var n = 0u;
+    for (var i = 0u; i < 5u; i++) {
+        let t = cuts[i];
+        if valid[i] && t >= t0 && t <= t1 {
+            var j = n;
+            while j > 0u && ts[j - 1u] > t {
+                ts[j] = ts[j - 1u];
+                j--;
+            }
+            ts[j] = t;
+            n++;
+        }
+    }
+    var result = vec3<f32>(0.0);
+    for (var i = 1u; i < n; i++) {
+        let lo = ts[i - 1u];
+        let hi = ts[i];
+        if hi <= lo {
+            continue;
+        }
+        var mid = 0.5 * (lo + hi);
+        if hi >= INFINITE {
+            mid = lo + 1.0 + abs(lo);
+        }
+        let p = ray_at(ray, mid) - light.position.xyz;
+        if dot(p, axis) > length(p) * light.cos_cutoff {
+            if result.z == 0.0 {
+                result = vec3<f32>(lo, hi, 1.0);
+            } else {
+                result.y = hi;
+            }
+        }
+    }
+    return result;
+}
+
+// The part of [t0, t1] along `ray` that light i can reach: its cone for a
+// spot, everything for other lights (tyndall::lights::Light::reach).
+fn reach(i: u32, ray: Ray, t0: f32, t1: f32) -> vec3<f32> {
+    let light = lights[i];
+    if light.kind == LIGHT_SPOT {
+        return spot_reach(light, ray, t0, t1);
+    }
+    return vec3<f32>(t0, t1, select(0.0, 1.0, t0 < t1));
+}
+
 // ---- the march (tyndall::integrators::march::in_scattered) ----
 
 // The jitter stratum k of this pixel in an n×n interleaving tile, as
@@ -443,12 +525,28 @@ fn in_scattered(ray: Ray, t_hit: f32, stratum: u32, strata: u32) -> vec3<f32> {
     }
     let a = span.x;
     let b = min(span.y, a + MAX_OPTICAL_DEPTH / sigma_t());
+    // Only the lattice points inside some light's reach are visited.
+    var lo = INFINITE;
+    var hi = -INFINITE;
+    for (var i = 0u; i < params.light_count; i++) {
+        let r = reach(i, ray, a, b);
+        if r.z != 0.0 {
+            lo = min(lo, r.x);
+            hi = max(hi, r.y);
+        }
+    }
+    if !(lo < hi) {
+        return vec3<f32>(0.0);
+    }
     let g = params.background_g.w;
     let h = params.step;
+    // The first lattice index k ≥ 0 with t_k ≥ lo
+    // (tyndall::integrators::march::lattice_range, in f32 here).
+    let first = u32(max(ceil((lo - a) / h - jitter), 0.0));
     var sum = vec3<f32>(0.0);
-    for (var k = 0u; k < params.step_budget; k++) {
+    for (var k = first; k - first < params.step_budget; k++) {
         let t = a + (jitter + f32(k)) * h;
-        if t >= b {
+        if t >= hi {
             break;
         }
         let x = ray_at(ray, t);
