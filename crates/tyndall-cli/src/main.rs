@@ -5,6 +5,8 @@
 //! 0 only when the image was written.
 
 mod bench;
+#[cfg(feature = "gpu")]
+mod gpu;
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand};
@@ -98,6 +100,11 @@ struct RenderArgs {
     /// time (e.g. 30s, 2m); at least one pass. Reports the samples per pixel reached.
     #[arg(long, value_parser = parse_duration)]
     time_limit: Option<Duration>,
+    /// Render on the GPU (wgpu; lavapipe without one): the `march` integrator
+    /// with shadow rays or maps (--visibility), --spp frames accumulated.
+    /// Flags it cannot honour are errors.
+    #[arg(long)]
+    gpu: bool,
 }
 
 fn parse_tile(s: &str) -> Result<(u32, u32), String> {
@@ -296,6 +303,9 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene> {
 }
 
 fn render(args: RenderArgs) -> Result<()> {
+    if args.gpu {
+        return render_on_gpu(args);
+    }
     let mut desc = load_scene(args.scene.as_deref(), args.two_sided)?;
     args.overrides.apply(&mut desc)?;
     let output = args
@@ -450,6 +460,16 @@ fn render(args: RenderArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+#[cfg(feature = "gpu")]
+fn render_on_gpu(args: RenderArgs) -> Result<()> {
+    gpu::render(args)
+}
+
+#[cfg(not(feature = "gpu"))]
+fn render_on_gpu(_: RenderArgs) -> Result<()> {
+    bail!("--gpu: this tyndall was built without the `gpu` feature")
 }
 
 fn merge(paths: &[PathBuf], output: &Path) -> Result<()> {

@@ -129,6 +129,19 @@ fn no_source_file_is_over_800_lines() {
     assert!(long.is_empty(), "over {MAX_LINES} lines: {long:?}");
 }
 
+/// The GPU renderer (issue 14) is a crate of its own: the core builds and
+/// renders without wgpu.
+#[test]
+fn the_core_does_not_depend_on_the_gpu_crate() {
+    let manifest = std::fs::read_to_string(repo().join("crates/tyndall/Cargo.toml")).expect("read");
+    for name in ["wgpu", "tyndall-gpu", "naga"] {
+        assert!(
+            !manifest.lines().any(|l| l.trim_start().starts_with(name)),
+            "crates/tyndall depends on {name}"
+        );
+    }
+}
+
 #[test]
 fn the_core_has_no_file_format_dependency() {
     let manifest = std::fs::read_to_string(repo().join("crates/tyndall/Cargo.toml")).expect("read");

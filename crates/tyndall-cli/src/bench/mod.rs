@@ -8,6 +8,8 @@
 //! is interpolated log-log between the two ladder points around it
 //! (Monte Carlo error falls like 1/spp, time grows like spp).
 
+#[cfg(feature = "gpu")]
+mod gpu;
 mod load;
 mod maps;
 mod smoke;
@@ -50,6 +52,9 @@ pub struct BenchArgs {
     /// million-triangle glTF and, with `--vdb`, a sparse OpenVDB cloud) or `all`.
     #[arg(long, default_value = "all", value_parser = ["all", "equal-error", "maps", "volpath", "smoke", "load"])]
     only: String,
+    /// Benchmark the GPU march instead (frames per second; see bench/gpu.rs).
+    #[arg(long)]
+    gpu: bool,
     /// Stop a curve after a point whose render takes longer than this (seconds).
     #[arg(long, default_value_t = 20.0)]
     max_seconds: f64,
@@ -109,6 +114,9 @@ impl Method {
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
+    if args.gpu {
+        return run_gpu(&args);
+    }
     let quick = args.quick;
     println!(
         "# tyndall bench{}\n",
@@ -141,6 +149,16 @@ pub fn run(args: BenchArgs) -> Result<()> {
         load::run(&args)?;
     }
     Ok(())
+}
+
+#[cfg(feature = "gpu")]
+fn run_gpu(args: &BenchArgs) -> Result<()> {
+    gpu::run(args)
+}
+
+#[cfg(not(feature = "gpu"))]
+fn run_gpu(_: &BenchArgs) -> Result<()> {
+    bail!("--gpu: this tyndall was built without the `gpu` feature")
 }
 
 /// Time to relative MSE of `volpath` against the multiple-scattering

@@ -1,0 +1,92 @@
+//! Evaluates the WGSL physics functions (`shaders/formulas.wgsl`) on the
+//! GPU for a list of inputs, so tests can compare them with the Rust
+//! functions they transcribe ("one formula, two languages", issue 14).
+
+use crate::device::{Gpu, GpuError, compute_pipelines};
+use crate::readback::read_buffer;
+use crate::shaders;
+use wgpu::util::DeviceExt;
+
+/// A WGSL function of `formulas.wgsl` that [`evaluate`] can run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Formula {
+    /// `phase_hg(g, cos θ)`: input `[g, cos θ, _, _], _`; output `x`.
+    Phase,
+    /// `spot_falloff(profile, cos_cutoff, cos_inner, cos θ)`: input
+    /// `[profile, cos_cutoff, cos_inner, cos θ], _` with profile 0
+    /// linear, 1 hard, 2 smooth; output `x`.
+    SpotFalloff,
+    /// `glass_tint_after(model, before, colour, α)`: input
+    /// `[before.rgb, model], [colour.rgb, α]` with model 0 filter, 1
+    /// blend; output `rgb`.
+    GlassTint,
+    /// `transmittance(σt, d)`: input `[σt, d, _, _], _`; output `x`.
+    Transmittance,
+}
+
+impl Formula {
+    fn entry_point(self) -> &'static str {
+        match self {
+            Formula::Phase => "probe_phase",
+            Formula::SpotFalloff => "probe_spot",
+            Formula::GlassTint => "probe_glass",
+            Formula::Transmittance => "probe_transmittance",
+        }
+    }
+}
+
+/// Runs `formula` on the GPU for each item (two input vec4s each) and
+/// returns one output vec4 per item.
+pub fn evaluate(
+    gpu: &Gpu,
+    formula: Formula,
+    items: &[[[f32; 4]; 2]],
+) -> Result<Vec<[f32; 4]>, GpuError> {
+    if items.is_empty() {
+        return Ok(Vec::new());
+    }
+    let device = &gpu.device;
+    let [pipeline] = compute_pipelines(
+        gpu,
+        "formula probe",
+        &shaders::formula_probe(),
+        None,
+        [formula.entry_point()],
+    )?;
+    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("probe inputs"),
+        contents: bytemuck::cast_slice(items),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let size = (items.len() * 16) as u64;
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("probe outputs"),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: output.as_entire_binding(),
+            },
+        ],
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.dispatch_workgroups((items.len() as u32).div_ceil(64), 1, 1);
+    }
+    gpu.queue.submit([encoder.finish()]);
+    let bytes = read_buffer(gpu, &output, size)?;
+    Ok(bytemuck::pod_collect_to_vec(&bytes))
+}

@@ -1,0 +1,119 @@
+//! The projections of the GPU's shadow maps, chosen per light exactly as
+//! `tyndall::shadow_maps` chooses them on the CPU (the kernels that render
+//! and read them are in `shaders/maps.wgsl`): a spot of cutoff ≤ 60° gets
+//! one perspective face over its cone, point lights and wider spots a
+//! cube (six 90° faces), a sun an orthographic face over the scene's
+//! bounding sphere.
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+use tyndall::Scene;
+use tyndall::lights::LightOrigin;
+
+/// Spot cutoffs above this use a cube map
+/// (`tyndall::shadow_maps::MAX_PERSPECTIVE_CUTOFF_DEG`).
+const MAX_PERSPECTIVE_CUTOFF_DEG: f32 = 60.0;
+
+/// One face: a frame at the light and its projection (`Face` in
+/// `maps.wgsl`). `forward_kind.w` is 0 for perspective, 1 for
+/// orthographic; `scale` is tan(half angle) or the half extent.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub(crate) struct GpuFace {
+    origin: [f32; 4],
+    right: [f32; 4],
+    up: [f32; 4],
+    forward_kind: [f32; 4],
+    scale: f32,
+    texel_base: u32,
+    pad: [u32; 2],
+}
+
+/// Which faces belong to a light (`LightMap` in `maps.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub(crate) struct GpuLightMap {
+    face_base: u32,
+    face_count: u32,
+    pad: [u32; 2],
+}
+
+fn v4(v: Vec3, w: f32) -> [f32; 4] {
+    [v.x, v.y, v.z, w]
+}
+
+fn perspective(origin: Vec3, right: Vec3, up: Vec3, forward: Vec3, tan_half: f32) -> GpuFace {
+    GpuFace {
+        origin: v4(origin, 0.0),
+        right: v4(right, 0.0),
+        up: v4(up, 0.0),
+        forward_kind: v4(forward, 0.0),
+        scale: tan_half,
+        ..Default::default()
+    }
+}
+
+/// The faces of every light's map, in the scene's light order, each with
+/// its first texel in one array of `resolution²` texels per face.
+pub(crate) fn faces(scene: &Scene, resolution: u32) -> (Vec<GpuLightMap>, Vec<GpuFace>) {
+    let mut maps = Vec::new();
+    let mut faces: Vec<GpuFace> = Vec::new();
+    for light in scene.lights() {
+        let face_base = faces.len() as u32;
+        match light.origin() {
+            LightOrigin::Cone {
+                apex,
+                axis,
+                cos_cutoff,
+            } if cos_cutoff >= MAX_PERSPECTIVE_CUTOFF_DEG.to_radians().cos() => {
+                let (right, up) = axis.any_orthonormal_pair();
+                let tan_half = cos_cutoff.acos().tan();
+                faces.push(perspective(apex, right, up, axis, tan_half));
+            }
+            LightOrigin::Cone { apex: position, .. } | LightOrigin::Point { position } => {
+                // (forward, right, up) for +x, −x, +y, −y, +z, −z, as the CPU's.
+                let axes = [
+                    (Vec3::X, Vec3::NEG_Z, Vec3::Y),
+                    (Vec3::NEG_X, Vec3::Z, Vec3::Y),
+                    (Vec3::Y, Vec3::X, Vec3::NEG_Z),
+                    (Vec3::NEG_Y, Vec3::X, Vec3::Z),
+                    (Vec3::Z, Vec3::X, Vec3::Y),
+                    (Vec3::NEG_Z, Vec3::NEG_X, Vec3::Y),
+                ];
+                for (forward, right, up) in axes {
+                    faces.push(perspective(position, right, up, forward, 1.0));
+                }
+            }
+            LightOrigin::Parallel { direction } => {
+                let b = scene.geometry().bounds();
+                let (center, radius) = if b.is_empty() {
+                    (Vec3::ZERO, 1.0)
+                } else {
+                    (b.center(), (0.5 * b.extent().length()).max(1e-3))
+                };
+                let (right, up) = direction.any_orthonormal_pair();
+                let half_extent = radius * 1.01 + 1e-3;
+                faces.push(GpuFace {
+                    origin: v4(center - direction * half_extent, 0.0),
+                    right: v4(right, 0.0),
+                    up: v4(up, 0.0),
+                    forward_kind: v4(direction, 1.0),
+                    scale: half_extent,
+                    ..Default::default()
+                });
+            }
+            // Area lights are refused before maps are made.
+            LightOrigin::Surface => {}
+        }
+        maps.push(GpuLightMap {
+            face_base,
+            face_count: faces.len() as u32 - face_base,
+            pad: [0; 2],
+        });
+    }
+    let texels = resolution * resolution;
+    for (i, face) in faces.iter_mut().enumerate() {
+        face.texel_base = i as u32 * texels;
+    }
+    (maps, faces)
+}

@@ -1,0 +1,432 @@
+//! The GPU ray march: the scene uploaded once, then frames dispatched and
+//! summed per pixel on the GPU, each frame with its own film jitter and
+//! march jitter (inside the pixel's interleaving stratum, as on the CPU),
+//! so the mean converges to the CPU `march` image.
+
+use crate::device::{Gpu, GpuError, compute_pipelines};
+use crate::maps;
+use crate::readback::read_buffer;
+use crate::scene_buffers::{GpuLight, GpuMaterial, GpuPrimitive, SceneBuffers};
+use crate::shaders;
+use bytemuck::{Pod, Zeroable};
+use glam::{Vec2, Vec3};
+use tyndall::camera::{CameraSpec, FieldOfView};
+use tyndall::glass::GlassModel;
+use tyndall::settings::MAX_MARCH_STEPS;
+use tyndall::{Image, Rgb, Scene};
+use wgpu::util::DeviceExt;
+
+/// The march's parameters: those of the CPU `march` the GPU honours.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MarchSettings {
+    pub width: u32,
+    pub height: u32,
+    /// Step length `h` between lattice points (scene units).
+    pub step: f32,
+    /// Interleaving tile size `n` (1: none).
+    pub interleave: u32,
+    /// Most reflective-layer bounces a camera path follows.
+    pub max_bounces: u32,
+    pub seed: u64,
+    /// How march steps and surfaces see lights past geometry.
+    pub visibility: GpuVisibility,
+}
+
+/// Visibility towards lights on the GPU, as `tyndall::settings::VisibilityMode`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GpuVisibility {
+    /// An exact shadow ray per step and light.
+    ShadowRays,
+    /// Per-light depth and coloured transmittance maps of `resolution`²
+    /// texels per face, rendered on the GPU before the frames.
+    Maps { resolution: u32 },
+}
+
+/// The uniform block of `march.wgsl` (`Params`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+struct Params {
+    camera_position: [f32; 4],
+    camera_forward: [f32; 4],
+    camera_right: [f32; 4],
+    camera_up: [f32; 4],
+    half_extent_resolution: [f32; 4],
+    fog_albedo_sigma_t: [f32; 4],
+    fog_min: [f32; 4],
+    fog_max: [f32; 4],
+    background_g: [f32; 4],
+    step: f32,
+    interleave: u32,
+    seed: u32,
+    frame: u32,
+    primitive_count: u32,
+    light_count: u32,
+    glass_model: u32,
+    opaque_to_camera: u32,
+    max_bounces: u32,
+    step_budget: u32,
+    use_maps: u32,
+    map_resolution: u32,
+}
+
+fn v4(v: Vec3, w: f32) -> [f32; 4] {
+    [v.x, v.y, v.z, w]
+}
+
+/// The camera frame of `tyndall::camera::Camera::new`: forward, right, up
+/// and the image plane's half-extent at distance 1.
+fn camera_frame(spec: &CameraSpec, width: u32, height: u32) -> (Vec3, Vec3, Vec3, Vec2) {
+    let forward = (spec.look_at - spec.position).normalize();
+    let right = forward.cross(spec.up).normalize();
+    let up = right.cross(forward);
+    let aspect = width as f32 / height as f32;
+    let tan_y = match spec.fov {
+        FieldOfView::Vertical(deg) => (0.5 * deg.to_radians()).tan(),
+        FieldOfView::ShorterSide(deg) => {
+            let t = (0.5 * deg.to_radians()).tan();
+            if aspect >= 1.0 { t } else { t / aspect }
+        }
+    };
+    (forward, right, up, Vec2::new(tan_y * aspect, tan_y))
+}
+
+/// A scene on the GPU with its shadow maps and running per-pixel sums.
+pub struct GpuMarch {
+    params: Params,
+    params_buffer: wgpu::Buffer,
+    /// Bindings 0–8 of `march.wgsl`/`maps.wgsl`; binding 9 (the layers)
+    /// is added when the bind group is made.
+    buffers: Vec<wgpu::Buffer>,
+    layers: wgpu::Buffer,
+    layout: wgpu::BindGroupLayout,
+    march_pipeline: wgpu::ComputePipeline,
+    map_count_pipeline: wgpu::ComputePipeline,
+    map_layers_pipeline: wgpu::ComputePipeline,
+    bind_group: wgpu::BindGroup,
+    face_count: u32,
+    frames: u32,
+}
+
+/// A storage buffer holding `items`, or one zeroed item for an empty list
+/// (WGSL arrays cannot be empty; the counts in `Params` say what is used).
+fn storage<T: Pod + Default>(gpu: &Gpu, label: &str, items: &[T]) -> wgpu::Buffer {
+    let one = [T::default()];
+    let items = if items.is_empty() { &one[..] } else { items };
+    gpu.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytemuck::cast_slice(items),
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+}
+
+/// A read-write storage buffer of `size` bytes (at least 16).
+fn scratch(gpu: &Gpu, label: &str, size: u64) -> wgpu::Buffer {
+    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(16),
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// Which bindings of the march's module are written by some kernel.
+const READ_WRITE_BINDINGS: [u32; 4] = [4, 7, 8, 9];
+
+fn bind_group_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
+    let entries: Vec<_> = (0..10u32)
+        .map(|binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: if binding == 0 {
+                wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                }
+            } else {
+                wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage {
+                        read_only: !READ_WRITE_BINDINGS.contains(&binding),
+                    },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                }
+            },
+            count: None,
+        })
+        .collect();
+    gpu.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("march"),
+            entries: &entries,
+        })
+}
+
+impl GpuMarch {
+    /// Uploads `scene`, renders its shadow maps if asked for, and prepares
+    /// an empty accumulation of `settings.width × settings.height` pixels.
+    pub fn new(gpu: &Gpu, scene: &Scene, settings: &MarchSettings) -> Result<Self, GpuError> {
+        let buffers = SceneBuffers::new(scene)?;
+        if !(settings.step > 0.0 && settings.step.is_finite()) {
+            return Err(GpuError::Unsupported(format!(
+                "march step {} (must be positive and finite)",
+                settings.step
+            )));
+        }
+        let (forward, right, up, half_extent) =
+            camera_frame(scene.camera(), settings.width, settings.height);
+        let glass = scene.glass();
+        let map_resolution = match settings.visibility {
+            GpuVisibility::ShadowRays => 0,
+            GpuVisibility::Maps { resolution } => resolution,
+        };
+        let mut params = Params {
+            camera_position: v4(scene.camera().position, 0.0),
+            camera_forward: v4(forward, 0.0),
+            camera_right: v4(right, 0.0),
+            camera_up: v4(up, 0.0),
+            half_extent_resolution: [
+                half_extent.x,
+                half_extent.y,
+                settings.width as f32,
+                settings.height as f32,
+            ],
+            background_g: v4(scene.background(), 0.0),
+            step: settings.step,
+            interleave: settings.interleave.max(1),
+            seed: (settings.seed ^ (settings.seed >> 32)) as u32,
+            primitive_count: buffers.primitives.len() as u32,
+            light_count: buffers.lights.len() as u32,
+            glass_model: match glass.model {
+                GlassModel::Filter => 0,
+                GlassModel::Blend => 1,
+            },
+            opaque_to_camera: glass.opaque_to_camera as u32,
+            max_bounces: settings.max_bounces,
+            // The CPU march's cap: MAX_MARCH_STEPS over the lights.
+            step_budget: (MAX_MARCH_STEPS / buffers.lights.len().max(1) as u64).min(u32::MAX as u64)
+                as u32,
+            use_maps: (map_resolution > 0) as u32,
+            map_resolution,
+            ..Default::default()
+        };
+        if let Some(fog) = scene.fog() {
+            let g = match fog.phase {
+                tyndall::phase::PhaseFunction::Isotropic => 0.0,
+                tyndall::phase::PhaseFunction::HenyeyGreenstein { g } => g,
+            };
+            params.fog_albedo_sigma_t = v4(fog.albedo, fog.sigma_t);
+            params.background_g[3] = g;
+            let (min, max, bounded) = fog
+                .bounds
+                .map_or((Vec3::ZERO, Vec3::ZERO, 0.0), |b| (b.min, b.max, 1.0));
+            params.fog_min = v4(min, 1.0);
+            params.fog_max = v4(max, bounded);
+        }
+        let (light_maps, faces) = if map_resolution > 0 {
+            maps::faces(scene, map_resolution)
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        let texels = faces.len() as u64 * map_resolution as u64 * map_resolution as u64;
+        let limit = gpu.device.limits().max_storage_buffer_binding_size;
+        if texels * 4 + 4 > limit {
+            return Err(GpuError::Unsupported(format!(
+                "shadow maps of {} faces of {map_resolution}² texels exceed this GPU's storage buffer size ({limit} bytes); lower the resolution",
+                faces.len()
+            )));
+        }
+        let layout = bind_group_layout(gpu);
+        let pipeline_layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("march"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        let [march_pipeline, map_count_pipeline, map_layers_pipeline] = compute_pipelines(
+            gpu,
+            "march",
+            &shaders::march(),
+            Some(&pipeline_layout),
+            ["march_frame", "map_count", "map_layers"],
+        )?;
+        let params_buffer = gpu
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("march params"),
+                contents: bytemuck::bytes_of(&params),
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            });
+        let pixels = settings.width as u64 * settings.height as u64;
+        let buffers = vec![
+            storage::<GpuPrimitive>(gpu, "primitives", &buffers.primitives),
+            storage::<GpuMaterial>(gpu, "materials", &buffers.materials),
+            storage::<GpuLight>(gpu, "lights", &buffers.lights),
+            scratch(gpu, "accumulation", pixels * 16),
+            storage(gpu, "faces", &faces),
+            storage(gpu, "light maps", &light_maps),
+            scratch(gpu, "map depths", texels * 4),
+            scratch(gpu, "layer offsets", (texels + 1) * 4),
+        ];
+        let layers = scratch(gpu, "layers", 16);
+        let bind_group = make_bind_group(gpu, &layout, &params_buffer, &buffers, &layers);
+        let mut march = Self {
+            params,
+            params_buffer,
+            buffers,
+            layers,
+            layout,
+            march_pipeline,
+            map_count_pipeline,
+            map_layers_pipeline,
+            bind_group,
+            face_count: faces.len() as u32,
+            frames: 0,
+        };
+        if map_resolution > 0 {
+            march.build_maps(gpu)?;
+        }
+        Ok(march)
+    }
+
+    /// Renders every light's depth and coloured transmittance map: a
+    /// counting pass (depths and layers per texel), offsets summed on the
+    /// host, then the layers. Waits for the GPU.
+    pub fn build_maps(&mut self, gpu: &Gpu) -> Result<(), GpuError> {
+        let r = self.params.map_resolution;
+        if r == 0 || self.face_count == 0 {
+            return Ok(());
+        }
+        let groups = (r.div_ceil(8), r.div_ceil(8), self.face_count);
+        self.dispatch(gpu, &self.map_count_pipeline, groups);
+        let texels = self.face_count as u64 * r as u64 * r as u64;
+        let offsets_buffer = &self.buffers[7];
+        let bytes = read_buffer(gpu, offsets_buffer, texels * 4)?;
+        let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
+        let mut offsets = Vec::with_capacity(counts.len() + 1);
+        let mut total = 0u64;
+        offsets.push(0u32);
+        for count in counts {
+            total += count as u64;
+            offsets.push(u32::try_from(total).map_err(|_| {
+                GpuError::Unsupported("more glass layers in the shadow maps than 2³²".into())
+            })?);
+        }
+        gpu.queue
+            .write_buffer(offsets_buffer, 0, bytemuck::cast_slice(&offsets));
+        self.layers = scratch(gpu, "layers", total * 16);
+        self.bind_group = make_bind_group(
+            gpu,
+            &self.layout,
+            &self.params_buffer,
+            &self.buffers,
+            &self.layers,
+        );
+        self.dispatch(gpu, &self.map_layers_pipeline, groups);
+        self.wait(gpu)
+    }
+
+    fn dispatch(&self, gpu: &Gpu, pipeline: &wgpu::ComputePipeline, groups: (u32, u32, u32)) {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            pass.dispatch_workgroups(groups.0, groups.1, groups.2);
+        }
+        gpu.queue.submit([encoder.finish()]);
+    }
+
+    /// Frames summed so far.
+    pub fn frames(&self) -> u32 {
+        self.frames
+    }
+
+    /// Submits `count` more frames, each with its own random numbers
+    /// (film jitter, march jitter within the pixel's stratum, glossy
+    /// directions), without waiting for them.
+    pub fn submit_frames(&mut self, gpu: &Gpu, count: u32) {
+        let (w, h) = (
+            self.params.half_extent_resolution[2] as u32,
+            self.params.half_extent_resolution[3] as u32,
+        );
+        for _ in 0..count {
+            self.params.frame = self.frames;
+            gpu.queue
+                .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&self.params));
+            self.dispatch(gpu, &self.march_pipeline, (w.div_ceil(8), h.div_ceil(8), 1));
+            self.frames += 1;
+        }
+    }
+
+    /// Waits for the submitted frames to finish.
+    pub fn wait(&self, gpu: &Gpu) -> Result<(), GpuError> {
+        gpu.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| GpuError::Readback(e.to_string()))
+    }
+
+    /// The mean of the frames so far per pixel (radiance, linear RGB).
+    pub fn image(&self, gpu: &Gpu) -> Result<Image, GpuError> {
+        let (w, h) = (
+            self.params.half_extent_resolution[2] as u32,
+            self.params.half_extent_resolution[3] as u32,
+        );
+        let bytes = read_buffer(gpu, &self.buffers[3], w as u64 * h as u64 * 16)?;
+        let sums: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
+        let pixels = sums
+            .iter()
+            .map(|s| {
+                if s[3] > 0.0 {
+                    Rgb::new(s[0], s[1], s[2]) / s[3]
+                } else {
+                    Rgb::ZERO
+                }
+            })
+            .collect();
+        Ok(Image::from_pixels(w, h, pixels))
+    }
+}
+
+/// Renders `scene` headless: `frames` frames summed, their mean returned.
+pub fn render(
+    gpu: &Gpu,
+    scene: &Scene,
+    settings: &MarchSettings,
+    frames: u32,
+) -> Result<Image, GpuError> {
+    let mut march = GpuMarch::new(gpu, scene, settings)?;
+    march.submit_frames(gpu, frames);
+    march.wait(gpu)?;
+    march.image(gpu)
+}
+
+/// The bind group of bindings 0 (`params`), 1–8 (`buffers`) and 9 (`layers`).
+fn make_bind_group(
+    gpu: &Gpu,
+    layout: &wgpu::BindGroupLayout,
+    params: &wgpu::Buffer,
+    buffers: &[wgpu::Buffer],
+    layers: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    let all = std::iter::once(params)
+        .chain(buffers)
+        .chain(std::iter::once(layers));
+    let entries: Vec<_> = all
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("march"),
+        layout,
+        entries: &entries,
+    })
+}

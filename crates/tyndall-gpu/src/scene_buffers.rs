@@ -1,0 +1,259 @@
+//! The scene as flat GPU buffers: primitives, materials and lights as
+//! arrays of 16-byte-aligned plain structs (WGSL `std430` layout), read by
+//! `shaders/march.wgsl`, whose struct declarations mirror these.
+//!
+//! Built from the core's runtime [`tyndall::Scene`]; anything the GPU
+//! march does not implement is refused here with a message naming it, so
+//! no scene renders silently wrong.
+
+use crate::device::GpuError;
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+use tyndall::Scene;
+use tyndall::lights::{Light, SpotProfile};
+use tyndall::materials::Material;
+use tyndall::shapes::Shape;
+
+/// Shape kinds in [`GpuPrimitive::kind`].
+const SHAPE_SPHERE: u32 = 0;
+const SHAPE_QUAD: u32 = 1;
+const SHAPE_TRIANGLE: u32 = 2;
+
+/// Material kinds in [`GpuMaterial::kind`].
+const MATERIAL_OPAQUE: u32 = 0;
+const MATERIAL_EMISSIVE: u32 = 1;
+const MATERIAL_LAMP_FACE: u32 = 2;
+const MATERIAL_GLASS: u32 = 3;
+
+/// Light kinds in [`GpuLight::kind`].
+const LIGHT_POINT: u32 = 0;
+const LIGHT_SPOT: u32 = 1;
+const LIGHT_DIRECTIONAL: u32 = 2;
+
+/// One shape. Sphere: `a = (centre, radius)`. Quad: `a` origin, `b`
+/// edge u, `c` edge v, `d` unit normal, `e` = n/|n|² for the unnormalised
+/// normal n (the hit's (u, v)). Triangle: `a` v0, `b` e1, `c` e2, `d` unit
+/// normal.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuPrimitive {
+    pub kind: u32,
+    pub material: u32,
+    pub one_sided: u32,
+    pub pad: u32,
+    pub a: [f32; 4],
+    pub b: [f32; 4],
+    pub c: [f32; 4],
+    pub d: [f32; 4],
+    pub e: [f32; 4],
+}
+
+/// One material: `color` is the diffuse reflectance (opaque), radiance
+/// (emitters, W·sr⁻¹·m⁻²) or pane colour (glass); `specular` the
+/// reflective layer's reflectance.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuMaterial {
+    pub kind: u32,
+    pub two_sided: u32,
+    pub roughness: f32,
+    pub alpha: f32,
+    pub color: [f32; 4],
+    pub specular: [f32; 4],
+}
+
+/// One delta light: `position` (point, spot), unit `direction` (spot
+/// axis, or the direction a sun's light travels), `intensity` (W/sr, or
+/// a sun's irradiance W/m²).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuLight {
+    pub kind: u32,
+    pub profile: u32,
+    pub cos_cutoff: f32,
+    pub cos_inner: f32,
+    pub position: [f32; 4],
+    pub direction: [f32; 4],
+    pub intensity: [f32; 4],
+}
+
+/// The scene's arrays, ready to upload.
+pub struct SceneBuffers {
+    pub primitives: Vec<GpuPrimitive>,
+    pub materials: Vec<GpuMaterial>,
+    pub lights: Vec<GpuLight>,
+}
+
+fn v4(v: Vec3, w: f32) -> [f32; 4] {
+    [v.x, v.y, v.z, w]
+}
+
+impl SceneBuffers {
+    /// Flattens `scene`, or says what in it the GPU march cannot render.
+    pub fn new(scene: &Scene) -> Result<Self, GpuError> {
+        if !scene.volumes().is_empty() {
+            return Err(GpuError::Unsupported(
+                "heterogeneous volumes (only the box fog is rendered on the GPU)".into(),
+            ));
+        }
+        check_panes(scene)?;
+        let primitives = scene
+            .geometry()
+            .primitives()
+            .iter()
+            .map(|p| primitive(&p.shape, p.material))
+            .collect();
+        let materials = scene
+            .materials()
+            .iter()
+            .map(material)
+            .collect::<Result<_, _>>()?;
+        let lights = scene.lights().iter().map(light).collect::<Result<_, _>>()?;
+        Ok(Self {
+            primitives,
+            materials,
+            lights,
+        })
+    }
+}
+
+/// Most panes a ray keeps on the GPU: a blend-model shadow ray, to apply
+/// them in order, and a shadow-map texel, as its layers
+/// (`MAX_BLEND_PANES` in `march.wgsl`, `MAX_MAP_LAYERS` in `maps.wgsl`).
+const MAX_PANES: usize = 16;
+
+/// A ray crosses a quad or triangle at most once and a sphere twice;
+/// scenes whose glass a ray could cross more than [`MAX_PANES`] times are
+/// refused rather than tinted wrongly.
+fn check_panes(scene: &Scene) -> Result<(), GpuError> {
+    let crossings: usize = scene
+        .geometry()
+        .primitives()
+        .iter()
+        .filter(|p| matches!(scene.materials()[p.material as usize], Material::Glass(_)))
+        .map(|p| {
+            if matches!(p.shape, Shape::Sphere(_)) {
+                2
+            } else {
+                1
+            }
+        })
+        .sum();
+    if crossings > MAX_PANES {
+        return Err(GpuError::Unsupported(format!(
+            "glass a ray may cross {crossings} times (the GPU keeps at most {MAX_PANES} panes per shadow ray or map texel)"
+        )));
+    }
+    Ok(())
+}
+
+fn primitive(shape: &Shape, material: u32) -> GpuPrimitive {
+    let base = GpuPrimitive {
+        material,
+        ..Default::default()
+    };
+    match *shape {
+        Shape::Sphere(s) => GpuPrimitive {
+            kind: SHAPE_SPHERE,
+            a: v4(s.center, s.radius),
+            ..base
+        },
+        Shape::Quad(q) => {
+            let n = q.edge_u.cross(q.edge_v);
+            GpuPrimitive {
+                kind: SHAPE_QUAD,
+                one_sided: q.one_sided as u32,
+                a: v4(q.origin, 0.0),
+                b: v4(q.edge_u, 0.0),
+                c: v4(q.edge_v, 0.0),
+                d: v4(q.normal, 0.0),
+                e: v4(n / n.length_squared(), 0.0),
+                ..base
+            }
+        }
+        Shape::Triangle(t) => GpuPrimitive {
+            kind: SHAPE_TRIANGLE,
+            one_sided: t.one_sided as u32,
+            a: v4(t.v0, 0.0),
+            b: v4(t.e1, 0.0),
+            c: v4(t.e2, 0.0),
+            d: v4(t.normal, 0.0),
+            ..base
+        },
+    }
+}
+
+fn material(m: &Material) -> Result<GpuMaterial, GpuError> {
+    Ok(match *m {
+        Material::Opaque(s) => GpuMaterial {
+            kind: MATERIAL_OPAQUE,
+            roughness: s.roughness,
+            color: v4(s.diffuse, 0.0),
+            specular: v4(s.specular, 0.0),
+            ..Default::default()
+        },
+        Material::Emissive {
+            radiance,
+            two_sided,
+        } => GpuMaterial {
+            kind: MATERIAL_EMISSIVE,
+            two_sided: two_sided as u32,
+            color: v4(radiance, 0.0),
+            ..Default::default()
+        },
+        Material::LampFace { radiance } => GpuMaterial {
+            kind: MATERIAL_LAMP_FACE,
+            color: v4(radiance, 0.0),
+            ..Default::default()
+        },
+        Material::Glass(g) => GpuMaterial {
+            kind: MATERIAL_GLASS,
+            alpha: g.alpha,
+            color: v4(g.color, 0.0),
+            ..Default::default()
+        },
+        Material::Dielectric { .. } => {
+            return Err(GpuError::Unsupported(
+                "dielectric (refracting) materials".into(),
+            ));
+        }
+    })
+}
+
+fn light(l: &Light) -> Result<GpuLight, GpuError> {
+    Ok(match l {
+        Light::Point(p) => GpuLight {
+            kind: LIGHT_POINT,
+            position: v4(p.position, 0.0),
+            intensity: v4(p.intensity, 0.0),
+            ..Default::default()
+        },
+        Light::Spot(s) => {
+            let (profile, cos_inner) = match s.profile {
+                SpotProfile::Linear => (0, 0.0),
+                SpotProfile::Hard => (1, 0.0),
+                SpotProfile::Smooth { cos_inner } => (2, cos_inner),
+            };
+            GpuLight {
+                kind: LIGHT_SPOT,
+                profile,
+                cos_cutoff: s.cos_cutoff,
+                cos_inner,
+                position: v4(s.position, 0.0),
+                direction: v4(s.direction, 0.0),
+                intensity: v4(s.intensity, 0.0),
+            }
+        }
+        Light::Directional(d) => GpuLight {
+            kind: LIGHT_DIRECTIONAL,
+            direction: v4(d.direction, 0.0),
+            intensity: v4(d.irradiance, 0.0),
+            ..Default::default()
+        },
+        Light::Quad(_) | Light::Sphere(_) | Light::Mesh(_) => {
+            return Err(GpuError::Unsupported(
+                "area lights (emissive quads, spheres, meshes): the CPU march samples them exactly with shadow rays, which the GPU march does not implement".into(),
+            ));
+        }
+    })
+}

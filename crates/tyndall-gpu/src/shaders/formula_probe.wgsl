@@ -1,0 +1,47 @@
+// Kernels that evaluate each function of formulas.wgsl on a list of
+// inputs, for tests/formulas.rs ("one formula, two languages"). Each item
+// has two input vec4s and one output vec4.
+
+@group(0) @binding(0) var<storage, read> inputs: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read_write> outputs: array<vec4<f32>>;
+
+fn item_count() -> u32 {
+    return arrayLength(&outputs);
+}
+
+// in0 = (g, cos θ) → out.x = p(θ)
+@compute @workgroup_size(64)
+fn probe_phase(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= item_count() { return; }
+    let a = inputs[2u * i];
+    outputs[i] = vec4<f32>(phase_hg(a.x, a.y), 0.0, 0.0, 0.0);
+}
+
+// in0 = (profile, cos cutoff, cos inner, cos θ) → out.x = falloff
+@compute @workgroup_size(64)
+fn probe_spot(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= item_count() { return; }
+    let a = inputs[2u * i];
+    outputs[i] = vec4<f32>(spot_falloff(u32(a.x), a.y, a.z, a.w), 0.0, 0.0, 0.0);
+}
+
+// in0 = (before.rgb, model), in1 = (colour.rgb, α) → out.rgb = tint after
+@compute @workgroup_size(64)
+fn probe_glass(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= item_count() { return; }
+    let a = inputs[2u * i];
+    let b = inputs[2u * i + 1u];
+    outputs[i] = vec4<f32>(glass_tint_after(u32(a.w), a.xyz, b.xyz, b.w), 0.0);
+}
+
+// in0 = (σt, d) → out.x = exp(−σt·d)
+@compute @workgroup_size(64)
+fn probe_transmittance(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= item_count() { return; }
+    let a = inputs[2u * i];
+    outputs[i] = vec4<f32>(transmittance(a.x, a.y), 0.0, 0.0, 0.0);
+}

@@ -1,0 +1,705 @@
+// The paper's ray march (tyndall::integrators::march) on the GPU: one
+// invocation per pixel and frame follows the camera path through thin
+// glass and reflective layers, adds on its fog segment the in-scattered
+// light by a jittered fixed-step Riemann sum with interleaved sampling
+// (Keller & Heidrich 2001), shades the surface it ends on with direct
+// light, and adds the sample to the pixel's running sum.
+//
+// Visibility towards lights (tyndall::visibility) is either exact — a
+// shadow ray tested against every primitive, tinted by the glass it
+// crosses under the scene's glass model — or read from the deep coloured
+// shadow maps of maps.wgsl (appended to this file). Structs mirror
+// scene_buffers.rs and march.rs.
+
+struct Primitive {
+    kind: u32,
+    material: u32,
+    one_sided: u32,
+    pad: u32,
+    a: vec4<f32>,
+    b: vec4<f32>,
+    c: vec4<f32>,
+    d: vec4<f32>,
+    e: vec4<f32>,
+}
+
+struct Material {
+    kind: u32,
+    two_sided: u32,
+    roughness: f32,
+    alpha: f32,
+    color: vec4<f32>,
+    specular: vec4<f32>,
+}
+
+struct Light {
+    kind: u32,
+    profile: u32,
+    cos_cutoff: f32,
+    cos_inner: f32,
+    position: vec4<f32>,
+    direction: vec4<f32>,
+    intensity: vec4<f32>,
+}
+
+struct Params {
+    camera_position: vec4<f32>,
+    camera_forward: vec4<f32>,
+    camera_right: vec4<f32>,
+    camera_up: vec4<f32>,
+    // (tan(fov_x/2), tan(fov_y/2), width, height)
+    half_extent_resolution: vec4<f32>,
+    // (albedo.rgb, σt)
+    fog_albedo_sigma_t: vec4<f32>,
+    // (min.xyz, 1 if there is fog)
+    fog_min: vec4<f32>,
+    // (max.xyz, 1 if the fog is bounded by the box)
+    fog_max: vec4<f32>,
+    // (background.rgb, g)
+    background_g: vec4<f32>,
+    step: f32,
+    interleave: u32,
+    seed: u32,
+    frame: u32,
+    primitive_count: u32,
+    light_count: u32,
+    glass_model: u32,
+    opaque_to_camera: u32,
+    max_bounces: u32,
+    step_budget: u32,
+    // 1: visibility from the maps of maps.wgsl; 0: shadow rays
+    use_maps: u32,
+    map_resolution: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read> primitives: array<Primitive>;
+@group(0) @binding(2) var<storage, read> materials: array<Material>;
+@group(0) @binding(3) var<storage, read> lights: array<Light>;
+@group(0) @binding(4) var<storage, read_write> accumulation: array<vec4<f32>>;
+
+const SHAPE_SPHERE: u32 = 0u;
+const SHAPE_QUAD: u32 = 1u;
+const MATERIAL_OPAQUE: u32 = 0u;
+const MATERIAL_EMISSIVE: u32 = 1u;
+const MATERIAL_LAMP_FACE: u32 = 2u;
+const MATERIAL_GLASS: u32 = 3u;
+const LIGHT_POINT: u32 = 0u;
+const LIGHT_SPOT: u32 = 1u;
+const PI: f32 = 3.14159265358979;
+// A distance standing for ∞ (a sun's): exp(−σt·INFINITE) is 0 for σt > 0.
+const INFINITE: f32 = 3.0e38;
+// tyndall::integrators::march::MAX_OPTICAL_DEPTH.
+const MAX_OPTICAL_DEPTH: f32 = 9.21;
+// tyndall::integrators::MAX_GLASS_CROSSINGS.
+const MAX_GLASS_CROSSINGS: u32 = 64u;
+// Panes a blend-model shadow ray orders; more are an error the host
+// cannot see, so the host refuses scenes with more glass primitives.
+const MAX_BLEND_PANES: u32 = 16u;
+
+struct Ray {
+    origin: vec3<f32>,
+    direction: vec3<f32>,
+}
+
+fn ray_at(ray: Ray, t: f32) -> vec3<f32> {
+    return ray.origin + ray.direction * t;
+}
+
+// ---- random numbers: PCG hash (Jarzynski & Olano 2020) ----
+
+var<private> rng_state: u32;
+
+fn pcg(v: u32) -> u32 {
+    let state = v * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+fn next_1d() -> f32 {
+    rng_state = pcg(rng_state);
+    // 24 bits: uniform on [0, 1) in f32.
+    return f32(rng_state >> 8u) * (1.0 / 16777216.0);
+}
+
+// ---- shapes (tyndall::shapes) ----
+
+fn intersect_sphere(p: Primitive, ray: Ray, t_max: f32) -> f32 {
+    let center = p.a.xyz;
+    let radius = p.a.w;
+    let oc = ray.origin - center;
+    let b = dot(oc, ray.direction);
+    let c = dot(oc, oc) - radius * radius;
+    let perp = oc - b * ray.direction;
+    let disc = radius * radius - dot(perp, perp);
+    if disc < 0.0 {
+        return -1.0;
+    }
+    let sq = sqrt(disc);
+    var q = -b + sq;
+    if b > 0.0 {
+        q = -b - sq;
+    }
+    let t0 = min(q, c / q);
+    let t1 = max(q, c / q);
+    if t0 > 0.0 && t0 < t_max {
+        return t0;
+    }
+    if t1 > 0.0 && t1 < t_max {
+        return t1;
+    }
+    return -1.0;
+}
+
+fn intersect_quad(p: Primitive, ray: Ray, t_max: f32) -> f32 {
+    let normal = p.d.xyz;
+    let denom = dot(normal, ray.direction);
+    if denom == 0.0 || (p.one_sided != 0u && denom > 0.0) {
+        return -1.0;
+    }
+    let t = dot(normal, p.a.xyz - ray.origin) / denom;
+    if !(t > 0.0 && t < t_max) {
+        return -1.0;
+    }
+    let q = ray_at(ray, t) - p.a.xyz;
+    let u = dot(p.e.xyz, cross(q, p.c.xyz));
+    let v = dot(p.e.xyz, cross(p.b.xyz, q));
+    if u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0 {
+        return t;
+    }
+    return -1.0;
+}
+
+fn intersect_triangle(p: Primitive, ray: Ray, t_max: f32) -> f32 {
+    let e1 = p.b.xyz;
+    let e2 = p.c.xyz;
+    let pv = cross(ray.direction, e2);
+    let det = dot(e1, pv);
+    if det == 0.0 || (p.one_sided != 0u && det < 0.0) {
+        return -1.0;
+    }
+    let inv = 1.0 / det;
+    let s = ray.origin - p.a.xyz;
+    let u = dot(s, pv) * inv;
+    if u < 0.0 || u > 1.0 {
+        return -1.0;
+    }
+    let q = cross(s, e1);
+    let v = dot(ray.direction, q) * inv;
+    if v < 0.0 || u + v > 1.0 {
+        return -1.0;
+    }
+    let t = dot(e2, q) * inv;
+    if t > 0.0 && t < t_max {
+        return t;
+    }
+    return -1.0;
+}
+
+// Distance to primitive `i` along `ray` in (0, t_max), or −1.
+fn intersect(i: u32, ray: Ray, t_max: f32) -> f32 {
+    let p = primitives[i];
+    if p.kind == SHAPE_SPHERE {
+        return intersect_sphere(p, ray, t_max);
+    }
+    if p.kind == SHAPE_QUAD {
+        return intersect_quad(p, ray, t_max);
+    }
+    return intersect_triangle(p, ray, t_max);
+}
+
+fn geometric_normal(i: u32, x: vec3<f32>) -> vec3<f32> {
+    let p = primitives[i];
+    if p.kind == SHAPE_SPHERE {
+        return normalize(x - p.a.xyz);
+    }
+    return p.d.xyz;
+}
+
+struct Hit {
+    t: f32,
+    primitive: u32,
+    found: bool,
+}
+
+// Primary visibility: the nearest hit, by testing every primitive (the
+// scenes of the paper have tens of primitives; see the crate docs).
+fn nearest_hit(ray: Ray) -> Hit {
+    var hit = Hit(INFINITE, 0u, false);
+    for (var i = 0u; i < params.primitive_count; i++) {
+        let t = intersect(i, ray, hit.t);
+        if t > 0.0 {
+            hit = Hit(t, i, true);
+        }
+    }
+    return hit;
+}
+
+// ---- ray offsets (tyndall::ray) ----
+
+fn offset_distance(x: vec3<f32>) -> f32 {
+    let a = abs(x);
+    return 1e-4 * (1.0 + max(a.x, max(a.y, a.z)));
+}
+
+fn offset_origin(x: vec3<f32>, normal: vec3<f32>, direction: vec3<f32>) -> vec3<f32> {
+    var side = -1.0;
+    if dot(normal, direction) >= 0.0 {
+        side = 1.0;
+    }
+    return x + normal * (side * offset_distance(x));
+}
+
+fn shadow_ray_end(origin: vec3<f32>, direction: vec3<f32>, distance: f32) -> f32 {
+    return distance * (1.0 - 1e-4) - offset_distance(origin + direction * distance);
+}
+
+// ---- visibility (tyndall::visibility, shadow rays) ----
+
+// The fraction of a light's light reaching `origin` from `direction` over
+// `distance` past geometry: 0 behind an opaque surface, else the tint of
+// the panes crossed under the scene's glass model, applied in the order
+// light meets them (farthest from `origin` first).
+fn shadow_transmittance(origin: vec3<f32>, direction: vec3<f32>, distance: f32) -> vec3<f32> {
+    let ray = Ray(origin, direction);
+    var t_max = INFINITE;
+    if distance < INFINITE {
+        t_max = shadow_ray_end(origin, direction, distance);
+    }
+    var filtered = vec3<f32>(1.0);
+    var pane_t: array<f32, MAX_BLEND_PANES>;
+    var pane_m: array<u32, MAX_BLEND_PANES>;
+    var count = 0u;
+    for (var i = 0u; i < params.primitive_count; i++) {
+        let t = intersect(i, ray, t_max);
+        if t <= 0.0 {
+            continue;
+        }
+        let m = primitives[i].material;
+        let material = materials[m];
+        if material.kind != MATERIAL_GLASS {
+            return vec3<f32>(0.0);
+        }
+        if params.glass_model == GLASS_FILTER {
+            filtered *= glass_filter_transmittance(material.color.xyz, material.alpha);
+        } else if count < MAX_BLEND_PANES {
+            // Insertion in decreasing distance: light meets the
+            // farthest pane first.
+            var j = count;
+            while j > 0u && pane_t[j - 1u] < t {
+                pane_t[j] = pane_t[j - 1u];
+                pane_m[j] = pane_m[j - 1u];
+                j--;
+            }
+            pane_t[j] = t;
+            pane_m[j] = m;
+            count++;
+        }
+    }
+    if params.glass_model == GLASS_FILTER {
+        return filtered;
+    }
+    var tint = vec3<f32>(1.0);
+    for (var j = 0u; j < count; j++) {
+        let g = materials[pane_m[j]];
+        tint = glass_tint_after(GLASS_BLEND, tint, g.color.xyz, g.alpha);
+    }
+    return tint;
+}
+
+// ---- fog (tyndall::media::Fog) ----
+
+fn has_fog() -> bool {
+    return params.fog_min.w != 0.0;
+}
+
+fn sigma_t() -> f32 {
+    return params.fog_albedo_sigma_t.w;
+}
+
+// The part of [t0, t1] along `ray` inside the fog as (a, b, 1), or
+// (0, 0, 0) if none (the slab test of tyndall::shapes::Bounds::clip_ray).
+fn fog_interval(ray: Ray, t0: f32, t1: f32) -> vec3<f32> {
+    if params.fog_max.w == 0.0 {
+        if t0 < t1 {
+            return vec3<f32>(t0, t1, 1.0);
+        }
+        return vec3<f32>(0.0);
+    }
+    let inv = 1.0 / ray.direction;
+    let a = (params.fog_min.xyz - ray.origin) * inv;
+    let b = (params.fog_max.xyz - ray.origin) * inv;
+    // NaN (0·∞ on a slab) is dropped by min/max as in Rust's f32::min.
+    let lo = min(a, b);
+    let hi = max(a, b);
+    let near = max(max(max(lo.x, lo.y), lo.z), t0);
+    let far = min(min(min(hi.x, hi.y), hi.z), t1);
+    if near < far {
+        return vec3<f32>(near, far, 1.0);
+    }
+    return vec3<f32>(0.0);
+}
+
+// Fog transmittance over `distance` from `x` along unit `direction`.
+fn fog_transmittance_along(x: vec3<f32>, direction: vec3<f32>, distance: f32) -> f32 {
+    if !has_fog() {
+        return 1.0;
+    }
+    let span = fog_interval(Ray(x, direction), 0.0, distance);
+    if span.z == 0.0 {
+        return 1.0;
+    }
+    return transmittance(sigma_t(), span.y - span.x);
+}
+
+// ---- lights (tyndall::lights::Light::incident) ----
+
+struct Incident {
+    direction: vec3<f32>,
+    distance: f32,
+    irradiance: vec3<f32>,
+    valid: bool,
+}
+
+// Light from light `i` arriving at `x` before occlusion, glass and fog:
+// I(dir)/d² for point and spot lights (0 outside the cone), E for a sun.
+fn incident(i: u32, x: vec3<f32>) -> Incident {
+    let light = lights[i];
+    if light.kind == LIGHT_POINT || light.kind == LIGHT_SPOT {
+        let to_light = light.position.xyz - x;
+        let d2 = dot(to_light, to_light);
+        if !(d2 > 0.0) {
+            return Incident(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false);
+        }
+        let direction = to_light / sqrt(d2);
+        var falloff = 1.0;
+        if light.kind == LIGHT_SPOT {
+            falloff = spot_falloff(light.profile, light.cos_cutoff, light.cos_inner,
+                -dot(direction, light.direction.xyz));
+            if !(falloff > 0.0) {
+                return Incident(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false);
+            }
+        }
+        return Incident(direction, sqrt(d2), light.intensity.xyz * (falloff / d2), true);
+    }
+    return Incident(-light.direction.xyz, INFINITE, light.intensity.xyz, true);
+}
+
+// E·V·Tr_glass·T_fog: light `i` arriving at `x` as `inc`, from a point in
+// fog (`on_surface` false) or on a surface with unit normal `normal`
+// (the shadow ray then starts just off it).
+fn light_arriving(i: u32, x: vec3<f32>, on_surface: bool, normal: vec3<f32>, inc: Incident) -> vec3<f32> {
+    var origin = x;
+    if on_surface {
+        origin = offset_origin(x, normal, inc.direction);
+    }
+    var distance = inc.distance;
+    if distance < INFINITE {
+        distance = inc.distance - dot(origin - x, inc.direction);
+    }
+    var glass: vec3<f32>;
+    if params.use_maps != 0u {
+        glass = map_transmittance(i, origin, on_surface, normal, inc.direction);
+    } else {
+        glass = shadow_transmittance(origin, inc.direction, distance);
+    }
+    if all(glass == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    return inc.irradiance * glass * fog_transmittance_along(x, inc.direction, inc.distance);
+}
+
+// The part of [t0, t1] along `ray` inside the cone of spot `light`
+// (tyndall::lights::SpotLight::clip_ray): the cone's quadric and apex
+// plane cut the segment; the pieces whose midpoint lies inside are
+// joined. Returns (lo, hi, 1), or (0, 0, 0) if the ray misses the cone.
+fn spot_reach(light: Light, ray: Ray, t0: f32, t1: f32) -> vec3<f32> {
+    let axis = light.direction.xyz;
+    let v = ray.origin - light.position.xyz;
+    let vd = dot(v, axis);
+    let wd = dot(ray.direction, axis);
+    let c2 = light.cos_cutoff * light.cos_cutoff;
+    let a = wd * wd - c2;
+    let b = 2.0 * (vd * wd - c2 * dot(v, ray.direction));
+    let c = vd * vd - c2 * dot(v, v);
+    var cuts = array<f32, 5>(t0, t1, 0.0, 0.0, 0.0);
+    var valid = array<bool, 5>(true, true, false, false, false);
+    if abs(a) > 1e-12 {
+        let disc = b * b - 4.0 * a * c;
+        if disc >= 0.0 {
+            let q = -0.5 * (b + select(-1.0, 1.0, b >= 0.0) * sqrt(disc));
+            cuts[2] = q / a;
+            valid[2] = true;
+            if q != 0.0 {
+                cuts[3] = c / q;
+                valid[3] = true;
+            }
+        }
+    } else if b != 0.0 {
+        cuts[2] = -c / b;
+        valid[2] = true;
+    }
+    if wd != 0.0 {
+        cuts[4] = -vd / wd;
+        valid[4] = true;
+    }
+    // The valid cuts inside [t0, t1], sorted.
+    var ts: array<f32, 5>;
+    var n = 0u;
+    for (var i = 0u; i < 5u; i++) {
+        let t = cuts[i];
+        if valid[i] && t >= t0 && t <= t1 {
+            var j = n;
+            while j > 0u && ts[j - 1u] > t {
+                ts[j] = ts[j - 1u];
+                j--;
+            }
+            ts[j] = t;
+            n++;
+        }
+    }
+    var result = vec3<f32>(0.0);
+    for (var i = 1u; i < n; i++) {
+        let lo = ts[i - 1u];
+        let hi = ts[i];
+        if hi <= lo {
+            continue;
+        }
+        var mid = 0.5 * (lo + hi);
+        if hi >= INFINITE {
+            mid = lo + 1.0 + abs(lo);
+        }
+        let p = ray_at(ray, mid) - light.position.xyz;
+        if dot(p, axis) > length(p) * light.cos_cutoff {
+            if result.z == 0.0 {
+                result = vec3<f32>(lo, hi, 1.0);
+            } else {
+                result.y = hi;
+            }
+        }
+    }
+    return result;
+}
+
+// The part of [t0, t1] along `ray` that light i can reach: its cone for a
+// spot, everything for other lights (tyndall::lights::Light::reach).
+fn reach(i: u32, ray: Ray, t0: f32, t1: f32) -> vec3<f32> {
+    let light = lights[i];
+    if light.kind == LIGHT_SPOT {
+        return spot_reach(light, ray, t0, t1);
+    }
+    return vec3<f32>(t0, t1, select(0.0, 1.0, t0 < t1));
+}
+
+// ---- the march (tyndall::integrators::march::in_scattered) ----
+
+// The jitter stratum k of this pixel in an n×n interleaving tile, as
+// tyndall::integrators::march::interleaved_stratum (Bayer order for n a
+// power of two, row order otherwise).
+fn interleaved_stratum(px: vec2<u32>, n_in: u32) -> u32 {
+    let n = max(n_in, 1u);
+    let x = px.x % n;
+    let y = px.y % n;
+    if (n & (n - 1u)) == 0u {
+        var k = 0u;
+        let bits = countTrailingZeros(n);
+        for (var b = 0u; b < bits; b++) {
+            let xb = (x >> b) & 1u;
+            let yb = (y >> b) & 1u;
+            k = k * 4u + 2u * (xb ^ yb) + yb;
+        }
+        return k;
+    }
+    return y * n + x;
+}
+
+// In-scattered radiance along `ray` over (0, t_hit) by the jittered
+// lattice t_k = a + (ξ + k)·h, ξ in stratum k of n²: Σ_k T(a, t_k)·
+// Σ_lights σs·p(θ)·E·V·Tr_glass·T_fog·h (the paper's eq. 1 per step).
+fn in_scattered(ray: Ray, t_hit: f32, stratum: u32, strata: u32) -> vec3<f32> {
+    let jitter = (f32(stratum) + next_1d()) / f32(strata);
+    let span = fog_interval(ray, 0.0, t_hit);
+    let sigma_s = params.fog_albedo_sigma_t.xyz * sigma_t();
+    if span.z == 0.0 || all(sigma_s == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let a = span.x;
+    let b = min(span.y, a + MAX_OPTICAL_DEPTH / sigma_t());
+    // Only the lattice points inside some light's reach are visited.
+    var lo = INFINITE;
+    var hi = -INFINITE;
+    for (var i = 0u; i < params.light_count; i++) {
+        let r = reach(i, ray, a, b);
+        if r.z != 0.0 {
+            lo = min(lo, r.x);
+            hi = max(hi, r.y);
+        }
+    }
+    if !(lo < hi) {
+        return vec3<f32>(0.0);
+    }
+    let g = params.background_g.w;
+    let h = params.step;
+    // The first lattice index k ≥ 0 with t_k ≥ lo
+    // (tyndall::integrators::march::lattice_range, in f32 here).
+    let first = u32(max(ceil((lo - a) / h - jitter), 0.0));
+    var sum = vec3<f32>(0.0);
+    for (var k = first; k - first < params.step_budget; k++) {
+        let t = a + (jitter + f32(k)) * h;
+        if t >= hi {
+            break;
+        }
+        let x = ray_at(ray, t);
+        let camera_t = transmittance(sigma_t(), t - a);
+        for (var i = 0u; i < params.light_count; i++) {
+            let inc = incident(i, x);
+            if !inc.valid {
+                continue;
+            }
+            let phase = phase_hg(g, dot(inc.direction, ray.direction));
+            sum += camera_t * sigma_s * phase * light_arriving(i, x, false, vec3<f32>(0.0), inc);
+        }
+    }
+    return sum * h;
+}
+
+// Direct light on a Lambertian surface: Σ ρ/π·E·cos θ·V·Tr_glass·T_fog.
+fn direct_lighting(diffuse: vec3<f32>, x: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
+    if all(diffuse == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < params.light_count; i++) {
+        let inc = incident(i, x);
+        if !inc.valid {
+            continue;
+        }
+        let cos_theta = dot(normal, inc.direction);
+        if cos_theta <= 0.0 {
+            continue;
+        }
+        sum += light_arriving(i, x, true, normal, inc) * cos_theta;
+    }
+    return sum * diffuse / PI;
+}
+
+// A unit vector perpendicular to unit `n` and a third completing the
+// frame (Duff et al. 2017).
+fn orthonormal_pair(n: vec3<f32>) -> array<vec3<f32>, 2> {
+    let s = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (s + n.z);
+    let b = n.x * n.y * a;
+    return array<vec3<f32>, 2>(
+        vec3<f32>(1.0 + s * n.x * n.x * a, s * b, -s * n.x),
+        vec3<f32>(b, s + n.y * n.y * a, -n.y),
+    );
+}
+
+// The reflective layer's direction (tyndall::materials::Surface::reflect):
+// the mirror direction, or a normalised Phong lobe cosⁿ around it with
+// n = 2/r² − 2; zero vector when the drawn direction is below the surface.
+fn reflect_layer(roughness: f32, incoming: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
+    let mirror = incoming - 2.0 * dot(incoming, normal) * normal;
+    let u = vec2<f32>(next_1d(), next_1d());
+    if roughness <= 0.0 {
+        return mirror;
+    }
+    let r2 = max(roughness * roughness, 1e-6);
+    let exponent = max(2.0 / r2 - 2.0, 0.0);
+    let cos_t = pow(u.x, 1.0 / (exponent + 1.0));
+    let sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
+    let phi = 2.0 * PI * u.y;
+    let frame = orthonormal_pair(mirror);
+    let dir = normalize(frame[0] * (sin_t * cos(phi)) + frame[1] * (sin_t * sin(phi)) + mirror * cos_t);
+    if dot(dir, normal) > 0.0 {
+        return dir;
+    }
+    return vec3<f32>(0.0);
+}
+
+// The camera path of tyndall::integrators::CameraPath::radiance for the
+// materials the GPU renders (no dielectrics: the host refuses them).
+fn radiance(first: Ray, stratum: u32, strata: u32) -> vec3<f32> {
+    var ray = first;
+    var result = vec3<f32>(0.0);
+    var throughput = vec3<f32>(1.0);
+    var bounces = 0u;
+    var crossings = 0u;
+    loop {
+        let hit = nearest_hit(ray);
+        if has_fog() {
+            result += throughput * in_scattered(ray, hit.t, stratum, strata);
+            var fog_t = 1.0;
+            let span = fog_interval(ray, 0.0, hit.t);
+            if span.z != 0.0 {
+                fog_t = transmittance(sigma_t(), span.y - span.x);
+            }
+            throughput *= fog_t;
+        }
+        if !hit.found {
+            return result + throughput * params.background_g.xyz;
+        }
+        if all(throughput == vec3<f32>(0.0)) {
+            return result;
+        }
+        let x = ray_at(ray, hit.t);
+        let gn = geometric_normal(hit.primitive, x);
+        let front = dot(gn, ray.direction) < 0.0;
+        let normal = select(-gn, gn, front);
+        let material = materials[primitives[hit.primitive].material];
+        var diffuse = material.color.xyz;
+        var specular = vec3<f32>(0.0);
+        if material.kind == MATERIAL_EMISSIVE || material.kind == MATERIAL_LAMP_FACE {
+            if front || (material.kind == MATERIAL_EMISSIVE && material.two_sided != 0u) {
+                result += throughput * material.color.xyz;
+            }
+            return result;
+        }
+        if material.kind == MATERIAL_GLASS && params.opaque_to_camera == 0u {
+            crossings++;
+            if crossings > MAX_GLASS_CROSSINGS {
+                return result;
+            }
+            throughput *= glass_filter_transmittance(material.color.xyz, material.alpha);
+            ray.origin = offset_origin(x, gn, ray.direction);
+            continue;
+        }
+        if material.kind == MATERIAL_OPAQUE {
+            specular = material.specular.xyz;
+        }
+        result += throughput * direct_lighting(diffuse, x, normal);
+        if all(specular == vec3<f32>(0.0)) || bounces >= params.max_bounces {
+            return result;
+        }
+        let direction = reflect_layer(material.roughness, ray.direction, normal);
+        if all(direction == vec3<f32>(0.0)) {
+            return result;
+        }
+        bounces++;
+        throughput *= specular;
+        ray = Ray(offset_origin(x, gn, direction), direction);
+    }
+    return result;
+}
+
+@compute @workgroup_size(8, 8)
+fn march_frame(@builtin(global_invocation_id) id: vec3<u32>) {
+    let width = u32(params.half_extent_resolution.z);
+    let height = u32(params.half_extent_resolution.w);
+    if id.x >= width || id.y >= height {
+        return;
+    }
+    let index = id.y * width + id.x;
+    rng_state = pcg(index ^ pcg(params.seed ^ pcg(params.frame)));
+    // The film position, uniform over the pixel (a box filter), then the
+    // ray of tyndall::camera::Camera::ray.
+    let film = vec2<f32>(f32(id.x) + next_1d(), f32(id.y) + next_1d());
+    let ndc = 2.0 * film / params.half_extent_resolution.zw - vec2<f32>(1.0);
+    let direction = normalize(params.camera_forward.xyz
+        + params.camera_right.xyz * (ndc.x * params.half_extent_resolution.x)
+        - params.camera_up.xyz * (ndc.y * params.half_extent_resolution.y));
+    let n = max(params.interleave, 1u);
+    let stratum = interleaved_stratum(id.xy, n);
+    let l = radiance(Ray(params.camera_position.xyz, direction), stratum, n * n);
+    accumulation[index] += vec4<f32>(l, 1.0);
+}

@@ -1,0 +1,179 @@
+//! `--gpu` images against CPU `march` images (issue 14): the GPU march
+//! and the CPU march estimate the same image — with exact shadow rays, and
+//! with shadow maps of the same resolution, which both sides render by the
+//! same rules — so their difference is Monte Carlo noise only.
+//!
+//! The bound, derived rather than tuned: two independent estimates G and C
+//! of the same image differ per pixel by E[(G − C)²] = Var G + Var C. The
+//! noise of each side is measured from the data, by a second render of
+//! that side with another seed: relMSE(G, G') ≈ 2·v_G and relMSE(C, C') ≈
+//! 2·v_C (relMSE as `tyndall compare`, the mean over pixels of
+//! (c − r)²/(r² + 0.01)). So with no bias, relMSE(G, C) ≈
+//! (relMSE(G, G') + relMSE(C, C'))/2 =: expected. Each is a mean over W·H = 3072 pixels,
+//! whose spread between runs is a few per cent; the test allows 1.5 ×
+//! expected, so a systematic difference whose relMSE is half the noise's
+//! fails it. Issue 14's target for converged images, relMSE ≤ 2e-3, is
+//! checked too: the noise at these frame counts is below it.
+//!
+//! One exception to "finite variance": a camera ray passing within a step
+//! or so of a point or spot light meets the 1/d² of eq. 1, whose march
+//! estimate has unbounded variance (a lattice point may land arbitrarily
+//! close to the light). Such pixels — the spot's apex in fig. 3 — are a
+//! handful; every mean above is taken over the pixels without the worst
+//! 0.1 % (4 of 3072) of that comparison, which leaves any difference
+//! spread over the image in full view.
+
+mod support;
+
+use std::path::Path;
+use tyndall::settings::VisibilityMode;
+use tyndall::{Image, IntegratorKind, RenderSettings, Scene, SceneDesc};
+use tyndall_gpu::{GpuVisibility, MarchSettings, render};
+use tyndall_image::metrics::pixel_relative_se;
+/// relMSE (as `tyndall compare`) over all pixels but the worst 0.1 %
+/// (see the module documentation).
+fn trimmed_relative_mse(candidate: &Image, reference: &Image) -> f64 {
+    let mut errors: Vec<f64> = candidate
+        .pixels()
+        .iter()
+        .zip(reference.pixels())
+        .map(|(c, r)| pixel_relative_se(*c, *r))
+        .collect();
+    errors.sort_by(f64::total_cmp);
+    let kept = errors.len() - errors.len().div_ceil(1000);
+    errors[..kept].iter().sum::<f64>() / kept as f64
+}
+
+const WIDTH: u32 = 64;
+const HEIGHT: u32 = 48;
+/// Samples per pixel of each render (CPU) and frames (GPU).
+const SPP: u32 = 64;
+
+fn scenes_dir() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
+}
+
+/// Shadow-map resolution of the map tests: small, so that a map texel
+/// covers several pixels and a mismatch in the maps would show.
+const MAP_RESOLUTION: u32 = 128;
+
+fn settings(desc: &SceneDesc, seed: u64, visibility: VisibilityMode) -> RenderSettings {
+    RenderSettings {
+        width: WIDTH,
+        height: HEIGHT,
+        spp: SPP,
+        seed,
+        integrator: IntegratorKind::March,
+        visibility,
+        ..desc.settings
+    }
+}
+
+fn cpu(scene: &Scene, settings: &RenderSettings) -> Image {
+    tyndall::render(scene, settings, &|_| {})
+        .expect("CPU render")
+        .image
+}
+
+fn gpu(gpu: &tyndall_gpu::Gpu, scene: &Scene, settings: &RenderSettings) -> Image {
+    let march = MarchSettings {
+        width: settings.width,
+        height: settings.height,
+        step: settings.step,
+        interleave: settings.interleave,
+        max_bounces: settings.max_bounces,
+        seed: settings.seed,
+        visibility: match settings.visibility {
+            VisibilityMode::ShadowRays => GpuVisibility::ShadowRays,
+            VisibilityMode::Maps { resolution } => GpuVisibility::Maps { resolution },
+        },
+    };
+    render(gpu, scene, &march, settings.spp).expect("GPU render")
+}
+
+/// Renders `desc` twice on each side, with shadow rays and with maps, and
+/// checks the bound of the module documentation.
+fn gpu_matches_cpu(name: &str, desc: SceneDesc) {
+    let Some(device) = support::gpu_or_skip(name) else {
+        return;
+    };
+    let scene = Scene::build(&desc).expect("scene builds");
+    for visibility in [
+        VisibilityMode::ShadowRays,
+        VisibilityMode::Maps {
+            resolution: MAP_RESOLUTION,
+        },
+    ] {
+        let label = format!("{name}, {}", visibility.name());
+        images_agree(&label, &device, &scene, &desc, visibility);
+    }
+}
+
+fn images_agree(
+    name: &str,
+    device: &tyndall_gpu::Gpu,
+    scene: &Scene,
+    desc: &SceneDesc,
+    visibility: VisibilityMode,
+) {
+    let (a, b) = (settings(desc, 1, visibility), settings(desc, 2, visibility));
+    let start = std::time::Instant::now();
+    let (c1, c2) = (cpu(scene, &a), cpu(scene, &b));
+    let cpu_seconds = start.elapsed().as_secs_f64();
+    let start = std::time::Instant::now();
+    let (g1, g2) = (gpu(device, scene, &a), gpu(device, scene, &b));
+    let gpu_seconds = start.elapsed().as_secs_f64();
+    eprintln!("{name}: two CPU renders {cpu_seconds:.1} s, two GPU renders {gpu_seconds:.1} s");
+    let noise_cpu = trimmed_relative_mse(&c2, &c1);
+    let noise_gpu = trimmed_relative_mse(&g2, &g1);
+    let expected = 0.5 * (noise_cpu + noise_gpu);
+    let measured = trimmed_relative_mse(&g1, &c1);
+    eprintln!(
+        "{name}: relMSE(GPU, CPU) = {measured:.3e}; noise: CPU {noise_cpu:.3e}, GPU {noise_gpu:.3e}; expected {expected:.3e}"
+    );
+    assert!(
+        measured <= 1.5 * expected,
+        "{name}: relMSE(GPU, CPU) = {measured:.3e} exceeds 1.5 × the noise-only {expected:.3e}"
+    );
+    assert!(
+        measured <= 2e-3,
+        "{name}: relMSE(GPU, CPU) = {measured:.3e} above issue 14's 2e-3"
+    );
+}
+
+fn load(file: &str) -> SceneDesc {
+    tyndall_load::load(&scenes_dir().join(file), Default::default()).expect("scene loads")
+}
+
+#[test]
+fn fig07_spot_sphere_matches_cpu_march() {
+    gpu_matches_cpu("fig07-spot-sphere", load("fig07-spot-sphere.toml"));
+}
+
+#[test]
+fn fig08_glass_pair_blend_matches_cpu_march() {
+    gpu_matches_cpu("fig08-glass-pair", load("fig08-glass-pair.toml"));
+}
+
+#[test]
+fn fig03_spot_in_fog_matches_cpu_march() {
+    gpu_matches_cpu("fig03-spot-in-fog", load("fig03-spot-in-fog.toml"));
+}
+
+#[test]
+fn demo_matches_cpu_march() {
+    gpu_matches_cpu("demo", tyndall_load::demo::load().expect("demo loads"));
+}
+
+/// Interleaved sampling (Keller & Heidrich 2001) with a long step: each
+/// pixel's expectation depends on its stratum of the 4×4 tile, so the GPU
+/// must give every pixel the CPU's stratum (CPU images with interleave 1
+/// and 4 differ by relMSE ≈ 1.6e-4 here at 64×48, 64 spp: twice the
+/// GPU's noise at this frame count).
+#[test]
+fn fig07_interleaved_long_step_matches_cpu_march() {
+    let mut desc = load("fig07-spot-sphere.toml");
+    desc.settings.interleave = 4;
+    desc.settings.step = 0.4;
+    gpu_matches_cpu("fig07-spot-sphere interleaved", desc);
+}
