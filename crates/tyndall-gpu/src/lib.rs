@@ -43,8 +43,9 @@
 //!
 //! What a scene may hold: point, spot (all profiles) and directional
 //! lights; opaque (Lambert + reflective layer), emissive, lamp-face and
-//! thin-glass materials; homogeneous fog, everywhere or in a box. Area
-//! lights, dielectrics and heterogeneous volumes are refused with
+//! thin-glass materials; homogeneous fog, everywhere or in a box; flat
+//! shading. Area lights, dielectrics, heterogeneous volumes, smooth-shaded
+//! (vertex-normal) meshes and textures are refused with
 //! [`GpuError::Unsupported`] naming them.
 
 pub mod device;

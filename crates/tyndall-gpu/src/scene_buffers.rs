@@ -96,6 +96,15 @@ impl SceneBuffers {
                 "heterogeneous volumes (only the box fog is rendered on the GPU)".into(),
             ));
         }
+        if scene.has_vertex_normals() {
+            return Err(GpuError::Unsupported(
+                "smooth-shaded meshes (vertex normals; the GPU shades with the geometric normal)"
+                    .into(),
+            ));
+        }
+        if scene.has_textures() {
+            return Err(GpuError::Unsupported("textured surfaces".into()));
+        }
         check_panes(scene)?;
         let primitives = scene
             .geometry()
@@ -256,4 +265,61 @@ fn light(l: &Light) -> Result<GpuLight, GpuError> {
             ));
         }
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tyndall::camera::{CameraSpec, FieldOfView};
+    use tyndall::color::Rgb;
+    use tyndall::description::{Origin, SceneDesc, Sourced, SurfaceTexture};
+    use tyndall::materials::Surface;
+    use tyndall::shapes::Triangle;
+    use tyndall::texture::{Texture, Wrap};
+
+    /// A scene of one grey triangle, smooth-shaded or textured.
+    fn triangle_scene(smooth: bool, textured: bool) -> Scene {
+        let camera = CameraSpec {
+            position: Vec3::new(0.0, 0.0, 5.0),
+            look_at: Vec3::ZERO,
+            up: Vec3::Y,
+            fov: FieldOfView::Vertical(40.0),
+        };
+        let mut desc = SceneDesc::new(Sourced::code(camera));
+        let grey = desc.add_material(
+            Material::Opaque(Surface::diffuse(Rgb::splat(0.5))),
+            Origin::Code,
+        );
+        let triangle = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y).unwrap();
+        let normals = if smooth {
+            vec![[Vec3::Z; 3]]
+        } else {
+            Vec::new()
+        };
+        let texture = textured.then(|| {
+            let image = Texture::new(1, 1, vec![[200, 100, 50]], [Wrap::Repeat; 2]).unwrap();
+            SurfaceTexture {
+                texture: desc.add_texture(std::sync::Arc::new(image), Origin::Code),
+                uvs: Vec::new(),
+            }
+        });
+        desc.add_mesh(vec![triangle], normals, texture, grey, Origin::Code);
+        Scene::build(&desc).unwrap()
+    }
+
+    /// What the GPU march would shade differently from the CPU is refused,
+    /// naming it, rather than rendered flat or untextured.
+    #[test]
+    fn smooth_and_textured_meshes_are_refused() {
+        assert!(SceneBuffers::new(&triangle_scene(false, false)).is_ok());
+        for (smooth, textured, named) in
+            [(true, false, "vertex normals"), (false, true, "textured")]
+        {
+            match SceneBuffers::new(&triangle_scene(smooth, textured)) {
+                Err(GpuError::Unsupported(what)) => assert!(what.contains(named), "{what}"),
+                Err(e) => panic!("{e}"),
+                Ok(_) => panic!("{named}: accepted"),
+            }
+        }
+    }
 }

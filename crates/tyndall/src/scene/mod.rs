@@ -130,6 +130,16 @@ impl Scene {
         }
     }
 
+    /// Whether some mesh is smooth-shaded (has vertex normals).
+    pub fn has_vertex_normals(&self) -> bool {
+        self.shading_normals.is_used()
+    }
+
+    /// Whether some mesh carries a colour texture.
+    pub fn has_textures(&self) -> bool {
+        self.textures.is_used()
+    }
+
     /// The surface `surface` (the material of `primitive`) at its point
     /// `p`: its diffuse reflectance multiplied by the colour of the
     /// primitive's texture there, if it is a textured triangle

@@ -29,6 +29,11 @@ impl ShadingNormals {
         self.corners.push(corners);
     }
 
+    /// Whether any primitive has vertex normals.
+    pub fn is_used(&self) -> bool {
+        !self.corners.is_empty()
+    }
+
     /// The interpolated unit shading normal of triangle `triangle`
     /// (primitive `primitive`) at its point `p`, if it has vertex normals.
     /// Barycentric weights are clamped to the triangle, against rounding

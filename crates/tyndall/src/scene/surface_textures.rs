@@ -47,6 +47,11 @@ impl SurfaceTextures {
         self.bindings.push(Binding { texture, uvs });
     }
 
+    /// Whether any primitive is textured.
+    pub fn is_used(&self) -> bool {
+        !self.bindings.is_empty()
+    }
+
     /// The texture colour at the point `p` of triangle `triangle`
     /// (primitive `primitive`), if it is textured: the texture looked up
     /// at the corners' coordinates interpolated (weights clamped to the
