@@ -15,13 +15,41 @@ use tyndall_load::SceneError;
 fn refuse_unsupported_flags(args: &RenderArgs) -> Result<()> {
     let o: &Overrides = &args.overrides;
     let refused: [(bool, &str, &str); 7] = [
-        (args.tile.is_some(), "--tile", "the GPU renders whole images"),
-        (args.samples.is_some(), "--samples", "the GPU renders whole images"),
-        (args.checkpoint.is_some(), "--checkpoint", "GPU renders are not checkpointed"),
-        (args.time_limit.is_some(), "--time-limit", "the GPU renders --spp frames"),
-        (o.threads.is_some(), "--threads", "the GPU does not use CPU worker threads"),
-        (o.max_depth.is_some(), "--max-depth", "the GPU renders only `march`"),
-        (o.volume_samples.is_some(), "--volume-samples", "the GPU renders only `march`"),
+        (
+            args.tile.is_some(),
+            "--tile",
+            "the GPU renders whole images",
+        ),
+        (
+            args.samples.is_some(),
+            "--samples",
+            "the GPU renders whole images",
+        ),
+        (
+            args.checkpoint.is_some(),
+            "--checkpoint",
+            "GPU renders are not checkpointed",
+        ),
+        (
+            args.time_limit.is_some(),
+            "--time-limit",
+            "the GPU renders --spp frames",
+        ),
+        (
+            o.threads.is_some(),
+            "--threads",
+            "the GPU does not use CPU worker threads",
+        ),
+        (
+            o.max_depth.is_some(),
+            "--max-depth",
+            "the GPU renders only `march`",
+        ),
+        (
+            o.volume_samples.is_some(),
+            "--volume-samples",
+            "the GPU renders only `march`",
+        ),
     ];
     if let Some((_, flag, why)) = refused.iter().find(|(given, _, _)| *given) {
         bail!("{flag} cannot be used with --gpu: {why}");
@@ -29,10 +57,7 @@ fn refuse_unsupported_flags(args: &RenderArgs) -> Result<()> {
     if let Some(kind) = o.integrator
         && kind != IntegratorKind::March
     {
-        bail!(
-            "--integrator {}: --gpu renders only `march`",
-            kind.name()
-        );
+        bail!("--integrator {}: --gpu renders only `march`", kind.name());
     }
     Ok(())
 }

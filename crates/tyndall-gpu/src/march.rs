@@ -207,8 +207,8 @@ impl GpuMarch {
             opaque_to_camera: glass.opaque_to_camera as u32,
             max_bounces: settings.max_bounces,
             // The CPU march's cap: MAX_MARCH_STEPS over the lights.
-            step_budget: (MAX_MARCH_STEPS / buffers.lights.len().max(1) as u64)
-                .min(u32::MAX as u64) as u32,
+            step_budget: (MAX_MARCH_STEPS / buffers.lights.len().max(1) as u64).min(u32::MAX as u64)
+                as u32,
             use_maps: (map_resolution > 0) as u32,
             map_resolution,
             ..Default::default()
@@ -240,13 +240,13 @@ impl GpuMarch {
             )));
         }
         let layout = bind_group_layout(gpu);
-        let pipeline_layout =
-            gpu.device
-                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                    label: Some("march"),
-                    bind_group_layouts: &[Some(&layout)],
-                    immediate_size: 0,
-                });
+        let pipeline_layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("march"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
         let [march_pipeline, map_count_pipeline, map_layers_pipeline] = compute_pipelines(
             gpu,
             "march",
@@ -254,13 +254,13 @@ impl GpuMarch {
             Some(&pipeline_layout),
             ["march_frame", "map_count", "map_layers"],
         )?;
-        let params_buffer =
-            gpu.device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("march params"),
-                    contents: bytemuck::bytes_of(&params),
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                });
+        let params_buffer = gpu
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("march params"),
+                contents: bytemuck::bytes_of(&params),
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            });
         let pixels = settings.width as u64 * settings.height as u64;
         let buffers = vec![
             storage::<GpuPrimitive>(gpu, "primitives", &buffers.primitives),

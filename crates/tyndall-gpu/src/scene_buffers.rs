@@ -108,11 +108,7 @@ impl SceneBuffers {
             .iter()
             .map(material)
             .collect::<Result<_, _>>()?;
-        let lights = scene
-            .lights()
-            .iter()
-            .map(light)
-            .collect::<Result<_, _>>()?;
+        let lights = scene.lights().iter().map(light).collect::<Result<_, _>>()?;
         Ok(Self {
             primitives,
             materials,
@@ -135,7 +131,13 @@ fn check_panes(scene: &Scene) -> Result<(), GpuError> {
         .primitives()
         .iter()
         .filter(|p| matches!(scene.materials()[p.material as usize], Material::Glass(_)))
-        .map(|p| if matches!(p.shape, Shape::Sphere(_)) { 2 } else { 1 })
+        .map(|p| {
+            if matches!(p.shape, Shape::Sphere(_)) {
+                2
+            } else {
+                1
+            }
+        })
         .sum();
     if crossings > MAX_PANES {
         return Err(GpuError::Unsupported(format!(

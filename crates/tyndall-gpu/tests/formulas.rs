@@ -153,7 +153,11 @@ fn transmittance_matches_rust() {
     };
     let mut items = Vec::new();
     for i in 0..4000 {
-        let sigma_t = if i % 50 == 0 { 0.0 } else { 2.0 * spread(2 * i) };
+        let sigma_t = if i % 50 == 0 {
+            0.0
+        } else {
+            2.0 * spread(2 * i)
+        };
         let distance = 40.0 * spread(2 * i + 1);
         items.push([[sigma_t, distance, 0.0, 0.0], [0.0; 4]]);
     }

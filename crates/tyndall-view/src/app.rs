@@ -6,13 +6,13 @@
 //! it, and the time from the input's arrival to that frame's present is
 //! measured and reported.
 
+use crate::ViewOptions;
 use crate::accumulator::{Accumulator, FrameTimes};
 use crate::controls::LiveScene;
-use crate::cpu_preview::CpuPreview;
+use crate::cpu_preview::{CpuPreview, Pass};
 use crate::framebuffer::{blit, tone_map};
 use crate::keys::{Action, action};
 use crate::orbit;
-use crate::ViewOptions;
 use anyhow::{Context, Result, anyhow};
 use std::num::NonZeroU32;
 use std::path::PathBuf;
@@ -63,6 +63,10 @@ pub struct App {
     drag: Option<PhysicalPosition<f64>>,
     cursor: PhysicalPosition<f64>,
     meter: Meter,
+    /// The CPU render's newest pass, not yet shown.
+    cpu_pass: Option<Result<Pass, String>>,
+    /// Samples per pixel of the CPU pass on screen.
+    cpu_spp: u32,
     frames: Option<u32>,
     screenshot: Option<PathBuf>,
     /// An error that ended the event loop.
@@ -89,6 +93,8 @@ impl App {
                 fps: 0.0,
                 latency: None,
             },
+            cpu_pass: None,
+            cpu_spp: 0,
             frames: options.frames,
             screenshot: options.screenshot,
             error: None,
@@ -115,6 +121,8 @@ impl App {
         self.dirty = true;
         self.pending_input.get_or_insert(at);
         if let Mode::Cpu(_) = self.mode {
+            self.cpu_pass = None;
+            self.cpu_spp = 0;
             self.mode = Mode::Cpu(CpuPreview::start(&self.live.desc));
         }
         self.request_redraw();
@@ -156,7 +164,10 @@ impl App {
             },
             Action::ToggleCpu => {
                 self.mode = match self.mode {
-                    Mode::Gpu => Mode::Cpu(CpuPreview::start(&self.live.desc)),
+                    Mode::Gpu => {
+                        self.cpu_spp = 0;
+                        Mode::Cpu(CpuPreview::start(&self.live.desc))
+                    }
                     Mode::Cpu(_) => {
                         self.dirty = true;
                         Mode::Gpu
@@ -204,9 +215,10 @@ impl App {
                     self.shown = Some(image);
                 }
             }
-            Mode::Cpu(preview) => match preview.latest() {
+            Mode::Cpu(_) => match self.cpu_pass.take() {
                 Some(Ok(pass)) => {
                     eprintln!("CPU render: {} spp in {:.2} s", pass.spp, pass.seconds);
+                    self.cpu_spp = pass.spp;
                     self.shown = Some(pass.image);
                 }
                 Some(Err(e)) => {
@@ -250,8 +262,7 @@ impl App {
             return Ok(());
         };
         let size = window.inner_size();
-        let (Some(w), Some(h)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height))
-        else {
+        let (Some(w), Some(h)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height)) else {
             return Ok(());
         };
         surface.resize(w, h).map_err(|e| anyhow!("{e}"))?;
@@ -273,11 +284,11 @@ impl App {
         }
         let mode = match self.mode {
             Mode::Gpu => format!("GPU {} frames", self.accumulator.frames()),
-            Mode::Cpu(_) => "CPU render".into(),
+            Mode::Cpu(_) => format!("CPU render {} spp", self.cpu_spp),
         };
-        let latency = m
-            .latency
-            .map_or(String::new(), |l| format!(", input→frame {:.0} ms", l.as_secs_f64() * 1e3));
+        let latency = m.latency.map_or(String::new(), |l| {
+            format!(", input→frame {:.0} ms", l.as_secs_f64() * 1e3)
+        });
         let line = format!(
             "{:.1} fps, frame {:.1} ms + readback {:.1} ms{latency} | {mode} | {}",
             m.fps,
@@ -314,7 +325,9 @@ impl ApplicationHandler for App {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::Resized(size) => {
                 let s = &mut self.live.desc.settings;
-                if size.width > 0 && size.height > 0 && (size.width, size.height) != (s.width, s.height)
+                if size.width > 0
+                    && size.height > 0
+                    && (size.width, size.height) != (s.width, s.height)
                 {
                     (s.width, s.height) = (size.width, size.height);
                     self.changed(now);
@@ -334,7 +347,11 @@ impl ApplicationHandler for App {
                 self.cursor = position;
                 if let Some(from) = self.drag {
                     let camera = &mut self.live.desc.camera.value;
-                    orbit::orbit(camera, (position.x - from.x) as f32, (position.y - from.y) as f32);
+                    orbit::orbit(
+                        camera,
+                        (position.x - from.x) as f32,
+                        (position.y - from.y) as f32,
+                    );
                     self.drag = Some(position);
                     self.changed(now);
                 }
@@ -363,11 +380,15 @@ impl ApplicationHandler for App {
                 self.request_redraw();
             }
             Mode::Gpu => event_loop.set_control_flow(ControlFlow::Wait),
-            Mode::Cpu(_) => {
-                // Look for a finished pass 30 times a second.
+            Mode::Cpu(ref preview) => {
+                // Look for a finished pass 30 times a second; redraw only
+                // when one is there.
+                if let Some(pass) = preview.latest() {
+                    self.cpu_pass = Some(pass);
+                    self.request_redraw();
+                }
                 let next = Instant::now() + Duration::from_millis(33);
                 event_loop.set_control_flow(ControlFlow::WaitUntil(next));
-                self.request_redraw();
             }
         }
     }

@@ -16,12 +16,12 @@
 //! | `G` | glass model: filter ↔ blend |
 
 use glam::{Quat, Vec3};
+use tyndall::Rgb;
 use tyndall::SceneDesc;
 use tyndall::description::{LightDesc, Sourced};
 use tyndall::glass::GlassModel;
 use tyndall::media::Fog;
 use tyndall::phase::PhaseFunction;
-use tyndall::Rgb;
 
 /// A change to the scene that restarts accumulation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -92,11 +92,17 @@ impl LiveScene {
                 }
             },
             Control::Albedo(d) => {
-                let fog = desc.fog.as_mut().ok_or("no fog (raise the density first)")?;
+                let fog = desc
+                    .fog
+                    .as_mut()
+                    .ok_or("no fog (raise the density first)")?;
                 fog.value.albedo = (fog.value.albedo + Rgb::splat(d)).max(Rgb::ZERO);
             }
             Control::Asymmetry(d) => {
-                let fog = desc.fog.as_mut().ok_or("no fog (raise the density first)")?;
+                let fog = desc
+                    .fog
+                    .as_mut()
+                    .ok_or("no fog (raise the density first)")?;
                 let g = (asymmetry(&fog.value.phase) + d).clamp(-0.95, 0.95);
                 // Snap the accumulated key steps back onto 0 exactly.
                 let g = if g.abs() < 1e-4 { 0.0 } else { g };

@@ -24,10 +24,22 @@ pub fn action(key: &Key) -> Option<Action> {
     match key {
         Key::Named(named) => match named {
             NamedKey::Tab => Some(C(Control::NextLight)),
-            NamedKey::ArrowLeft => Some(C(Control::Turn { yaw: TURN_DEGREES, pitch: 0.0 })),
-            NamedKey::ArrowRight => Some(C(Control::Turn { yaw: -TURN_DEGREES, pitch: 0.0 })),
-            NamedKey::ArrowUp => Some(C(Control::Turn { yaw: 0.0, pitch: TURN_DEGREES })),
-            NamedKey::ArrowDown => Some(C(Control::Turn { yaw: 0.0, pitch: -TURN_DEGREES })),
+            NamedKey::ArrowLeft => Some(C(Control::Turn {
+                yaw: TURN_DEGREES,
+                pitch: 0.0,
+            })),
+            NamedKey::ArrowRight => Some(C(Control::Turn {
+                yaw: -TURN_DEGREES,
+                pitch: 0.0,
+            })),
+            NamedKey::ArrowUp => Some(C(Control::Turn {
+                yaw: 0.0,
+                pitch: TURN_DEGREES,
+            })),
+            NamedKey::ArrowDown => Some(C(Control::Turn {
+                yaw: 0.0,
+                pitch: -TURN_DEGREES,
+            })),
             NamedKey::Escape => Some(Action::Quit),
             _ => None,
         },

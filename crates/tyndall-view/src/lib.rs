@@ -66,9 +66,8 @@ pub fn run(options: ViewOptions) -> Result<()> {
         accumulator.adapter(),
         accumulator.restart_time.as_secs_f64() * 1e3
     );
-    let event_loop = winit::event_loop::EventLoop::new().context(
-        "cannot open a window: no display (set DISPLAY, or run under xvfb-run)",
-    )?;
+    let event_loop = winit::event_loop::EventLoop::new()
+        .context("cannot open a window: no display (set DISPLAY, or run under xvfb-run)")?;
     let mut app = app::App::new(options, accumulator);
     event_loop.run_app(&mut app)?;
     match app.error.take() {

@@ -111,7 +111,14 @@ mod tests {
         zoom(&mut c, 1.0);
         assert!(((c.position - c.look_at).length() - 4.5).abs() < 1e-4);
         let before = c;
-        fly(&mut c, Fly { forward: 1.0, right: 0.0, up: 0.0 });
+        fly(
+            &mut c,
+            Fly {
+                forward: 1.0,
+                right: 0.0,
+                up: 0.0,
+            },
+        );
         assert!((c.position.z - (before.position.z - 4.5 * FLY_FRACTION)).abs() < 1e-4);
         assert_eq!(c.look_at - c.position, before.look_at - before.position);
     }

@@ -14,8 +14,8 @@ use super::BenchArgs;
 use anyhow::{Context, Result};
 use std::time::{Duration, Instant};
 use tyndall::camera::Camera;
-use tyndall::{Scene, SceneDesc};
 use tyndall::settings::DEFAULT_MAP_RESOLUTION;
+use tyndall::{Scene, SceneDesc};
 use tyndall_gpu::{Gpu, GpuMarch, GpuVisibility, MarchSettings};
 use tyndall_load::{demo, native};
 
