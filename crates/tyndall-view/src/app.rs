@@ -42,6 +42,8 @@ struct Meter {
     since: Instant,
     frames: u32,
     times: FrameTimes,
+    /// Tone mapping, copying into the framebuffer and presenting.
+    display: Duration,
     fps: f64,
     latency: Option<Duration>,
 }
@@ -90,6 +92,7 @@ impl App {
                 since: Instant::now(),
                 frames: 0,
                 times: FrameTimes::default(),
+                display: Duration::ZERO,
                 fps: 0.0,
                 latency: None,
             },
@@ -228,7 +231,9 @@ impl App {
                 None => {}
             },
         }
+        let start = Instant::now();
         self.present()?;
+        self.meter.display = start.elapsed();
         // A CPU pass of the changed view comes later than the next redraw:
         // latency is measured for GPU frames only.
         let measured = matches!(self.mode, Mode::Gpu);
@@ -290,10 +295,11 @@ impl App {
             format!(", input→frame {:.0} ms", l.as_secs_f64() * 1e3)
         });
         let line = format!(
-            "{:.1} fps, frame {:.1} ms + readback {:.1} ms{latency} | {mode} | {}",
+            "{:.1} fps, frame {:.1} ms + readback {:.1} ms + display {:.1} ms{latency} | {mode} | {}",
             m.fps,
             m.times.render.as_secs_f64() * 1e3,
             m.times.readback.as_secs_f64() * 1e3,
+            m.display.as_secs_f64() * 1e3,
             self.live.summary()
         );
         if m.frames == 0 {
