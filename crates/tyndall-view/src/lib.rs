@@ -11,12 +11,17 @@
 //!   shown through softbuffer in a winit window. This works wherever a
 //!   window can be opened — on lavapipe, under Xvfb in CI, over plain X11
 //!   forwarding — because it needs no Vulkan surface or present support,
-//!   which lavapipe under Xvfb lacks. The cost is the readback: 16 bytes a
-//!   pixel plus the division and tone mapping, measured per frame and
-//!   shown in the title (docs/testing.md gives figures); on lavapipe it
-//!   is small next to the march itself. Presenting a wgpu texture would
-//!   remove it on real GPUs; the image would then be tone-mapped in a
-//!   shader, a second copy of the PNG writer's tone curve.
+//!   which lavapipe under Xvfb lacks. The cost is the readback (16 bytes
+//!   a pixel copied to the host and divided by the frame count) and the
+//!   display (tone map, copy, present), both measured every frame and
+//!   shown in the title. Measured on lavapipe (2 shared cores, fig. 7):
+//!   readback 0.1–0.3 ms at 96×54 and 160×90, 0.4–0.8 ms at 320×180,
+//!   4.4–7.1 ms at 640×360 (display 1.8–2.8 ms there) — under 1 % of
+//!   lavapipe's frame (0.25 s, 2.2 s and 1.0 s with step 1). Both grow
+//!   with the pixel count: at 1920×1080 about 9× the 640×360 figures,
+//!   ≈ 40–60 ms + 15–25 ms, which would bound a real GPU to ~15 fps;
+//!   there, presenting a wgpu texture tone-mapped in a shader (a second
+//!   copy of the PNG writer's tone curve) is the way past it.
 //! - **Accumulate while still, restart on change.** Every displayed frame
 //!   adds one GPU frame (own film and march jitter) to the mean, so a
 //!   still view converges to the CPU `march` image. Any change to the
@@ -25,6 +30,16 @@
 //!   shadow maps) and renders its first frame, so a change is on screen in
 //!   the next frame. The restart time and the time from the input's
 //!   arrival to that frame's present are printed (`input to frame`).
+//!   Measured on lavapipe under Xvfb, keys and drags sent by `xdotool`:
+//!   restart 50–110 ms; input to frame 0.30–0.54 s on fig. 7 at 96×54
+//!   (frames 0.22–0.38 s) and 1.57–2.05 s on the demo at 160×90 (frames
+//!   1.5–1.9 s): the restart plus one frame, plus what remains of the
+//!   frame in flight when the input arrives (a frame is not interrupted).
+//!   Under heavy load (other builds on the 2 cores) the first frame after
+//!   a restart once took 1.5–1.8 s against 0.3 s steady, which looks like
+//!   llvmpipe compiling the new pipeline at its first dispatch; updating
+//!   a `GpuMarch` in place (uniforms, lights, maps; pipelines kept) would
+//!   remove both that and the restart.
 //! - **Keyboard controls** in place of sliders ([`keys::KEY_TABLE`]): no
 //!   GUI toolkit to build, and every value is in the title.
 //! - **`R`** shows a progressive CPU render (`tyndall::render` with the
