@@ -11,7 +11,7 @@
 //! | `9` / `0` | exposure − / + 0.25 stops |
 //! | `Tab` | select the next light |
 //! | `[` / `]` | selected light's intensity ÷ / × 1.25 |
-//! | `-` / `=` | selected spot's cone cutoff − / + 1° |
+//! | `-` / `=` | selected spot's cone cutoff − / + 1° (1° or its inner cone + 0.5°, to 89.5°) |
 //! | arrows | selected spot or sun: direction yaw (←/→) and pitch (↑/↓) by 3° |
 //! | `G` | glass model: filter ↔ blend |
 
@@ -20,6 +20,8 @@ use tyndall::Rgb;
 use tyndall::SceneDesc;
 use tyndall::description::{LightDesc, Sourced};
 use tyndall::glass::GlassModel;
+use tyndall::lights::SpotProfile;
+use tyndall::limits;
 use tyndall::media::Fog;
 use tyndall::phase::PhaseFunction;
 
@@ -68,7 +70,10 @@ pub struct LiveScene {
 }
 
 impl LiveScene {
-    pub fn new(desc: SceneDesc) -> Self {
+    /// The view of `desc`, rendered with `march` (the GPU's integrator,
+    /// which also accepts the paper's albedos above 1).
+    pub fn new(mut desc: SceneDesc) -> Self {
+        desc.settings.integrator = tyndall::IntegratorKind::March;
         Self {
             desc,
             selected_light: 0,
@@ -96,7 +101,8 @@ impl LiveScene {
                     .fog
                     .as_mut()
                     .ok_or("no fog (raise the density first)")?;
-                fog.value.albedo = (fog.value.albedo + Rgb::splat(d)).max(Rgb::ZERO);
+                fog.value.albedo = (fog.value.albedo + Rgb::splat(d))
+                    .clamp(Rgb::ZERO, Rgb::splat(limits::MAX_FOG_ALBEDO));
             }
             Control::Asymmetry(d) => {
                 let fog = desc
@@ -116,15 +122,33 @@ impl LiveScene {
                 }
                 self.selected_light = (self.selected_light + 1) % desc.lights.len();
             }
-            Control::Intensity(f) => match self.light_mut()? {
-                LightDesc::Point(l) => l.intensity *= f,
-                LightDesc::Spot(l) => l.intensity *= f,
-                LightDesc::Directional(l) => l.irradiance *= f,
-            },
+            Control::Intensity(f) => {
+                let emission = match self.light_mut()? {
+                    LightDesc::Point(l) => &mut l.intensity,
+                    LightDesc::Spot(l) => &mut l.intensity,
+                    LightDesc::Directional(l) => &mut l.irradiance,
+                };
+                let scaled = *emission * f;
+                if scaled.max_element() > limits::MAX_EMISSION {
+                    return Err("the light is at the largest emission the renderer takes".into());
+                }
+                *emission = scaled;
+            }
             Control::Cutoff(d) => match self.light_mut()? {
                 LightDesc::Spot(l) => {
                     let degrees = l.cos_cutoff.clamp(-1.0, 1.0).acos().to_degrees();
-                    l.cos_cutoff = (degrees + d).clamp(1.0, 90.0).to_radians().cos();
+                    // At least 1° (and 0.5° past a smooth profile's inner
+                    // cone, which must stay inside); at most 89.5°, not 90°:
+                    // cos(90°) rounds below 0 in f32, which reads back as
+                    // just over the loader's 90°.
+                    let min = match l.profile {
+                        SpotProfile::Smooth { cos_inner } => {
+                            cos_inner.clamp(-1.0, 1.0).acos().to_degrees() + 0.5
+                        }
+                        _ => 1.0,
+                    };
+                    let new = (degrees + d).clamp(min.min(89.5), 89.5);
+                    l.cos_cutoff = new.to_radians().cos();
                 }
                 _ => return Err("the selected light is not a spot".into()),
             },
@@ -227,6 +251,70 @@ fn short(v: Vec3) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    const EVERY_CONTROL: [Control; 14] = [
+        Control::Density(1.25),
+        Control::Density(0.8),
+        Control::Albedo(0.05),
+        Control::Albedo(-0.05),
+        Control::Asymmetry(0.05),
+        Control::Asymmetry(-0.05),
+        Control::Step(1.25),
+        Control::Step(0.8),
+        Control::Intensity(1.25),
+        Control::Intensity(0.8),
+        Control::Cutoff(1.0),
+        Control::Cutoff(-1.0),
+        Control::Turn {
+            yaw: 3.0,
+            pitch: 3.0,
+        },
+        Control::GlassModel,
+    ];
+
+    /// Held down for 500 presses, every control keeps the scene one the
+    /// renderer accepts (validation and the limits found by fuzzing).
+    #[test]
+    fn held_controls_keep_the_scene_valid() {
+        for control in EVERY_CONTROL {
+            for light in 0..2 {
+                let mut live = LiveScene::new(tyndall_load::demo::load().expect("demo"));
+                live.selected_light = light;
+                for _ in 0..500 {
+                    let _ = live.apply(control);
+                }
+                if let Err(e) = crate::accumulator::build_scene(&live.desc) {
+                    panic!("{control:?} on light {light}: {e:#}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn one_press_changes_what_it_says() {
+        let demo = tyndall_load::demo::load().expect("demo");
+        let fog = |live: &LiveScene| {
+            live.desc
+                .fog
+                .as_ref()
+                .map(|f| f.value.clone())
+                .expect("fog")
+        };
+        let mut live = LiveScene::new(demo.clone());
+        live.apply(Control::Density(1.25)).expect("density");
+        assert!(
+            (fog(&live).sigma_t - fog(&LiveScene::new(demo.clone())).sigma_t * 1.25).abs() < 1e-6
+        );
+        live.apply(Control::Step(0.8)).expect("step");
+        assert!((live.desc.settings.step - demo.settings.step * 0.8).abs() < 1e-7);
+        let before = live.desc.glass.model;
+        live.apply(Control::GlassModel).expect("glass");
+        assert_ne!(live.desc.glass.model, before);
+        live.apply(Control::NextLight).expect("next light");
+        assert_eq!(live.selected_light, 1 % demo.lights.len());
+        assert!(!Control::Exposure(0.25).changes_radiance());
+        assert!(Control::Cutoff(1.0).changes_radiance());
+    }
 
     #[test]
     fn turning_keeps_unit_length_and_moves() {
