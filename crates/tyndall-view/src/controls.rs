@@ -293,13 +293,7 @@ mod tests {
     #[test]
     fn one_press_changes_what_it_says() {
         let demo = tyndall_load::demo::load().expect("demo");
-        let fog = |live: &LiveScene| {
-            live.desc
-                .fog
-                .as_ref()
-                .map(|f| f.value.clone())
-                .expect("fog")
-        };
+        let fog = |live: &LiveScene| live.desc.fog.as_ref().map(|f| f.value).expect("fog");
         let mut live = LiveScene::new(demo.clone());
         live.apply(Control::Density(1.25)).expect("density");
         assert!(
