@@ -53,7 +53,7 @@ enum Command {
     /// Measure time to equal error for `march` and `single` (see docs/benchmarks.md).
     Bench(bench::BenchArgs),
     /// Show a scene live in a window: the GPU march accumulating while the
-    /// view is still, an orbit/fly camera and keyboard controls (listed below).
+    /// view is still, an orbit/fly camera and keyboard controls (`tyndall view --help` lists them).
     #[cfg(feature = "view")]
     View(view::ViewArgs),
     /// Assemble render parts (`render --tile`/`--samples` outputs) into one image,

@@ -77,7 +77,7 @@ pub fn action(key: &Key) -> Option<Action> {
 pub const KEY_TABLE: &str = "\
 mouse drag   orbit around the camera's look_at      wheel    zoom
 W/S A/D Q/E  fly forward/back, left/right, down/up
-1 / 2        fog density ÷ / × 1.25 (2 adds fog to a scene without)
+1 / 2        fog density ÷ / × 1.25 (a scene without fog gets σt 0.05)
 3 / 4        fog albedo − / + 0.05
 5 / 6        HG asymmetry g − / + 0.05
 7 / 8        march step ÷ / × 1.25
