@@ -7,6 +7,8 @@
 mod bench;
 #[cfg(feature = "gpu")]
 mod gpu;
+#[cfg(feature = "view")]
+mod view;
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, Parser, Subcommand};
@@ -50,6 +52,10 @@ enum Command {
     },
     /// Measure time to equal error for `march` and `single` (see docs/benchmarks.md).
     Bench(bench::BenchArgs),
+    /// Show a scene live in a window: the GPU march accumulating while the
+    /// view is still, an orbit/fly camera and keyboard controls (`tyndall view --help` lists them).
+    #[cfg(feature = "view")]
+    View(view::ViewArgs),
     /// Assemble render parts (`render --tile`/`--samples` outputs) into one image,
     /// after checking that they fit together: same scene and settings, tiles
     /// without gaps or overlaps, consecutive sample ranges.
@@ -587,6 +593,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render(args),
         Command::Bench(args) => bench::run(args),
+        #[cfg(feature = "view")]
+        Command::View(args) => view::run(args),
         Command::Merge { parts, output } => merge(&parts, &output),
         Command::Compare {
             candidate,

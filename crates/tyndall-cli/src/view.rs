@@ -1,0 +1,85 @@
+//! `tyndall view SCENE`: the scene live in a window (crate
+//! `tyndall-view`): the GPU march accumulating while the view is still,
+//! an orbit/fly camera and keyboard controls. `--frames N --screenshot
+//! OUT.png` renders N frames, saves the window's image and exits (CI).
+
+use crate::{Overrides, load_scene};
+use anyhow::{Result, bail};
+use clap::Args;
+use std::path::PathBuf;
+use tyndall::IntegratorKind;
+use tyndall_image::ImageFormat;
+use tyndall_view::ViewOptions;
+
+#[derive(Args)]
+#[command(after_help = format!("Controls:\n{}", tyndall_view::keys::KEY_TABLE))]
+pub struct ViewArgs {
+    /// Scene file (.toml, legacy .obj, .gltf/.glb); without one, the built-in demo.
+    scene: Option<PathBuf>,
+    #[command(flatten)]
+    overrides: Overrides,
+    /// Load legacy .obj quads as two-sided.
+    #[arg(long)]
+    two_sided: bool,
+    /// Render this many GPU frames, then exit (with --screenshot: save first).
+    #[arg(long)]
+    frames: Option<u32>,
+    /// With --frames: write the window's image (PNG, exposure applied) here.
+    #[arg(long, requires = "frames")]
+    screenshot: Option<PathBuf>,
+}
+
+/// Opens the viewer on `args.scene`.
+pub fn run(args: ViewArgs) -> Result<()> {
+    let o = &args.overrides;
+    let refused: [(bool, &str, &str); 3] = [
+        (
+            o.spp.is_some(),
+            "--spp",
+            "the view accumulates until it changes (CI: --frames)",
+        ),
+        (
+            o.max_depth.is_some(),
+            "--max-depth",
+            "the view renders only `march`",
+        ),
+        (
+            o.volume_samples.is_some(),
+            "--volume-samples",
+            "the view renders only `march`",
+        ),
+    ];
+    if let Some((_, flag, why)) = refused.iter().find(|(given, _, _)| *given) {
+        bail!("{flag} cannot be used with view: {why}");
+    }
+    if let Some(kind) = o.integrator
+        && kind != IntegratorKind::March
+    {
+        bail!(
+            "--integrator {}: the view renders only `march`",
+            kind.name()
+        );
+    }
+    if let Some(path) = &args.screenshot
+        && ImageFormat::from_path(path)? != ImageFormat::Png
+    {
+        bail!("{}: the screenshot is a PNG (.png)", path.display());
+    }
+    if args.frames == Some(0) {
+        bail!("--frames must be at least 1");
+    }
+    let mut desc = load_scene(args.scene.as_deref(), args.two_sided)?;
+    args.overrides.apply(&mut desc)?;
+    desc.settings
+        .check_ranges()
+        .map_err(|e| anyhow::anyhow!("--{}: {e}", e.setting.replace('_', "-")))?;
+    desc.settings.integrator = IntegratorKind::March;
+    for w in std::mem::take(&mut desc.warnings) {
+        eprintln!("warning: {w}");
+    }
+    tyndall_view::run(ViewOptions {
+        desc,
+        frames: args.frames,
+        screenshot: args.screenshot,
+    })
+}

@@ -1,0 +1,129 @@
+//! `tyndall view` in a real window: started under a display (Xvfb in CI:
+//! `.ci/run` runs this test under `xvfb-run`), it renders N frames, saves
+//! its image and exits. The screenshot must equal `tyndall render --gpu`
+//! of the same view with N frames byte for byte: both are the mean of the
+//! same N frames (same seed, same frame indices, same device, sums in the
+//! same order), tone-mapped by the same function (`to_srgb8`), so any
+//! difference is a bug — a lost or extra frame, a wrong size, a stale
+//! view, a framebuffer packing error — not noise.
+//!
+//! Skips with a message when there is no display or no GPU adapter,
+//! unless `TYNDALL_REQUIRE_GPU=1` (CI), where both are failures.
+#![cfg(feature = "view")]
+
+mod common;
+
+use common::{stderr, temp, tyndall};
+
+fn required() -> bool {
+    std::env::var("TYNDALL_REQUIRE_GPU").is_ok_and(|v| v == "1")
+}
+
+/// Decodes a PNG into (width, height, RGB bytes).
+fn read_png(path: &std::path::Path) -> (u32, u32, Vec<u8>) {
+    let image = image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .into_rgb8();
+    (image.width(), image.height(), image.into_raw())
+}
+
+#[test]
+fn viewer_screenshot_equals_the_headless_gpu_render() {
+    const TEST: &str = "viewer_screenshot_equals_the_headless_gpu_render";
+    if std::env::var_os("DISPLAY").is_none() {
+        assert!(
+            !required(),
+            "{TEST}: no DISPLAY, and TYNDALL_REQUIRE_GPU=1 (run under xvfb-run)"
+        );
+        eprintln!("{TEST}: SKIPPED, no DISPLAY (run under xvfb-run)");
+        return;
+    }
+    let (width, height, frames) = ("64", "40", "6");
+    let shot = temp("view-shot.png");
+    let o = tyndall(&[
+        "view",
+        "--width",
+        width,
+        "--height",
+        height,
+        "--frames",
+        frames,
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ]);
+    let message = stderr(&o);
+    if !o.status.success() && message.contains("no GPU adapter") && !required() {
+        eprintln!("{TEST}: SKIPPED, no GPU adapter on this machine");
+        return;
+    }
+    assert!(o.status.success(), "view failed: {message}");
+    let reference = temp("view-reference.png");
+    let o = tyndall(&[
+        "render",
+        "--gpu",
+        "--integrator",
+        "march",
+        "--width",
+        width,
+        "--height",
+        height,
+        "--spp",
+        frames,
+        "-o",
+        reference.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "render --gpu failed: {}", stderr(&o));
+    let (w, h, shot_bytes) = read_png(&shot);
+    let (rw, rh, reference_bytes) = read_png(&reference);
+    assert_eq!((w, h), (64, 40), "screenshot size");
+    assert_eq!((rw, rh), (64, 40), "reference size");
+    // Not vacuous: the demo's beam makes a visible image.
+    let lit = shot_bytes.iter().filter(|&&b| b > 8).count();
+    assert!(
+        lit > shot_bytes.len() / 20,
+        "the screenshot is (nearly) black: {lit} bytes above 8"
+    );
+    let differing = shot_bytes
+        .iter()
+        .zip(&reference_bytes)
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(
+        differing,
+        0,
+        "{differing} of {} bytes differ from render --gpu",
+        shot_bytes.len()
+    );
+}
+
+#[test]
+fn view_help_lists_the_controls_and_bad_flags_are_errors() {
+    let o = tyndall(&["view", "--help"]);
+    assert!(o.status.success());
+    let help = String::from_utf8_lossy(&o.stdout);
+    for words in [
+        "mouse drag",
+        "fog density",
+        "march step",
+        "glass model",
+        "save a PNG",
+    ] {
+        assert!(help.contains(words), "`{words}` not in --help:\n{help}");
+    }
+    let cases: [(&[&str], &str); 3] = [
+        (&["--screenshot", "x.png"], "--frames"),
+        (&["--frames", "2", "--screenshot", "x.exr"], "PNG"),
+        (&["--integrator", "volpath"], "only `march`"),
+    ];
+    for (flags, words) in cases {
+        let mut args = vec!["view"];
+        args.extend(flags);
+        let o = tyndall(&args);
+        assert!(!o.status.success(), "{args:?} should fail");
+        assert!(
+            stderr(&o).contains(words),
+            "{args:?}: `{words}` not in {}",
+            stderr(&o)
+        );
+    }
+}

@@ -1,0 +1,111 @@
+//! The GPU side of the viewer: the scene as the description now says,
+//! uploaded into a [`GpuMarch`], one frame added per displayed frame and
+//! the running mean read back. Any change to the scene restarts it: a new
+//! `GpuMarch` (upload, pipelines, shadow maps), whose cost is measured and
+//! reported as the restart time.
+
+use anyhow::{Context, Result};
+use std::time::{Duration, Instant};
+use tyndall::settings::VisibilityMode;
+use tyndall::{Image, RenderSettings, Scene, SceneDesc};
+use tyndall_gpu::{Gpu, GpuMarch, GpuVisibility, MarchSettings};
+
+/// The march settings of the GPU path for a scene's render settings, as
+/// `tyndall render --gpu` makes them.
+pub fn march_settings(settings: &RenderSettings) -> MarchSettings {
+    MarchSettings {
+        width: settings.width,
+        height: settings.height,
+        step: settings.step,
+        interleave: settings.interleave,
+        max_bounces: settings.max_bounces,
+        seed: settings.seed,
+        visibility: match settings.visibility {
+            VisibilityMode::ShadowRays => GpuVisibility::ShadowRays,
+            VisibilityMode::Maps { resolution } => GpuVisibility::Maps { resolution },
+        },
+    }
+}
+
+/// The runtime scene of a description, its settings checked.
+pub fn build_scene(desc: &SceneDesc) -> Result<Scene> {
+    desc.settings
+        .check_ranges()
+        .map_err(|e| anyhow::anyhow!("{}: {e}", e.setting))?;
+    let scene = Scene::build(desc).map_err(|e| anyhow::anyhow!("{e}"))?;
+    desc.settings.validate(&scene)?;
+    Ok(scene)
+}
+
+/// Frames accumulated on the GPU for the current view.
+pub struct Accumulator {
+    gpu: Gpu,
+    march: GpuMarch,
+    /// How long the last (re)start took: scene build, upload, pipelines,
+    /// shadow maps.
+    pub restart_time: Duration,
+}
+
+/// Timings of one displayed frame.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameTimes {
+    /// Submitting the frame and waiting for the GPU.
+    pub render: Duration,
+    /// Copying the sums to the host and dividing by the frame count.
+    pub readback: Duration,
+}
+
+impl Accumulator {
+    /// Opens the GPU and uploads `desc`.
+    pub fn new(desc: &SceneDesc) -> Result<Self> {
+        let gpu = Gpu::new()?;
+        let start = Instant::now();
+        let march = Self::upload(&gpu, desc)?;
+        Ok(Self {
+            gpu,
+            march,
+            restart_time: start.elapsed(),
+        })
+    }
+
+    fn upload(gpu: &Gpu, desc: &SceneDesc) -> Result<GpuMarch> {
+        let scene = build_scene(desc)?;
+        GpuMarch::new(gpu, &scene, &march_settings(&desc.settings))
+            .context("the GPU cannot render this view")
+    }
+
+    /// The adapter in words.
+    pub fn adapter(&self) -> String {
+        self.gpu.adapter.to_string()
+    }
+
+    /// Starts accumulating anew for `desc`. On an error (a setting the GPU
+    /// refuses) the previous view stays.
+    pub fn restart(&mut self, desc: &SceneDesc) -> Result<()> {
+        let start = Instant::now();
+        self.march = Self::upload(&self.gpu, desc)?;
+        self.restart_time = start.elapsed();
+        Ok(())
+    }
+
+    /// Frames in the current mean.
+    pub fn frames(&self) -> u32 {
+        self.march.frames()
+    }
+
+    /// Adds one frame and returns the mean so far, with its timings.
+    pub fn next_frame(&mut self) -> Result<(Image, FrameTimes)> {
+        let start = Instant::now();
+        self.march.submit_frames(&self.gpu, 1);
+        self.march.wait(&self.gpu)?;
+        let rendered = Instant::now();
+        let image = self.march.image(&self.gpu)?;
+        Ok((
+            image,
+            FrameTimes {
+                render: rendered - start,
+                readback: rendered.elapsed(),
+            },
+        ))
+    }
+}
