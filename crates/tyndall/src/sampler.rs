@@ -41,7 +41,7 @@ impl PixelSampler {
         let d = self.dimension;
         self.dimension += 1;
         if d < sobol_burley::NUM_DIMENSIONS {
-            if d % 4 == 0 {
+            if d.is_multiple_of(4) {
                 self.block = sobol_burley::sample_4d(self.index, d / 4, self.seed);
             }
             self.block[(d % 4) as usize]

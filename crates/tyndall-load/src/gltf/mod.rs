@@ -596,7 +596,7 @@ impl GltfLoader<'_> {
                     .collect(),
                 None => (0..positions.len() as u32).collect(),
             };
-            if indices.len() % 3 != 0 {
+            if !indices.len().is_multiple_of(3) {
                 return Err(self.err(
                     &element,
                     format!("{} vertices do not form whole triangles", indices.len()),
