@@ -6,9 +6,8 @@ use crate::{Overrides, RenderArgs, load_scene};
 use anyhow::{Context, Result, bail};
 use std::path::PathBuf;
 use std::time::Instant;
-use tyndall::settings::VisibilityMode;
 use tyndall::{IntegratorKind, Scene};
-use tyndall_gpu::{Gpu, GpuVisibility, MarchSettings};
+use tyndall_gpu::{Gpu, MarchSettings};
 use tyndall_load::SceneError;
 
 /// The flags the CPU path has and the GPU path cannot honour, with why.
@@ -90,18 +89,7 @@ pub fn render(args: RenderArgs) -> Result<()> {
         eprintln!("warning: {w}");
     }
     let gpu = Gpu::new()?;
-    let march_settings = MarchSettings {
-        width: settings.width,
-        height: settings.height,
-        step: settings.step,
-        interleave: settings.interleave,
-        max_bounces: settings.max_bounces,
-        seed: settings.seed,
-        visibility: match settings.visibility {
-            VisibilityMode::ShadowRays => GpuVisibility::ShadowRays,
-            VisibilityMode::Maps { resolution } => GpuVisibility::Maps { resolution },
-        },
-    };
+    let march_settings = MarchSettings::from(&settings);
     let start = Instant::now();
     let image = tyndall_gpu::render(&gpu, &scene, &march_settings, settings.spp)?;
     let seconds = start.elapsed().as_secs_f64();

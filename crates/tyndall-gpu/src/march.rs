@@ -12,8 +12,8 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
 use tyndall::camera::{CameraSpec, FieldOfView};
 use tyndall::glass::GlassModel;
-use tyndall::settings::MAX_MARCH_STEPS;
-use tyndall::{Image, Rgb, Scene};
+use tyndall::settings::{MAX_MARCH_STEPS, VisibilityMode};
+use tyndall::{Image, RenderSettings, Rgb, Scene};
 use wgpu::util::DeviceExt;
 
 /// The march's parameters: those of the CPU `march` the GPU honours.
@@ -30,6 +30,25 @@ pub struct MarchSettings {
     pub seed: u64,
     /// How march steps and surfaces see lights past geometry.
     pub visibility: GpuVisibility,
+}
+
+impl From<&RenderSettings> for MarchSettings {
+    /// The march settings of a CPU render's settings (the ones the GPU
+    /// honours; callers refuse the others).
+    fn from(settings: &RenderSettings) -> Self {
+        Self {
+            width: settings.width,
+            height: settings.height,
+            step: settings.step,
+            interleave: settings.interleave,
+            max_bounces: settings.max_bounces,
+            seed: settings.seed,
+            visibility: match settings.visibility {
+                VisibilityMode::ShadowRays => GpuVisibility::ShadowRays,
+                VisibilityMode::Maps { resolution } => GpuVisibility::Maps { resolution },
+            },
+        }
+    }
 }
 
 /// Visibility towards lights on the GPU, as `tyndall::settings::VisibilityMode`.

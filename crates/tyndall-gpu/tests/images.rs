@@ -28,7 +28,7 @@ mod support;
 use std::path::Path;
 use tyndall::settings::VisibilityMode;
 use tyndall::{Image, IntegratorKind, RenderSettings, Scene, SceneDesc};
-use tyndall_gpu::{GpuVisibility, MarchSettings, render};
+use tyndall_gpu::{MarchSettings, render};
 use tyndall_image::metrics::pixel_relative_se;
 /// relMSE (as `tyndall compare`) over all pixels but the worst 0.1 %
 /// (see the module documentation).
@@ -76,18 +76,7 @@ fn cpu(scene: &Scene, settings: &RenderSettings) -> Image {
 }
 
 fn gpu(gpu: &tyndall_gpu::Gpu, scene: &Scene, settings: &RenderSettings) -> Image {
-    let march = MarchSettings {
-        width: settings.width,
-        height: settings.height,
-        step: settings.step,
-        interleave: settings.interleave,
-        max_bounces: settings.max_bounces,
-        seed: settings.seed,
-        visibility: match settings.visibility {
-            VisibilityMode::ShadowRays => GpuVisibility::ShadowRays,
-            VisibilityMode::Maps { resolution } => GpuVisibility::Maps { resolution },
-        },
-    };
+    let march = MarchSettings::from(settings);
     render(gpu, scene, &march, settings.spp).expect("GPU render")
 }
 

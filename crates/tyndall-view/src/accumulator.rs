@@ -6,26 +6,8 @@
 
 use anyhow::{Context, Result};
 use std::time::{Duration, Instant};
-use tyndall::settings::VisibilityMode;
-use tyndall::{Image, RenderSettings, Scene, SceneDesc};
-use tyndall_gpu::{Gpu, GpuMarch, GpuVisibility, MarchSettings};
-
-/// The march settings of the GPU path for a scene's render settings, as
-/// `tyndall render --gpu` makes them.
-pub fn march_settings(settings: &RenderSettings) -> MarchSettings {
-    MarchSettings {
-        width: settings.width,
-        height: settings.height,
-        step: settings.step,
-        interleave: settings.interleave,
-        max_bounces: settings.max_bounces,
-        seed: settings.seed,
-        visibility: match settings.visibility {
-            VisibilityMode::ShadowRays => GpuVisibility::ShadowRays,
-            VisibilityMode::Maps { resolution } => GpuVisibility::Maps { resolution },
-        },
-    }
-}
+use tyndall::{Image, Scene, SceneDesc};
+use tyndall_gpu::{Gpu, GpuMarch, MarchSettings};
 
 /// The runtime scene of a description, its settings checked.
 pub fn build_scene(desc: &SceneDesc) -> Result<Scene> {
@@ -70,7 +52,7 @@ impl Accumulator {
 
     fn upload(gpu: &Gpu, desc: &SceneDesc) -> Result<GpuMarch> {
         let scene = build_scene(desc)?;
-        GpuMarch::new(gpu, &scene, &march_settings(&desc.settings))
+        GpuMarch::new(gpu, &scene, &MarchSettings::from(&desc.settings))
             .context("the GPU cannot render this view")
     }
 
