@@ -16,7 +16,7 @@
 mod common;
 
 use common::Loaded;
-use common::{render, repo, scene};
+use common::{pool_inflation, render, repo, scene};
 use tyndall::settings::Strategies;
 use tyndall::{Image, IntegratorKind};
 
@@ -54,18 +54,24 @@ fn check_scene(file: &str, size: (u32, u32), spp: u32, sets: &[(&str, Strategies
 }
 
 fn check(desc: &Loaded, file: &str, size: (u32, u32), spp: u32, sets: &[(&str, Strategies)]) {
+    let settings = |strategies: Strategies, seed: u64| {
+        let mut s = desc.settings;
+        s.width = size.0;
+        s.height = size.1;
+        s.spp = spp;
+        s.seed = seed;
+        s.integrator = IntegratorKind::Volpath;
+        s.max_depth = 2;
+        s.strategies = strategies;
+        s
+    };
+    // A region's pixels share the pass's light subpaths when connections
+    // are on: its standard error grows by at most this factor.
+    let region_pixels = ((size.0 / REGIONS_X) * (size.1 / REGIONS_Y)) as usize;
+    let inflation =
+        |strategies: Strategies| pool_inflation(desc, &settings(strategies, 1), region_pixels);
     let shoot = |strategies: Strategies| {
-        let one = |seed: u64| {
-            render(desc, |s| {
-                s.width = size.0;
-                s.height = size.1;
-                s.spp = spp;
-                s.seed = seed;
-                s.integrator = IntegratorKind::Volpath;
-                s.max_depth = 2;
-                s.strategies = strategies;
-            })
-        };
+        let one = |seed: u64| render(desc, |s| *s = settings(strategies, seed));
         region_means(&one(1), &one(2))
     };
     let all = shoot(Strategies::ALL);
@@ -75,8 +81,9 @@ fn check(desc: &Loaded, file: &str, size: (u32, u32), spp: u32, sets: &[(&str, S
     );
     for &(name, strategies) in sets {
         let alone = shoot(strategies);
+        let (fa, fb) = (inflation(Strategies::ALL), inflation(strategies));
         for (region, (&(ma, va), &(mb, vb))) in all.iter().zip(&alone).enumerate() {
-            let sigma = (va + vb).sqrt();
+            let sigma = (fa * fa * va + fb * fb * vb).sqrt();
             assert!(
                 (ma - mb).abs() <= 5.0 * sigma,
                 "{file}, region {region}: all strategies {ma:.5} vs {name} {mb:.5} (σ {sigma:.2e})"

@@ -62,7 +62,7 @@ pub use visibility::RayCounts;
 pub mod testing {
     pub use crate::integrators::light_tracer::{self, LightPaths, has_caustics};
     pub use crate::integrators::march::interleaved_stratum;
-    pub use crate::integrators::{Integrator, PixelPosition};
+    pub use crate::integrators::{Integrator, LightSubpaths, PixelPosition};
     pub use crate::sampler::{PixelSampler, RandomStream};
     pub use crate::shadow_maps::{MapScene, ShadowMaps};
     pub use crate::visibility::Visibility;

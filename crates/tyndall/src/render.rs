@@ -30,7 +30,7 @@ use crate::exact_sum::ExactRgb;
 use crate::film::Image;
 use crate::integrators::light_tracer::{self, LightPaths};
 use crate::integrators::march;
-use crate::integrators::{Integrator, PixelPosition};
+use crate::integrators::{Integrator, LightSubpaths, PixelPosition};
 use crate::limits::describe_bytes;
 use crate::media::tracking::MAX_VOLUMES;
 use crate::region::{PixelRect, RegionError, RenderRegion};
@@ -499,7 +499,6 @@ pub fn render_region(
     let visibility = pool.install(|| Visibility::new(scene, settings.visibility));
     let maps = start.elapsed();
     let camera = Camera::new(&scene.camera, settings.width, settings.height);
-    let integrator = Integrator::new(settings, &visibility);
     let rect = region.rect;
     let full_width = settings.width as u64;
     let rows_done = AtomicU64::new(0);
@@ -512,6 +511,12 @@ pub fn render_region(
     let mut passes = 0u64;
     for s in accumulation.region.samples.end..region.samples.end {
         let pass_start = Instant::now();
+        let mut subpath_counts = RayCounts::default();
+        let pixels = full_width * settings.height as u64;
+        let light_subpaths =
+            LightSubpaths::for_pass(scene, settings, pixels, s, &mut subpath_counts);
+        camera_rays.fetch_add(subpath_counts.camera, Ordering::Relaxed);
+        let integrator = Integrator::new(settings, &visibility, &light_subpaths);
         pool.install(|| {
             accumulation
                 .camera

@@ -7,7 +7,7 @@ use tyndall::RayCounts;
 use tyndall::ray::Ray;
 use tyndall::testing::PixelSampler;
 use tyndall::testing::Visibility;
-use tyndall::testing::{Integrator, PixelPosition};
+use tyndall::testing::{Integrator, LightSubpaths, PixelPosition};
 use tyndall::{Image, IntegratorKind, RenderSettings, Rgb, Scene, SceneDesc};
 use tyndall_load::{LegacyOptions, SceneError, SourceText, legacy, native};
 
@@ -108,6 +108,23 @@ pub fn render(desc: &Loaded, f: impl FnOnce(&mut RenderSettings)) -> Image {
         .image
 }
 
+/// How much a standard error taken from the scatter of pixels (as if
+/// they were independent) must grow for a mean over `pixels` pixels of a
+/// render with `settings`: `volpath`'s light-vertex connections share a
+/// pool of M light subpaths between the pixels of a pass
+/// ([`LightSubpaths`]), which adds at most 1/M of the pixels' mean
+/// variance to the variance of any mean over them (the law of total
+/// variance, and Cauchy–Schwarz over the pixels), against the 1/n of
+/// independent pixels: the factor √(1 + n/M). 1 for renders without a
+/// pool.
+pub fn pool_inflation(desc: &Loaded, settings: &RenderSettings, pixels: usize) -> f64 {
+    if !LightSubpaths::apply(&desc.scene, settings) {
+        return 1.0;
+    }
+    let per_pass = u64::from(settings.width) * u64::from(settings.height);
+    (1.0 + pixels as f64 / LightSubpaths::pool_size(per_pass) as f64).sqrt()
+}
+
 /// Mean and standard error of the mean of `n` one-sample estimates of the
 /// radiance along one fixed ray.
 pub fn estimate_ray(
@@ -132,10 +149,13 @@ pub fn estimate_ray(
 /// [`estimate_ray`] with explicit settings.
 pub fn estimate_ray_with(desc: &Loaded, settings: RenderSettings, ray: Ray, n: u32) -> (Rgb, Rgb) {
     let visibility = Visibility::new(&desc.scene, settings.visibility);
-    let integrator = Integrator::new(&settings, &visibility);
     let mut counts = RayCounts::default();
     let (mut sum, mut sum2) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
     for i in 0..n {
+        // One camera sample a pass: a pool of one light subpath, which
+        // all its vertices share.
+        let light_subpaths = LightSubpaths::for_pass(&desc.scene, &settings, 1, i, &mut counts);
+        let integrator = Integrator::new(&settings, &visibility, &light_subpaths);
         let mut sampler = PixelSampler::new(17, 0, i);
         // Keep the first two dimensions for the pixel, as a render does.
         let _: Vec2 = sampler.next_2d();

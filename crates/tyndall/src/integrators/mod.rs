@@ -23,7 +23,7 @@ pub mod volpath;
 
 pub use march::March;
 pub use single::Single;
-pub use volpath::Volpath;
+pub use volpath::{LightSubpaths, Volpath};
 
 use crate::accel::Hit;
 use crate::color::Rgb;
@@ -65,8 +65,14 @@ pub struct PixelPosition {
 }
 
 impl<'a> Integrator<'a> {
-    /// The integrator `settings` choose, with its parameters from them.
-    pub fn new(settings: &RenderSettings, visibility: &'a Visibility) -> Self {
+    /// The integrator `settings` choose, with its parameters from them,
+    /// for one pass whose light subpaths (for `volpath`'s light-vertex
+    /// connections) are `light_subpaths`.
+    pub fn new(
+        settings: &RenderSettings,
+        visibility: &'a Visibility,
+        light_subpaths: &'a LightSubpaths<'a>,
+    ) -> Self {
         match settings.integrator {
             IntegratorKind::March => Integrator::March(March {
                 step: settings.step,
@@ -84,6 +90,7 @@ impl<'a> Integrator<'a> {
                 strategies: settings.strategies,
                 volume_samples: settings.volume_samples,
                 visibility,
+                light_subpaths,
             }),
         }
     }
@@ -680,6 +687,7 @@ mod tests {
             strategies: Strategies::NONE,
             ..RenderSettings::default()
         };
+        let light_subpaths = LightSubpaths::none();
         for kind in IntegratorKind::ALL {
             let integrator = Integrator::new(
                 &RenderSettings {
@@ -687,6 +695,7 @@ mod tests {
                     ..settings
                 },
                 &visibility,
+                &light_subpaths,
             );
             assert_eq!(integrator.kind(), kind);
             match integrator {

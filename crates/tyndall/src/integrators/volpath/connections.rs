@@ -1,29 +1,26 @@
-//! Light-vertex connections: light subpaths started on quad lights whose
-//! first (and second) fog events are joined to a camera-path vertex
-//! ([`connect_light_vertex`]).
+//! Light-vertex connections: the first (and second) fog events of light
+//! subpaths started on quad lights ([`LightSubpaths`](super::LightSubpaths)) joined to a
+//! camera-path vertex ([`connect_light_vertex`]).
 
 use super::Volpath;
 use super::mis::{FogEventDensities, segment_term};
 use super::segment::{Connections, FogSegment};
 use crate::color::Rgb;
-use crate::integrators::{MAX_GLASS_CROSSINGS, Scatterer};
-use crate::materials::SurfaceEvent;
+use crate::integrators::Scatterer;
 use crate::media::Fog;
-use crate::ray::{Ray, offset_origin};
+use crate::ray::Ray;
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
 use crate::visibility::RayCounts;
 use glam::Vec3;
 
 /// Light-vertex connections at the camera-path vertex `at.x` (a fog event
-/// or a Lambertian surface point): a light subpath is started on a quad
-/// light (chosen uniformly, a point uniform on it, a cosine-distributed
-/// direction, through thin glass); its first free-flight event y1 in the
-/// fog is connected to x, and, if `at.twice`, the light turns at y1 by the
-/// phase function, flies on to a second event y2, and y2 is connected to
-/// x as well. Returns the MIS-weighted radiance both bring to the path
-/// (to be multiplied by the path's throughput at x, which holds a fog
-/// event's albedo but not a surface's BRDF).
+/// or a Lambertian surface point): a light subpath is chosen uniformly
+/// from the pass's ([`LightSubpaths`](super::LightSubpaths)), its first fog event y1 is
+/// connected to x, and, if `at.twice`, its second y2 as well.
+/// Returns the MIS-weighted radiance both bring to the path (to be
+/// multiplied by the path's throughput at x, which holds a fog event's
+/// albedo but not a surface's BRDF).
 ///
 /// Why: fog right next to an area light is lit by a large solid angle of
 /// it and glows brightly. Camera paths reach that glow only when a random
@@ -40,72 +37,43 @@ use glam::Vec3;
 /// paths that wander into the glow twice. The connections' own
 /// 1/|x − y|² is tamed the same way: near x, sampling the continuation
 /// from x dominates the weights.
-pub(super) fn connect_light_vertex(
-    integrator: &Volpath,
-    scene: &Scene,
-    fog: &Fog,
+pub(super) fn connect_light_vertex<'a>(
+    integrator: &Volpath<'a>,
+    scene: &'a Scene,
+    fog: &'a Fog,
     at: &LightVertexOrigin,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
 ) -> Rgb {
     let strategies = integrator.strategies;
-    let lights = scene.flat_emitter_count();
-    let choice = sampler.next_1d() * lights as f32;
-    let (u_point, u_direction, u_flight) =
-        (sampler.next_2d(), sampler.next_2d(), sampler.next_1d());
-    let (u_turn, u_flight2) = (sampler.next_2d(), sampler.next_1d());
-    let Some(light) = scene
-        .lights
-        .iter()
-        .filter(|l| l.is_flat_emitter())
-        .nth((choice as usize).min(lights - 1))
-    else {
+    let Some(subpath) = integrator.light_subpaths.choose(sampler.next_1d()) else {
         return Rgb::ZERO;
     };
-    // A two-sided light picks its side with the choice's fraction.
-    let Some(emission) = light.sample_le(u_point, u_direction, choice.fract()) else {
-        return Rgb::ZERO;
-    };
-    let (y0, direction) = (emission.point, emission.ray.direction);
-    // The first flight may cross thin glass (it is not a camera segment).
-    let Some((y1, tint)) = light_flight(scene, fog, emission.ray, u_flight, true, counts) else {
-        return Rgb::ZERO;
-    };
-    // β·n_q = Le·cos θ₀·n_q/(p_pos·p_dir): the light vertex's density
-    // cancels T(y0, y1), cos θ₀ and 1/|y1 − y0|² of the path's
-    // contribution.
-    let emitted = emission.beta * tint * lights as f32;
+    let (light, y0, y1) = (subpath.light, subpath.y0, subpath.y1);
+    let to_light = -subpath.direction;
+    let samples = strategies.later_equiangular();
     let mut sum = Rgb::ZERO;
     if let Some(first) = at.join(integrator, scene, fog, y1, counts) {
         // f/p of x → y1 → y0: f(x)·T(x, y1)/t² · σs/σt · p(y1) · β·n_q.
-        let to_light = -direction;
         let phase_y1 = fog.phase.eval(to_light.dot(first.omega));
         let t = first.distance;
         let p_connect = first.segment.light_vertex_terms(t, light, y0.position);
-        let p_omega = light.pdf_li(y1, y0, to_light);
-        let samples = strategies.later_equiangular();
         let equiangular = segment_term(&first.segment, t, samples, light, y0);
         let weight = first.segment.connection_term(t, light, y0.position)
-            / FogEventDensities::new(strategies, p_omega, phase_y1, equiangular, p_connect).total();
-        sum += emitted * fog.albedo * first.value * (phase_y1 * weight);
+            / FogEventDensities::new(
+                strategies,
+                subpath.p_omega,
+                phase_y1,
+                equiangular,
+                p_connect,
+            )
+            .total();
+        sum += subpath.emitted * fog.albedo * first.value * (phase_y1 * weight);
     }
     if !at.twice {
         return sum;
     }
-    // The second light vertex: the light turns at y1 by the phase function
-    // and flies to y2 (no surface between: y2 → y1 is a camera segment).
-    let (turn, _) = fog.phase.sample(direction, u_turn);
-    let Some((y2, _)) = light_flight(
-        scene,
-        fog,
-        Ray {
-            origin: y1,
-            direction: turn,
-        },
-        u_flight2,
-        false,
-        counts,
-    ) else {
+    let Some((y2, turn)) = subpath.second else {
         return sum;
     };
     let Some(second) = at.join(integrator, scene, fog, y2, counts) else {
@@ -123,7 +91,7 @@ pub(super) fn connect_light_vertex(
         direction: back,
     };
     // The segment's end beyond y₁ matters only to the equiangular term.
-    let t_hit = if strategies.later_equiangular().area > 0 {
+    let t_hit = if samples.area > 0 {
         counts.shadow += 1;
         scene
             .geometry
@@ -141,18 +109,22 @@ pub(super) fn connect_light_vertex(
     else {
         return sum;
     };
-    let to_light = -direction;
     let phase_y1 = fog.phase.eval(to_light.dot(back));
     let p_connect = segment.light_vertex_terms(t12, light, y0.position);
-    let p_omega = light.pdf_li(y1, y0, to_light);
-    let samples = strategies.later_equiangular();
     let equiangular = segment_term(&segment, t12, samples, light, y0);
     let weight = segment.second_vertex_term(t12, light, y0.position)
-        / FogEventDensities::new(strategies, p_omega, phase_y1, equiangular, p_connect).total();
+        / FogEventDensities::new(
+            strategies,
+            subpath.p_omega,
+            phase_y1,
+            equiangular,
+            p_connect,
+        )
+        .total();
     // f/p of x → y2 → y1 → y0: f(x)·T(x, y2)/t² · (σs/σt)² · p(y2) ·
     // β·n_q (the second flight's density cancels p(y1), T(y1, y2)
     // and 1/|y2 − y1|²).
-    sum + emitted * fog.albedo * fog.albedo * second.value * (p_dir_y2 * weight)
+    sum + subpath.emitted * fog.albedo * fog.albedo * second.value * (p_dir_y2 * weight)
 }
 
 /// A camera-path vertex that connects to light vertices: where it is,
@@ -234,49 +206,5 @@ impl LightVertexOrigin<'_> {
             p_dir,
             value,
         })
-    }
-}
-
-/// A light subpath's free flight along `ray` to its first fog event, with
-/// one optical depth `−ln(1 − u)` spent piece by piece; across thin glass
-/// panes (multiplying the tint) if `through_glass`, else stopping at any
-/// surface. The event and the tint, or `None` if the flight ends on a
-/// surface or leaves the scene.
-fn light_flight(
-    scene: &Scene,
-    fog: &Fog,
-    mut ray: Ray,
-    u: f32,
-    through_glass: bool,
-    counts: &mut RayCounts,
-) -> Option<(Vec3, Rgb)> {
-    let mut depth_left = -(1.0 - u).ln();
-    let mut tint = Rgb::ONE;
-    let mut crossings = 0u32;
-    loop {
-        counts.camera += 1;
-        let hit = scene.geometry.intersect(&ray, f32::INFINITY);
-        let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
-        if let Some((a, b)) = fog.interval(&ray, 0.0, t_hit) {
-            let depth = fog.sigma_t * (b - a);
-            if depth_left < depth {
-                return Some((ray.at(a + depth_left / fog.sigma_t), tint));
-            }
-            depth_left -= depth;
-        }
-        let hit = hit?;
-        match scene.material(hit.primitive).event(true, false) {
-            SurfaceEvent::Pane { transmittance } if through_glass => {
-                tint *= transmittance;
-                crossings += 1;
-                if crossings > MAX_GLASS_CROSSINGS {
-                    return None;
-                }
-                let p = ray.at(hit.t);
-                let n = scene.geometry.normal(hit.primitive, p);
-                ray.origin = offset_origin(p, n, ray.direction);
-            }
-            _ => return None,
-        }
     }
 }

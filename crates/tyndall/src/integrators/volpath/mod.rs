@@ -28,8 +28,9 @@
 //! [`Strategies`] switches each estimator off for tests and measurements.
 //!
 //! Light-vertex connections: at every fog event and Lambertian surface
-//! vertex (after the camera's), a light subpath is started on a quad
-//! light and its first fog event, and its second, joined to the vertex
+//! vertex (after the camera's), a light subpath started on a quad light
+//! is picked from the pass's pool ([`LightSubpaths`]) and its first fog
+//! event, and its second, joined to the vertex
 //! (`connect_light_vertex`). This reaches the glow of fog right around
 //! an area light, which camera paths find only by rare random walks; the
 //! two join the balance heuristic as a fourth and fifth strategy. With volumes in the
@@ -59,11 +60,13 @@
 //! reached from here; [`super::light_tracer`] adds it.
 
 mod connections;
+mod light_subpaths;
 mod mis;
 mod nee;
 mod segment;
 
 pub use crate::settings::Strategies;
+pub use light_subpaths::LightSubpaths;
 
 use super::{
     MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, SurfaceHit, TRACKING_STREAM,
@@ -104,6 +107,8 @@ pub struct Volpath<'a> {
     /// Equiangular samples per point or spot light on a camera segment.
     pub volume_samples: u32,
     pub(crate) visibility: &'a Visibility,
+    /// The pass's light subpaths, for light-vertex connections.
+    pub(crate) light_subpaths: &'a LightSubpaths<'a>,
 }
 
 /// How the current path segment was sampled, for the MIS weight of the
@@ -149,8 +154,7 @@ pub(crate) fn radiance(
     let mut tracker = VolumeTracker::new(sampler.stream(TRACKING_STREAM));
     let max_events = integrator.max_depth.min(MAX_PATH_EVENTS);
     let strategies = integrator.strategies;
-    let connections =
-        strategies.connections && scene.volumes.is_empty() && scene.flat_emitter_count() > 0;
+    let connections = integrator.light_subpaths.connect();
     // What the vertex the ray leaves from connected to.
     let mut connected_from = Connections::default();
     loop {
