@@ -57,9 +57,10 @@ pub(super) fn connect_light_vertex<'a>(
         // f/p of x → y1 → y0: f(x)·T(x, y1)/t² · σs/σt · p(y1) · β·n_q.
         let phase_y1 = fog.phase.eval(to_light.dot(first.omega));
         let t = first.distance;
-        let p_connect = first.segment.light_vertex_terms(t, light, y0.position);
+        let connection = first.segment.connection_term(t, subpath.at_y1);
+        let p_connect = connection + first.segment.second_vertex_term(subpath.at_y1);
         let equiangular = segment_term(&first.segment, t, samples, light, y0);
-        let weight = first.segment.connection_term(t, light, y0.position)
+        let weight = connection
             / FogEventDensities::new(
                 strategies,
                 subpath.p_omega,
@@ -110,9 +111,10 @@ pub(super) fn connect_light_vertex<'a>(
         return sum;
     };
     let phase_y1 = fog.phase.eval(to_light.dot(back));
-    let p_connect = segment.light_vertex_terms(t12, light, y0.position);
+    let second_vertex = segment.second_vertex_term(subpath.at_y1);
+    let p_connect = segment.connection_term(t12, subpath.at_y1) + second_vertex;
     let equiangular = segment_term(&segment, t12, samples, light, y0);
-    let weight = segment.second_vertex_term(t12, light, y0.position)
+    let weight = second_vertex
         / FogEventDensities::new(
             strategies,
             subpath.p_omega,

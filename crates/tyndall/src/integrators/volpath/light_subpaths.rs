@@ -16,6 +16,7 @@
 //! subpaths — the pass's image is correlated across pixels, each pixel's
 //! error is not — and each pass has its own pool.
 
+use super::mis::LightVertexDensity;
 use crate::color::Rgb;
 use crate::integrators::MAX_GLASS_CROSSINGS;
 use crate::lights::{Light, LightPoint};
@@ -58,6 +59,8 @@ pub(super) struct LightSubpath<'a> {
     pub(super) emitted: Rgb,
     /// The solid-angle density with which NEE at y1 finds y0.
     pub(super) p_omega: f32,
+    /// y1 as the light-vertex strategies see it.
+    pub(super) at_y1: Option<LightVertexDensity>,
     /// y2 and the turn's direction y1 → y2 (no surface between: y2 → y1 is
     /// a camera segment); `None` if the second flight left the fog.
     pub(super) second: Option<(Vec3, Vec3)>,
@@ -176,6 +179,7 @@ impl<'a> LightSubpath<'a> {
             y1,
             emitted: emission.beta * tint * lights as f32,
             p_omega: light.pdf_li(y1, y0, -direction),
+            at_y1: LightVertexDensity::new(scene, fog, light, y0.position, y1),
             second,
         })
     }

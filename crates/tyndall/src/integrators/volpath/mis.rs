@@ -16,6 +16,7 @@
 use super::Arrival;
 use super::segment::FogSegment;
 use crate::lights::{Light, LightPoint};
+use crate::media::Fog;
 use crate::sampling::EquiangularSampler;
 use crate::scene::Scene;
 use crate::settings::Strategies;
@@ -225,81 +226,100 @@ impl FogEventDensities {
     }
 }
 
+/// A fog point y as a light subpath's vertex, seen from the light point
+/// y0 that started it: the direction y0 → y, and the part of the
+/// light-vertex strategies' density of y that the camera path does not
+/// change, `σt·T(y0, y)·p_le / n_q` (n_q lights start subpaths, `p_le` is
+/// the light's `pdf_le`). A pool's subpath keeps it for its first event,
+/// so its connections need no exponential and no `pdf_le` of their own.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct LightVertexDensity {
+    direction: Vec3,
+    density: f32,
+}
+
+impl LightVertexDensity {
+    /// `y` as a vertex of a subpath from `y0` on `light`; `None` where
+    /// no subpath reaches it (y = y0, or outside the light's emission).
+    pub(super) fn new(scene: &Scene, fog: &Fog, light: &Light, y0: Vec3, y: Vec3) -> Option<Self> {
+        let to_y = y - y0;
+        let d = to_y.length();
+        if d.is_nan() || d <= 0.0 {
+            return None;
+        }
+        let direction = to_y / d;
+        let p_le = light.pdf_le(direction);
+        if p_le == 0.0 {
+            return None;
+        }
+        let t_light = fog.transmittance_along(y0, direction, d);
+        let lights = scene.flat_emitter_count() as f32;
+        Some(Self {
+            direction,
+            density: fog.sigma_t * t_light * p_le / lights,
+        })
+    }
+}
+
 impl FogSegment<'_> {
     /// The densities of both light-vertex strategies for the event at `t`
     /// lit from `y0`, in the solid-angle terms of the balance heuristic
     /// at a fog event.
     pub(super) fn light_vertex_terms(&self, t: f32, light: &Light, y0: Vec3) -> f32 {
-        self.connection_term(t, light, y0) + self.second_vertex_term(t, light, y0)
+        if self.connected_from.first.is_none() && self.connected_from.reached.is_none() {
+            return 0.0;
+        }
+        let medium = &self.medium;
+        let y = LightVertexDensity::new(medium.scene, medium.fog, light, y0, medium.ray.at(t));
+        self.connection_term(t, y) + self.second_vertex_term(y)
     }
 
-    /// The light-vertex connection's density for the event at `t` lit
-    /// from the light point `y0`, relative to the free-flight event's (see
+    /// The light-vertex connection's density for the event at `t`, the
+    /// light subpath vertex `y` (see
     /// [`connect_light_vertex`](super::connections::connect_light_vertex)),
-    /// in the solid-angle terms of the balance heuristic at a fog event:
+    /// relative to the free-flight event's, in the solid-angle terms of
+    /// the balance heuristic at a fog event:
     /// `p₄ / (p_dir·p_flight(t)/t² · G)`, where
     /// `p₄ = σt·T(y0, y)·p_le·cos θ₀ / (n_q·|y − y0|²)` is the volume
-    /// density of the light vertex y (n_q lights start subpaths, `p_le` is
-    /// the light's `pdf_le`), `p_dir` the density of the ray's direction at
-    /// its origin and `G = cos θ₀/|y − y0|²`. Zero unless the ray starts at
-    /// a vertex that connected, and for lights that start no subpaths.
-    pub(super) fn connection_term(&self, t: f32, light: &Light, y0: Vec3) -> f32 {
-        let Some(p_dir) = self.connected_from.first else {
+    /// density of the light vertex y, `p_dir` the density of the ray's
+    /// direction at its origin and `G = cos θ₀/|y − y0|²`. Zero unless
+    /// the ray starts at a vertex that connected, and where no subpath
+    /// reaches y.
+    pub(super) fn connection_term(&self, t: f32, y: Option<LightVertexDensity>) -> f32 {
+        let (Some(p_dir), Some(y)) = (self.connected_from.first, y) else {
             return 0.0;
         };
-        let medium = &self.medium;
-        let y = medium.ray.at(t);
-        let to_y = y - y0;
-        let d = to_y.length();
-        if d.is_nan() || d <= 0.0 {
-            return 0.0;
-        }
-        let direction = to_y / d;
-        let p_le = light.pdf_le(direction);
-        if p_le == 0.0 {
-            return 0.0;
-        }
         let p_flight = self.flight_pdf(t);
         if !(p_dir > 0.0 && p_flight > 0.0) {
             return 0.0;
         }
-        let fog = medium.fog;
-        let t_light = fog.transmittance_along(y0, direction, d);
-        let lights = medium.scene.flat_emitter_count() as f32;
-        finite_density(fog.sigma_t * t_light * t * t * p_le / (lights * p_dir * p_flight))
+        finite_density(y.density * t * t / (p_dir * p_flight))
     }
 
     /// The second-light-vertex strategy's density for the path
-    /// (x, y₂, y₁ = ray.at(t), y0) relative to the camera path's common
-    /// factor at y₁, where y₂ is the ray's origin and x the vertex before
-    /// it: `σt·T(y0, y₁)·p(y₁)·p_le / (n_q·P_x(y₂)·p_dir(y₂))` (the light
+    /// (x, y₂, y₁, y0), y₁ the light subpath vertex `y1` on this ray,
+    /// relative to the camera path's common factor at y₁, where y₂ is the
+    /// ray's origin and x the vertex before it:
+    /// `σt·T(y0, y₁)·p(y₁)·p_le / (n_q·P_x(y₂)·p_dir(y₂))` (the light
     /// subpath's densities of y₁ and y₂ over the camera's of y₂ and of the
     /// event at y₁; see
     /// [`connect_light_vertex`](super::connections::connect_light_vertex)).
     /// Zero unless the origin was reached from a vertex that connected to
-    /// second light vertices, and for lights that start no subpaths.
-    pub(super) fn second_vertex_term(&self, t: f32, light: &Light, y0: Vec3) -> f32 {
-        let Some(reached) = self.connected_from.reached else {
+    /// second light vertices, and where no subpath reaches y₁.
+    pub(super) fn second_vertex_term(&self, y1: Option<LightVertexDensity>) -> f32 {
+        let (Some(reached), Some(y1)) = (self.connected_from.reached, y1) else {
             return 0.0;
         };
-        let medium = &self.medium;
-        let y1 = medium.ray.at(t);
-        let to_y1 = y1 - y0;
-        let d = to_y1.length();
-        if d.is_nan() || d <= 0.0 || reached <= 0.0 {
+        if reached <= 0.0 {
             return 0.0;
         }
-        let direction = to_y1 / d;
-        let p_le = light.pdf_le(direction);
-        if p_le == 0.0 {
-            return 0.0;
-        }
-        let fog = medium.fog;
-        let t_light = fog.transmittance_along(y0, direction, d);
-        // Light arrives along to_y1 and turns back along −ray.direction.
-        let phase = fog.phase.eval(-direction.dot(medium.ray.direction));
-        let lights = medium.scene.flat_emitter_count() as f32;
-        finite_density(fog.sigma_t * t_light * phase * p_le / (lights * reached))
+        // Light arrives along y0 → y₁ and turns back along −ray.direction.
+        let phase = self
+            .medium
+            .fog
+            .phase
+            .eval(-y1.direction.dot(self.medium.ray.direction));
+        finite_density(y1.density * phase / reached)
     }
 }
 
