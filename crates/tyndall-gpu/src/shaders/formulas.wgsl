@@ -120,8 +120,10 @@ fn equiangular_new(origin: vec3<f32>, direction: vec3<f32>, y: vec3<f32>, a: f32
     }
     let delta = dot(y - origin, direction);
     let distance = max(length(y - (origin + direction * delta)), MIN_EQUIANGULAR_DISTANCE);
-    let theta_a = atan((a - delta) / distance);
-    let theta_b = atan((b - delta) / distance);
+    // atan2(x, D) = atan(x/D) for D > 0, without x/D overflowing when b
+    // stands for ∞ (a camera ray that leaves the scene).
+    let theta_a = atan2(a - delta, distance);
+    let theta_b = atan2(b - delta, distance);
     return Equiangular(delta, distance, theta_a, theta_b, a, b, theta_b > theta_a);
 }
 
@@ -157,7 +159,9 @@ fn exponential_new(sigma_t: f32, a: f32, b: f32) -> Exponential {
     if !(sigma_t > 0.0 && a < b) {
         return Exponential(sigma_t, a, b, 0.0, false);
     }
-    let mass = one_minus_exp_neg(sigma_t * (b - a));
+    // Past σ(b − a) = 88, 1 − e^{−σ(b−a)} is 1 in f32; the cap keeps the
+    // product finite when b stands for ∞.
+    let mass = one_minus_exp_neg(sigma_t * min(b - a, 88.0 / sigma_t));
     return Exponential(sigma_t, a, b, mass, mass > 0.0);
 }
 
