@@ -39,6 +39,7 @@ use std::path::Path;
 use tyndall::description::{LightDesc, Origin};
 use tyndall::lights::DirectionalLight;
 use tyndall::settings::VisibilityMode;
+use tyndall::shapes::Bounds;
 use tyndall::{Image, IntegratorKind, RenderSettings, Rgb, Scene, SceneDesc};
 use tyndall_gpu::{MarchSettings, render};
 use tyndall_image::metrics::pixel_relative_se;
@@ -243,13 +244,20 @@ fn demo_single_matches_cpu_single() {
 /// One equiangular sample per light on a 4×4 tile: each pixel's own
 /// offsets then span only 1/16 of the light's angle per frame, so a pixel
 /// whose offsets stayed in its stratum (no per-frame rotation) would
-/// see only its sixteenth of the beam. A sun is added: it has no emitting
-/// point, so its light comes from the distance sample alone, as on the
-/// CPU.
+/// see only its sixteenth of the beam. A sun is added, and the fog
+/// bounded by a box above the floor (in fog filling all space a sun's
+/// light never arrives), which the camera looks into from outside: the
+/// sun has no emitting point, so its in-scattered light comes from the
+/// distance sample alone, as on the CPU.
 #[test]
 fn fig07_one_interleaved_sample_and_a_sun_match_cpu_single() {
     let mut desc = load("fig07-spot-sphere.toml");
     desc.settings.volume_samples = 1;
+    let fog = &mut desc.fog.as_mut().expect("fig. 7 has fog").value;
+    fog.bounds = Some(Bounds::new(
+        Vec3::new(-5.0, 0.0, -5.0),
+        Vec3::new(5.0, 6.0, 5.0),
+    ));
     desc.add_light(
         LightDesc::Directional(DirectionalLight {
             direction: Vec3::new(0.3, -1.0, -0.4).normalize(),
