@@ -19,14 +19,17 @@ use tyndall::settings::{IntegratorKind, MAX_MARCH_STEPS, VisibilityMode};
 use tyndall::{Image, RenderSettings, Rgb, Scene};
 use wgpu::util::DeviceExt;
 
-/// The march's parameters: those of the CPU `march` the GPU honours.
+/// A GPU render's parameters: those of the CPU `march` and `single` the
+/// GPU honours (the name is the march's, which came first).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MarchSettings {
     pub width: u32,
     pub height: u32,
-    /// Step length `h` between lattice points (scene units).
+    /// Step length `h` between lattice points (scene units; the march
+    /// only).
     pub step: f32,
-    /// Interleaving tile size `n` (1: none).
+    /// Interleaving tile size `n` (1: none): of the march's jitter, or of
+    /// the equiangular samples' offset.
     pub interleave: u32,
     /// Most reflective-layer bounces a camera path follows.
     pub max_bounces: u32,
@@ -50,9 +53,9 @@ pub enum InScattering {
     /// Fajardo 2012) over its reach and one distance sample per segment,
     /// combined by the balance heuristic, the CPU `single`'s estimator.
     /// The equiangular offset is interleaved over the `interleave`-sided
-    /// pixel tile (Keller & Heidrich 2001) and rotated by a random offset
-    /// per frame, so each pixel stays unbiased; converges to the CPU
-    /// `single` image.
+    /// pixel tile (Keller & Heidrich 2001) and shifted per frame by the
+    /// golden-ratio sequence from a random start, so each pixel stays
+    /// unbiased; converges to the CPU `single` image.
     Single { volume_samples: u32 },
 }
 
@@ -224,7 +227,9 @@ impl GpuMarch {
     /// an empty accumulation of `settings.width × settings.height` pixels.
     pub fn new(gpu: &Gpu, scene: &Scene, settings: &MarchSettings) -> Result<Self, GpuError> {
         let buffers = SceneBuffers::new(scene)?;
-        if !(settings.step > 0.0 && settings.step.is_finite()) {
+        if settings.in_scattering == InScattering::March
+            && !(settings.step > 0.0 && settings.step.is_finite())
+        {
             return Err(GpuError::Unsupported(format!(
                 "march step {} (must be positive and finite)",
                 settings.step
