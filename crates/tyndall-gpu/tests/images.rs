@@ -24,9 +24,9 @@
 //! close to the light). Such pixels — the spot's apex in fig. 3 — are a
 //! handful; every mean above is taken over the pixels without the worst
 //! 0.1 % (4 of 3072) of that comparison, which leaves any difference
-//! spread over the image in full view. `single` is trimmed the same way:
-//! its distance sample has the same unbounded variance where equiangular
-//! sampling does not cover it (the near side of a spot's apex).
+//! spread over the image in full view. `single` comparisons are trimmed
+//! the same way (one helper); equiangular sampling cancels the 1/d², so
+//! there the trim only drops four of the noisiest pixels.
 //!
 //! The GPU `single` renders here interleave over a 4×4 tile while the CPU
 //! `single` does not interleave at all: the GPU must be unbiased in every
