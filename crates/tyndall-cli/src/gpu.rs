@@ -1,6 +1,8 @@
-//! `tyndall render --gpu`: the paper's ray march on the GPU (crate
-//! `tyndall-gpu`), headless, with the CPU path's flags where they apply.
-//! A flag the GPU path cannot honour is an error naming it.
+//! `tyndall render --gpu`: single scattering on the GPU (crate
+//! `tyndall-gpu`) — the paper's ray march (`--integrator march`) or
+//! unbiased interleaved equiangular sampling (`--integrator single`) —
+//! headless, with the CPU path's flags where they apply. A flag the GPU
+//! path cannot honour is an error naming it.
 
 use crate::{Overrides, RenderArgs, load_scene};
 use anyhow::{Context, Result, bail};
@@ -13,7 +15,7 @@ use tyndall_load::SceneError;
 /// The flags the CPU path has and the GPU path cannot honour, with why.
 fn refuse_unsupported_flags(args: &RenderArgs) -> Result<()> {
     let o: &Overrides = &args.overrides;
-    let refused: [(bool, &str, &str); 7] = [
+    let refused: [(bool, &str, &str); 6] = [
         (
             args.tile.is_some(),
             "--tile",
@@ -42,23 +44,26 @@ fn refuse_unsupported_flags(args: &RenderArgs) -> Result<()> {
         (
             o.max_depth.is_some(),
             "--max-depth",
-            "the GPU renders only `march`",
-        ),
-        (
-            o.volume_samples.is_some(),
-            "--volume-samples",
-            "the GPU renders only `march`",
+            "the GPU renders only `march` and `single`, which have no path depth",
         ),
     ];
     if let Some((_, flag, why)) = refused.iter().find(|(given, _, _)| *given) {
         bail!("{flag} cannot be used with --gpu: {why}");
     }
     if let Some(kind) = o.integrator
-        && kind != IntegratorKind::March
+        && !on_gpu(kind)
     {
-        bail!("--integrator {}: --gpu renders only `march`", kind.name());
+        bail!(
+            "--integrator {}: --gpu renders only `march` and `single`",
+            kind.name()
+        );
     }
     Ok(())
+}
+
+/// Whether the GPU has an estimator for integrator `kind`.
+fn on_gpu(kind: IntegratorKind) -> bool {
+    matches!(kind, IntegratorKind::March | IntegratorKind::Single)
 }
 
 /// Renders `args.scene` on the GPU and writes the image.
@@ -75,10 +80,15 @@ pub fn render(args: RenderArgs) -> Result<()> {
         .check_ranges()
         .map_err(|e| anyhow::anyhow!("--{}: {e}", e.setting.replace('_', "-")))?;
     let settings = desc.settings;
-    if settings.integrator != IntegratorKind::March {
+    if !on_gpu(settings.integrator) {
         bail!(
-            "--gpu renders only the `march` integrator; this scene asks for `{}` (add --integrator march)",
+            "--gpu renders only the `march` and `single` integrators; this scene asks for `{}` (add --integrator march or --integrator single)",
             settings.integrator.name()
+        );
+    }
+    if args.overrides.volume_samples.is_some() && settings.integrator == IntegratorKind::March {
+        bail!(
+            "--volume-samples cannot be used with --gpu and `march`: the march takes no volume samples (they are `single`'s)"
         );
     }
     let loader_warnings = std::mem::take(&mut desc.warnings);

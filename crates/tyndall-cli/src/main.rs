@@ -106,9 +106,10 @@ struct RenderArgs {
     /// time (e.g. 30s, 2m); at least one pass. Reports the samples per pixel reached.
     #[arg(long, value_parser = parse_duration)]
     time_limit: Option<Duration>,
-    /// Render on the GPU (wgpu; lavapipe without one): the `march` integrator
-    /// with shadow rays or maps (--visibility), --spp frames accumulated.
-    /// Flags it cannot honour are errors.
+    /// Render on the GPU (wgpu; lavapipe without one): the `march` or the
+    /// `single` integrator (interleaved over --interleave) with shadow rays
+    /// or maps (--visibility), --spp frames accumulated. Flags it cannot
+    /// honour are errors.
     #[arg(long)]
     gpu: bool,
 }

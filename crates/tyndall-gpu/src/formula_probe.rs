@@ -22,6 +22,15 @@ pub enum Formula {
     GlassTint,
     /// `transmittance(σt, d)`: input `[σt, d, _, _], _`; output `x`.
     Transmittance,
+    /// `equiangular_new` on the ray from the origin along +x, then
+    /// `equiangular_sample` and `equiangular_pdf`: input
+    /// `[y.xyz, u], [a, b, t, _]`; output `[sample(u), pdf(sample(u)),
+    /// pdf(t), valid]` with valid 1 or 0.
+    Equiangular,
+    /// `exponential_new`, `exponential_sample` and `exponential_pdf`:
+    /// input `[σt, a, b, u], [t, _, _, _]`; output `[sample(u),
+    /// pdf(sample(u)), pdf(t), valid]` with valid 1 or 0.
+    Exponential,
 }
 
 impl Formula {
@@ -31,6 +40,8 @@ impl Formula {
             Formula::SpotFalloff => "probe_spot",
             Formula::GlassTint => "probe_glass",
             Formula::Transmittance => "probe_transmittance",
+            Formula::Equiangular => "probe_equiangular",
+            Formula::Exponential => "probe_exponential",
         }
     }
 }

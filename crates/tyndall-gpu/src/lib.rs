@@ -1,7 +1,8 @@
-//! Tyndall on the GPU (wgpu, WGSL): the paper's ray march of single
-//! scattering (its §4.2, `tyndall::integrators::march`) as a compute
-//! shader, headless, on any Vulkan device — a data-centre GPU or
-//! lavapipe, Mesa's software Vulkan driver that CI uses.
+//! Tyndall on the GPU (wgpu, WGSL): single scattering as a compute
+//! shader — the paper's ray march (its §4.2, `tyndall::integrators::march`)
+//! or unbiased interleaved equiangular sampling
+//! (`tyndall::integrators::single`) — headless, on any Vulkan device — a
+//! data-centre GPU or lavapipe, Mesa's software Vulkan driver that CI uses.
 //!
 //! # Design
 //!
@@ -36,10 +37,37 @@
 //!   blend models, Beer–Lambert transmittance) once in WGSL, each
 //!   function naming the Rust function it transcribes;
 //!   [`formula_probe`] runs them on the GPU so tests compare both.
+//! - **Two estimators, one camera path.** [`InScattering`] picks how the
+//!   fog segment of each camera ray (up to its first surface, then past
+//!   glass and reflections) gathers in-scattered light: the march's
+//!   jittered Riemann sum, or the CPU `single`'s estimator transcribed —
+//!   per light, `n` stratified equiangular samples (Kulla & Fajardo 2012)
+//!   over its reach (a spot's cone, clipped as on the CPU; none for a
+//!   sun, which has no emitting point) plus the ray's one distance sample,
+//!   combined by the balance heuristic. The GPU uses the same MIS as the
+//!   CPU, so each frame is an unbiased estimate of the CPU `single`
+//!   image's expectation. Both estimators evaluate eq. 1 through one
+//!   function (`scattered_radiance` in `march.wgsl`) with the same
+//!   visibility (maps or rays) and formulas, and the surfaces are lit by
+//!   the same code. The samplers (`equiangular_*`, `exponential_*`) are
+//!   transcribed once, in `formulas.wgsl`, and probed against
+//!   `tyndall::sampling`.
+//! - **Interleaved, still unbiased.** The equiangular offset `u` of a
+//!   pixel lies in its stratum of the `interleave²` strata of the pixel
+//!   tile (Keller & Heidrich 2001; the march's Bayer order), jittered,
+//!   then shifted modulo 1 by a per-frame, per-light offset from the
+//!   golden-ratio sequence started at a random point. Within a frame
+//!   neighbouring pixels share out the light's angle; over frames a pixel's
+//!   offsets spread evenly; and each offset is uniform on [0, 1) in every
+//!   pixel, so no pixel is biased towards its stratum (a fixed stratum per
+//!   pixel, as the march has, would bias an unbiased estimator pixel by
+//!   pixel). The CPU `single` does not interleave; the GPU images match it
+//!   pixel for pixel within noise.
 //! - **Accumulation.** Each frame adds one sample per pixel to a sum on
 //!   the GPU with fresh random numbers (PCG hash of pixel, frame, seed):
-//!   film position, the march's jitter inside the pixel's stratum, glossy
-//!   directions. The mean converges to the CPU image's expectation.
+//!   film position, the march's jitter inside the pixel's stratum (or the
+//!   equiangular and distance samples), glossy directions. The mean
+//!   converges to the CPU image's expectation.
 //!
 //! What a scene may hold: point, spot (all profiles) and directional
 //! lights; opaque (Lambert + reflective layer), emissive, lamp-face and
@@ -57,4 +85,4 @@ pub mod scene_buffers;
 mod shaders;
 
 pub use device::{AdapterSummary, Gpu, GpuError};
-pub use march::{GpuMarch, GpuVisibility, MarchSettings, render};
+pub use march::{GpuMarch, GpuVisibility, InScattering, MarchSettings, render};

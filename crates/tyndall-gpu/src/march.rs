@@ -1,7 +1,10 @@
-//! The GPU ray march: the scene uploaded once, then frames dispatched and
-//! summed per pixel on the GPU, each frame with its own film jitter and
-//! march jitter (inside the pixel's interleaving stratum, as on the CPU),
-//! so the mean converges to the CPU `march` image.
+//! The GPU renderer of single scattering: the scene uploaded once, then
+//! frames dispatched and summed per pixel on the GPU, each frame with its
+//! own film jitter and in-scattering samples, so the mean converges to the
+//! CPU image of the same integrator. The fog segment's in-scattering is
+//! the paper's ray march (jitter inside the pixel's interleaving stratum,
+//! as on the CPU `march`) or unbiased interleaved equiangular sampling
+//! (the CPU `single`'s estimator), as [`InScattering`] says.
 
 use crate::device::{Gpu, GpuError, compute_pipelines};
 use crate::maps;
@@ -12,24 +15,48 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
 use tyndall::camera::{CameraSpec, FieldOfView};
 use tyndall::glass::GlassModel;
-use tyndall::settings::{MAX_MARCH_STEPS, VisibilityMode};
+use tyndall::settings::{IntegratorKind, MAX_MARCH_STEPS, VisibilityMode};
 use tyndall::{Image, RenderSettings, Rgb, Scene};
 use wgpu::util::DeviceExt;
 
-/// The march's parameters: those of the CPU `march` the GPU honours.
+/// A GPU render's parameters: those of the CPU `march` and `single` the
+/// GPU honours (the name is the march's, which came first).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MarchSettings {
     pub width: u32,
     pub height: u32,
-    /// Step length `h` between lattice points (scene units).
+    /// Step length `h` between lattice points (scene units; the march
+    /// only).
     pub step: f32,
-    /// Interleaving tile size `n` (1: none).
+    /// Interleaving tile size `n` (1: none): of the march's jitter, or of
+    /// the equiangular samples' offset.
     pub interleave: u32,
     /// Most reflective-layer bounces a camera path follows.
     pub max_bounces: u32,
     pub seed: u64,
     /// How march steps and surfaces see lights past geometry.
     pub visibility: GpuVisibility,
+    /// How each fog segment's in-scattered light is estimated.
+    pub in_scattering: InScattering,
+}
+
+/// The estimator of in-scattered light along each camera segment (the
+/// single-scattering integrators of `tyndall::integrators`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum InScattering {
+    /// The paper's jittered fixed-step Riemann sum with interleaved
+    /// sampling (`tyndall::integrators::march`): biased by its step,
+    /// converges to the CPU `march` image of the same step.
+    March,
+    /// Unbiased single scattering (`tyndall::integrators::single`): per
+    /// light, `volume_samples` stratified equiangular samples (Kulla &
+    /// Fajardo 2012) over its reach and one distance sample per segment,
+    /// combined by the balance heuristic, the CPU `single`'s estimator.
+    /// The equiangular offset is interleaved over the `interleave`-sided
+    /// pixel tile (Keller & Heidrich 2001) and shifted per frame by the
+    /// golden-ratio sequence from a random start, so each pixel stays
+    /// unbiased; converges to the CPU `single` image.
+    Single { volume_samples: u32 },
 }
 
 impl From<&RenderSettings> for MarchSettings {
@@ -46,6 +73,13 @@ impl From<&RenderSettings> for MarchSettings {
             visibility: match settings.visibility {
                 VisibilityMode::ShadowRays => GpuVisibility::ShadowRays,
                 VisibilityMode::Maps { resolution } => GpuVisibility::Maps { resolution },
+            },
+            // `volpath` has no GPU estimator; callers refuse it.
+            in_scattering: match settings.integrator {
+                IntegratorKind::Single => InScattering::Single {
+                    volume_samples: settings.volume_samples,
+                },
+                IntegratorKind::March | IntegratorKind::Volpath => InScattering::March,
             },
         }
     }
@@ -86,6 +120,10 @@ struct Params {
     step_budget: u32,
     use_maps: u32,
     map_resolution: u32,
+    /// `ESTIMATOR_MARCH` (0) or `ESTIMATOR_SINGLE` (1) of `march.wgsl`.
+    estimator: u32,
+    volume_samples: u32,
+    pad: [u32; 2],
 }
 
 fn v4(v: Vec3, w: f32) -> [f32; 4] {
@@ -189,7 +227,9 @@ impl GpuMarch {
     /// an empty accumulation of `settings.width × settings.height` pixels.
     pub fn new(gpu: &Gpu, scene: &Scene, settings: &MarchSettings) -> Result<Self, GpuError> {
         let buffers = SceneBuffers::new(scene)?;
-        if !(settings.step > 0.0 && settings.step.is_finite()) {
+        if settings.in_scattering == InScattering::March
+            && !(settings.step > 0.0 && settings.step.is_finite())
+        {
             return Err(GpuError::Unsupported(format!(
                 "march step {} (must be positive and finite)",
                 settings.step
@@ -198,6 +238,17 @@ impl GpuMarch {
         let (forward, right, up, half_extent) =
             camera_frame(scene.camera(), settings.width, settings.height);
         let glass = scene.glass();
+        let (estimator, volume_samples) = match settings.in_scattering {
+            InScattering::March => (0, 0),
+            InScattering::Single { volume_samples } => {
+                if volume_samples == 0 {
+                    return Err(GpuError::Unsupported(
+                        "0 volume samples (single scattering needs at least 1)".into(),
+                    ));
+                }
+                (1, volume_samples)
+            }
+        };
         let map_resolution = match settings.visibility {
             GpuVisibility::ShadowRays => 0,
             GpuVisibility::Maps { resolution } => resolution,
@@ -230,6 +281,8 @@ impl GpuMarch {
                 as u32,
             use_maps: (map_resolution > 0) as u32,
             map_resolution,
+            estimator,
+            volume_samples,
             ..Default::default()
         };
         if let Some(fog) = scene.fog() {

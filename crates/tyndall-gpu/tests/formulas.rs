@@ -14,9 +14,22 @@ use tyndall::glass::{Glass, GlassModel};
 use tyndall::lights::{SpotLight, SpotProfile};
 use tyndall::media::transmittance;
 use tyndall::phase::PhaseFunction;
+use tyndall::ray::Ray;
+use tyndall::sampling::{EquiangularSampler, ExponentialSampler};
 use tyndall_gpu::formula_probe::{Formula, evaluate};
 
 const EPS: f32 = f32::EPSILON;
+
+/// WGSL's bound on `atan2`'s error: 4096 ULP.
+const ATAN_ULP: f32 = 4096.0;
+
+/// WGSL's bound on `sin` and `cos` inside [−π, π]: absolute 2⁻¹¹ (`tan`
+/// inherits its bound from `sin(x)/cos(x)`).
+const SIN_COS_ABSOLUTE: f32 = 1.0 / 2048.0;
+
+/// The stand-in for an infinite distance on the GPU (`INFINITE` of
+/// `march.wgsl`).
+const INFINITE: f32 = 3.0e38;
 
 /// A deterministic spread of numbers in [0, 1): the golden-ratio sequence.
 fn spread(i: usize) -> f32 {
@@ -172,6 +185,194 @@ fn transmittance_matches_rust() {
         assert!(
             (o[0] - rust).abs() <= tolerance,
             "σt = {sigma_t}, d = {distance}: GPU {} vs Rust {rust}",
+            o[0]
+        );
+    }
+}
+
+#[test]
+fn equiangular_sampler_matches_rust() {
+    let Some(gpu) = support::gpu_or_skip("equiangular_sampler_matches_rust") else {
+        return;
+    };
+    let ray = Ray::new(Vec3::ZERO, Vec3::X);
+    let mut items = Vec::new();
+    for i in 0..4000 {
+        // The emitter's foot Δ on the ray and distance D from it.
+        let delta = -5.0 + 20.0 * spread(6 * i);
+        let distance = 0.05 + 5.0 * spread(6 * i + 1);
+        let angle = std::f32::consts::TAU * spread(6 * i + 2);
+        let y = Vec3::new(delta, distance * angle.cos(), distance * angle.sin());
+        // Every fourth interval ends at ∞ (a camera ray leaving the
+        // scene); the others keep |θ| ≤ atan 2.5 < 1.2, where cos θ ≥ 0.37
+        // keeps tan's error bound finite and first order.
+        let a = delta - 2.5 * distance + 4.0 * distance * spread(6 * i + 3);
+        let b = if i % 4 == 0 {
+            INFINITE
+        } else {
+            a + (0.05 + 0.95 * spread(6 * i + 4)) * (delta + 2.5 * distance - a)
+        };
+        let u = spread(6 * i + 5);
+        let t = if b == INFINITE {
+            a - 0.5 + 40.0 * spread(7 * i)
+        } else {
+            a - 0.5 + (b - a + 1.0) * spread(7 * i)
+        };
+        items.push([[y.x, y.y, y.z, u], [a, b, t, 0.0]]);
+    }
+    let out = evaluate(&gpu, Formula::Equiangular, &items).expect("GPU evaluation");
+    for (item, o) in items.iter().zip(&out) {
+        let y = Vec3::new(item[0][0], item[0][1], item[0][2]);
+        let (u, a, b, t) = (item[0][3], item[1][0], item[1][1], item[1][2]);
+        let rust_b = if b == INFINITE { f32::INFINITY } else { b };
+        let sampler = EquiangularSampler::new(&ray, y, a, rust_b).expect("a < b");
+        assert_eq!(o[3], 1.0, "y {y}, [{a}, {b}]: GPU sampler empty");
+        let delta = y.x;
+        let distance = glam::Vec2::new(y.y, y.z).length();
+        let theta_a = ((a - delta) / distance).atan();
+        let theta_b = ((rust_b - delta) / distance).atan();
+        let width = theta_b - theta_a;
+        // θ on each side: the argument (a − Δ)/D rounded with D (sqrt of a
+        // sum, 4ε and 2.5 ULP for WGSL's sqrt) — about 8ε relative, which
+        // atan's slope |x|/(1 + x²) ≤ ½ makes 4ε absolute — then atan2
+        // (WGSL 4096 ULP ≤ 4096ε|θ|, Rust 1 ULP). Both θ, both sides:
+        let theta_error = (ATAN_ULP + 1.0) * EPS * (theta_a.abs() + theta_b.abs()) + 16.0 * EPS;
+        // The density D/((θb − θa)(D² + x²)): its width relative error
+        // θ_error/width, the rest about 12 roundings a side (WGSL's
+        // division 2.5 ULP).
+        let pdf_tolerance = theta_error / width + 30.0 * EPS;
+        let rust_pdf = sampler.pdf(t);
+        if t < a || t > b {
+            assert_eq!(o[2], 0.0, "pdf outside [{a}, {b}] at {t}");
+            assert_eq!(rust_pdf, 0.0);
+        } else {
+            assert!(
+                (o[2] - rust_pdf).abs() <= pdf_tolerance * rust_pdf,
+                "y {y}, [{a}, {b}], t {t}: GPU pdf {} vs Rust {rust_pdf} (relative tolerance {pdf_tolerance})",
+                o[2]
+            );
+        }
+        let (gpu_t, gpu_pdf) = (o[0], o[1]);
+        assert!(
+            gpu_t >= a && gpu_t <= b,
+            "sample {gpu_t} outside [{a}, {b}]"
+        );
+        if b == INFINITE {
+            // tan near π/2 is unbounded; the density at the GPU's own
+            // sample is checked instead of the sample.
+            let rust_at_gpu_t = sampler.pdf(gpu_t);
+            assert!(
+                (gpu_pdf - rust_at_gpu_t).abs() <= pdf_tolerance * rust_at_gpu_t,
+                "y {y}, [{a}, ∞), u {u}: GPU pdf at its sample {gpu_t} {gpu_pdf} vs Rust {rust_at_gpu_t}"
+            );
+            continue;
+        }
+        let (rust_t, _) = sampler.sample(u);
+        // t = Δ + D·tan θ, θ = θa + u·width (θ_error plus 4ε|θ|):
+        // tan = sin/cos with both within 2⁻¹¹ on the GPU moves by at most
+        // 2⁻¹¹(1 + |tan θ|)/(|cos θ| − 2⁻¹¹), and θ's error by
+        // θ_error/cos²θ (first order: cos θ ≥ 0.37 ≫ the errors); then
+        // D's 4ε and the sum's rounding of |Δ| + |t| on each side.
+        let theta = theta_a + u * width;
+        let (sin, cos) = theta.sin_cos();
+        let tan = sin / cos;
+        let tan_error = SIN_COS_ABSOLUTE * (1.0 + tan.abs()) / (cos.abs() - SIN_COS_ABSOLUTE)
+            + 1.01 * (theta_error + 4.0 * EPS * theta.abs()) / (cos * cos)
+            + 2.0 * EPS * tan.abs();
+        let t_tolerance = distance * (tan_error + 8.0 * EPS * tan.abs())
+            + 4.0 * EPS * (delta.abs() + rust_t.abs());
+        assert!(
+            (gpu_t - rust_t).abs() <= t_tolerance,
+            "y {y}, [{a}, {b}], u {u}: GPU sample {gpu_t} vs Rust {rust_t} (tolerance {t_tolerance})"
+        );
+    }
+}
+
+#[test]
+fn exponential_sampler_matches_rust() {
+    let Some(gpu) = support::gpu_or_skip("exponential_sampler_matches_rust") else {
+        return;
+    };
+    let mut items = Vec::new();
+    for i in 0..4000 {
+        let sigma_t = if i % 50 == 0 {
+            0.0
+        } else {
+            0.01 + 3.0 * spread(5 * i)
+        };
+        let a = 5.0 * spread(5 * i + 1);
+        // Every fourth interval ends at ∞ (a camera ray leaving the scene);
+        // the others have optical depths from 10⁻⁴ (the series branch) up.
+        let b = if i % 4 == 0 {
+            INFINITE
+        } else {
+            a + 0.01 * 3000f32.powf(spread(5 * i + 2))
+        };
+        let u = spread(5 * i + 3);
+        let t = if b == INFINITE {
+            a - 0.5 + 40.0 * spread(5 * i + 4)
+        } else {
+            a - 0.5 + (b - a + 1.0) * spread(5 * i + 4)
+        };
+        items.push([[sigma_t, a, b, u], [t, 0.0, 0.0, 0.0]]);
+    }
+    let out = evaluate(&gpu, Formula::Exponential, &items).expect("GPU evaluation");
+    for (item, o) in items.iter().zip(&out) {
+        let [sigma_t, a, b, u] = item[0];
+        let t = item[1][0];
+        let rust_b = if b == INFINITE { f32::INFINITY } else { b };
+        let Some(sampler) = ExponentialSampler::new(sigma_t, a, rust_b) else {
+            assert_eq!(sigma_t, 0.0, "Rust sampler empty for σ = {sigma_t}");
+            assert_eq!(o[3], 0.0, "σ = 0: GPU sampler not empty");
+            continue;
+        };
+        assert_eq!(o[3], 1.0, "σ = {sigma_t}, [{a}, {b}]: GPU sampler empty");
+        // The mass m = 1 − e^{−x}, x = σ(b − a): Rust's exp_m1 1 ULP; the
+        // GPU's Taylor series below 0.1 about 12 roundings, above it
+        // exp's 3 + 2x ULP of e^{−x} relative to 1 − e^{−x}; x's own
+        // rounding (2ε relative) moves m by at most 2ε relative.
+        let x = (sigma_t * (rust_b - a)).min(88.0);
+        let mass_error = if x < 0.1 {
+            12.0 * EPS
+        } else {
+            (3.0 + 2.0 * x) * EPS * (-x).exp() / -(-x).exp_m1() + 2.0 * EPS
+        } + 3.0 * EPS;
+        // The density σ·e^{−y}/m, y = σ(t − a): exp's 3 + 2y ULP (GPU)
+        // and 1 ULP (Rust), y's rounding 2yε, m's error, and a division
+        // (2.5 ULP) and product a side.
+        let pdf_tolerance = |y: f32| (4.0 + 4.0 * y + 8.0) * EPS + mass_error;
+        let rust_pdf = sampler.pdf(t);
+        if t < a || t > rust_b {
+            assert_eq!(o[2], 0.0, "pdf outside [{a}, {b}] at {t}");
+        } else {
+            let tolerance = pdf_tolerance(sigma_t * (t - a)) * rust_pdf;
+            assert!(
+                (o[2] - rust_pdf).abs() <= tolerance,
+                "σ = {sigma_t}, [{a}, {b}], t {t}: GPU pdf {} vs Rust {rust_pdf} (tolerance {tolerance})",
+                o[2]
+            );
+        }
+        // The sample t = a − L/σ, L = ln(1 − u·m): the GPU's ln_1p is a
+        // series below |u·m| = 0.01 (about 10 roundings), above it
+        // log(1 + y) (the sum rounded: ε absolute; WGSL's log: absolute
+        // 2⁻²¹ inside [0.5, 2], 3 ULP outside), Rust's 1 ULP; m's error
+        // moves L by u·m·mass_error/(1 − u·m); then the division and the
+        // sum, rounded to ε of |L|/σ and of |t| a side.
+        let (rust_t, _) = sampler.sample(u);
+        let um = u * -(-x).exp_m1();
+        let l = (-um).ln_1p();
+        let log_error = if um < 0.01 {
+            10.0 * EPS * l.abs()
+        } else if 1.0 - um >= 0.5 {
+            EPS / (1.0 - um) + 1.0 / 2_097_152.0
+        } else {
+            EPS / (1.0 - um) + 3.0 * EPS * l.abs()
+        };
+        let l_error = log_error + EPS * l.abs() + um * mass_error / (1.0 - um);
+        let t_tolerance = (l_error + 2.0 * EPS * l.abs()) / sigma_t + 2.0 * EPS * rust_t.abs();
+        assert!(
+            (o[0] - rust_t).abs() <= t_tolerance,
+            "σ = {sigma_t}, [{a}, {b}], u {u}: GPU sample {} vs Rust {rust_t} (tolerance {t_tolerance})",
             o[0]
         );
     }

@@ -37,7 +37,7 @@ pub mod ray;
 pub mod region;
 pub mod render;
 pub(crate) mod sampler;
-pub(crate) mod sampling;
+pub mod sampling;
 pub mod scene;
 pub mod settings;
 pub(crate) mod shadow_maps;

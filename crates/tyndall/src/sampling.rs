@@ -95,12 +95,15 @@ impl ExponentialSampler {
         })
     }
 
+    /// A distance and its density for `u ∈ [0, 1)`, by inverting the
+    /// truncated exponential's distribution function.
     #[inline]
     pub fn sample(&self, u: f32) -> (f32, f32) {
         let t = (self.a - (-u * self.mass).ln_1p() / self.sigma_t).clamp(self.a, self.b);
         (t, self.pdf(t))
     }
 
+    /// The density at `t` (per unit length; 0 outside `[a, b]`).
     #[inline]
     pub fn pdf(&self, t: f32) -> f32 {
         if t < self.a || t > self.b {

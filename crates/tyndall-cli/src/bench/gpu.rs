@@ -1,11 +1,13 @@
-//! `tyndall bench --gpu`: frames per second of the GPU march (crate
-//! `tyndall-gpu`) at 1280×720 and 1920×1080 on the demo and the fig. 7
-//! scene, for march steps giving about 32, 64 and 128 steps along the
-//! central camera ray's fog segment.
+//! `tyndall bench --gpu`: frames per second of the GPU's single
+//! scattering (crate `tyndall-gpu`) at 1280×720 and 1920×1080 on the demo
+//! and the fig. 7 scene: the march, for steps giving about 32, 64 and 128
+//! steps along the central camera ray's fog segment, and interleaved
+//! equiangular single scattering (`--integrator single`) with 1 and 8
+//! equiangular samples per light on a 4×4 interleaving tile.
 //!
-//! A frame is one sample per pixel: camera ray, march with a shadow-map
-//! lookup per step and light (512² texels per face, the CPU's default),
-//! direct light. Each point times `args.runs` frames after one untimed
+//! A frame is one sample per pixel: camera ray, in-scattering with a
+//! shadow-map lookup per march step or volume sample and light (512²
+//! texels per face, the CPU's default), direct light. Each point times `args.runs` frames after one untimed
 //! warm-up frame and reports the median; the time to build every light's
 //! maps (both passes and the offsets between them) is the median of as
 //! many rebuilds.
@@ -14,9 +16,9 @@ use super::BenchArgs;
 use anyhow::{Context, Result};
 use std::time::{Duration, Instant};
 use tyndall::camera::Camera;
-use tyndall::settings::DEFAULT_MAP_RESOLUTION;
+use tyndall::settings::{DEFAULT_MAP_RESOLUTION, DEFAULT_VOLUME_SAMPLES};
 use tyndall::{Scene, SceneDesc};
-use tyndall_gpu::{Gpu, GpuMarch, GpuVisibility, MarchSettings};
+use tyndall_gpu::{Gpu, GpuMarch, GpuVisibility, InScattering, MarchSettings};
 use tyndall_load::{demo, native};
 
 /// The fog segment's length along the central camera ray (to its first
@@ -34,9 +36,19 @@ fn central_fog_length(scene: &Scene) -> Option<f32> {
     Some(b - a)
 }
 
+/// Side of the interleaving tile of the single-scattering rows.
+const SINGLE_INTERLEAVE: u32 = 4;
+
+/// Equiangular samples per light and segment of the single-scattering
+/// rows: one, and the CPU `single`'s default.
+const SINGLE_VOLUME_SAMPLES: [u32; 2] = [1, DEFAULT_VOLUME_SAMPLES];
+
 pub fn run(args: &BenchArgs) -> Result<()> {
     let gpu = Gpu::new()?;
-    println!("## GPU march\n\nAdapter: {}\n", gpu.adapter);
+    println!(
+        "## GPU march and single scattering\n\nAdapter: {}\n",
+        gpu.adapter
+    );
     let fig07 = args.scenes.join("fig07-spot-sphere.toml");
     let cases: [(&str, SceneDesc); 2] = [
         ("demo", demo::load()?),
@@ -50,45 +62,49 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     } else {
         &[(1280, 720), (1920, 1080)]
     };
-    println!("| scene | size | steps (step) | frame time | frames/s | maps built in |");
-    println!("|---|---|---|---|---|---|");
+    println!(
+        "| scene | size | estimator | samples along the ray | frame time | frames/s | maps built in |"
+    );
+    println!("|---|---|---|---|---|---|---|");
     for (name, desc) in &cases {
         let scene = Scene::build(desc)?;
         let length = central_fog_length(&scene).context("the scene has no fog in view")?;
         for &(width, height) in sizes {
-            for steps in [32u32, 64, 128] {
+            let base = MarchSettings {
+                width,
+                height,
+                step: length / 64.0,
+                interleave: desc.settings.interleave,
+                max_bounces: desc.settings.max_bounces,
+                seed: 1,
+                visibility: GpuVisibility::Maps {
+                    resolution: DEFAULT_MAP_RESOLUTION,
+                },
+                in_scattering: InScattering::March,
+            };
+            let mut rows: Vec<(MarchSettings, &str, String)> = [32u32, 64, 128]
+                .into_iter()
+                .map(|steps| {
+                    let step = length / steps as f32;
+                    let settings = MarchSettings { step, ..base };
+                    (settings, "march", format!("{steps} steps ({step:.4})"))
+                })
+                .collect();
+            for volume_samples in SINGLE_VOLUME_SAMPLES {
                 let settings = MarchSettings {
-                    width,
-                    height,
-                    step: length / steps as f32,
-                    interleave: desc.settings.interleave,
-                    max_bounces: desc.settings.max_bounces,
-                    seed: 1,
-                    visibility: GpuVisibility::Maps {
-                        resolution: DEFAULT_MAP_RESOLUTION,
-                    },
+                    interleave: SINGLE_INTERLEAVE,
+                    in_scattering: InScattering::Single { volume_samples },
+                    ..base
                 };
-                let mut march = GpuMarch::new(&gpu, &scene, &settings)?;
-                march.submit_frames(&gpu, 1);
-                march.wait(&gpu)?;
-                let mut times: Vec<Duration> = (0..args.runs.max(1))
-                    .map(|_| {
-                        let start = Instant::now();
-                        march.submit_frames(&gpu, 1);
-                        march.wait(&gpu).map(|()| start.elapsed())
-                    })
-                    .collect::<Result<_, _>>()?;
-                let frame = super::median(&mut times).as_secs_f64();
-                let mut builds: Vec<Duration> = (0..args.runs.max(1))
-                    .map(|_| {
-                        let start = Instant::now();
-                        march.build_maps(&gpu).map(|()| start.elapsed())
-                    })
-                    .collect::<Result<_, _>>()?;
-                let build = super::median(&mut builds).as_secs_f64();
+                let label = format!(
+                    "{volume_samples} equiangular/light + 1 distance, {SINGLE_INTERLEAVE}×{SINGLE_INTERLEAVE} interleaved"
+                );
+                rows.push((settings, "single", label));
+            }
+            for (settings, estimator, samples) in rows {
+                let (frame, build) = time_frames_and_maps(&gpu, &scene, &settings, args.runs)?;
                 println!(
-                    "| {name} | {width}×{height} | {steps} ({:.4}) | {:.1} ms | {:.2} | {:.1} ms |",
-                    settings.step,
+                    "| {name} | {width}×{height} | {estimator} | {samples} | {:.1} ms | {:.2} | {:.1} ms |",
                     frame * 1e3,
                     1.0 / frame,
                     build * 1e3
@@ -97,4 +113,32 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The median seconds of a frame and of building every light's maps, over
+/// `runs` each, after one untimed warm-up frame.
+fn time_frames_and_maps(
+    gpu: &Gpu,
+    scene: &Scene,
+    settings: &MarchSettings,
+    runs: usize,
+) -> Result<(f64, f64)> {
+    let mut march = GpuMarch::new(gpu, scene, settings)?;
+    march.submit_frames(gpu, 1);
+    march.wait(gpu)?;
+    let mut times: Vec<Duration> = (0..runs.max(1))
+        .map(|_| {
+            let start = Instant::now();
+            march.submit_frames(gpu, 1);
+            march.wait(gpu).map(|()| start.elapsed())
+        })
+        .collect::<Result<_, _>>()?;
+    let frame = super::median(&mut times).as_secs_f64();
+    let mut builds: Vec<Duration> = (0..runs.max(1))
+        .map(|_| {
+            let start = Instant::now();
+            march.build_maps(gpu).map(|()| start.elapsed())
+        })
+        .collect::<Result<_, _>>()?;
+    Ok((frame, super::median(&mut builds).as_secs_f64()))
 }

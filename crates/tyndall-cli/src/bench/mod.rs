@@ -52,7 +52,8 @@ pub struct BenchArgs {
     /// million-triangle glTF and, with `--vdb`, a sparse OpenVDB cloud) or `all`.
     #[arg(long, default_value = "all", value_parser = ["all", "equal-error", "maps", "volpath", "smoke", "load"])]
     only: String,
-    /// Benchmark the GPU march instead (frames per second; see bench/gpu.rs).
+    /// Benchmark the GPU march and single scattering instead (frames per
+    /// second; see bench/gpu.rs).
     #[arg(long)]
     gpu: bool,
     /// Stop a curve after a point whose render takes longer than this (seconds).

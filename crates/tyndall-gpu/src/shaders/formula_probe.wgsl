@@ -45,3 +45,29 @@ fn probe_transmittance(@builtin(global_invocation_id) id: vec3<u32>) {
     let a = inputs[2u * i];
     outputs[i] = vec4<f32>(transmittance(a.x, a.y), 0.0, 0.0, 0.0);
 }
+
+// in0 = (y.xyz, u), in1 = (a, b, t) on the ray from 0 along +x →
+// out = (sample(u), pdf(sample(u)), pdf(t), valid)
+@compute @workgroup_size(64)
+fn probe_equiangular(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= item_count() { return; }
+    let a = inputs[2u * i];
+    let b = inputs[2u * i + 1u];
+    let s = equiangular_new(vec3<f32>(0.0), vec3<f32>(1.0, 0.0, 0.0), a.xyz, b.x, b.y);
+    let t = equiangular_sample(s, a.w);
+    outputs[i] = vec4<f32>(t, equiangular_pdf(s, t), equiangular_pdf(s, b.z), select(0.0, 1.0, s.valid));
+}
+
+// in0 = (σt, a, b, u), in1 = (t) → out = (sample(u), pdf(sample(u)),
+// pdf(t), valid)
+@compute @workgroup_size(64)
+fn probe_exponential(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= item_count() { return; }
+    let a = inputs[2u * i];
+    let b = inputs[2u * i + 1u];
+    let s = exponential_new(a.x, a.y, a.z);
+    let t = exponential_sample(s, a.w);
+    outputs[i] = vec4<f32>(t, exponential_pdf(s, t), exponential_pdf(s, b.x), select(0.0, 1.0, s.valid));
+}

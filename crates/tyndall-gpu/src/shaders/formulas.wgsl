@@ -71,3 +71,110 @@ fn transmittance(sigma_t: f32, distance: f32) -> f32 {
     }
     return exp(-sigma_t * distance);
 }
+
+// ---- sampling distances along a ray (tyndall::sampling) ----
+
+// 1 − e^{−x} for x ≥ 0 (−expm1(−x)), accurate for small x where
+// 1 − exp(−x) cancels: its Taylor series below 0.1 (the first term left
+// out, x⁶/720, is 1.4e-8 of the result at most).
+fn one_minus_exp_neg(x: f32) -> f32 {
+    if x < 0.1 {
+        return x * (1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0 - x / 120.0))));
+    }
+    return 1.0 - exp(-x);
+}
+
+// ln(1 + y) for y > −1 (ln_1p), accurate for small |y| where 1 + y
+// rounds: its Taylor series below 0.01 (the first term left out, y⁶/6,
+// is 2e-11 of the result at most).
+fn ln_one_plus(y: f32) -> f32 {
+    if abs(y) < 0.01 {
+        return y * (1.0 - y * (0.5 - y * (1.0 / 3.0 - y * (0.25 - y * 0.2))));
+    }
+    return log(1.0 + y);
+}
+
+// tyndall::sampling::MIN_EQUIANGULAR_DISTANCE.
+const MIN_EQUIANGULAR_DISTANCE: f32 = 1e-5;
+
+// Equiangular sampling (Kulla & Fajardo 2012) of t ∈ [a, b] on the ray
+// o + t·ω for an emitter at y: Δ = (y − o)·ω is the emitter's foot on the
+// ray, D ≥ MIN_EQUIANGULAR_DISTANCE its distance from the ray, θ the
+// angle seen from y, uniform between θa = atan((a − Δ)/D) and θb; the
+// density is D / ((θb − θa)(D² + (t − Δ)²))
+// (tyndall::sampling::EquiangularSampler). `valid` is false for an
+// empty interval (the Rust `new` returns None).
+struct Equiangular {
+    delta: f32,
+    distance: f32,
+    theta_a: f32,
+    theta_b: f32,
+    a: f32,
+    b: f32,
+    valid: bool,
+}
+
+fn equiangular_new(origin: vec3<f32>, direction: vec3<f32>, y: vec3<f32>, a: f32, b: f32) -> Equiangular {
+    if !(a < b) {
+        return Equiangular(0.0, 1.0, 0.0, 0.0, a, b, false);
+    }
+    let delta = dot(y - origin, direction);
+    let distance = max(length(y - (origin + direction * delta)), MIN_EQUIANGULAR_DISTANCE);
+    // atan2(x, D) = atan(x/D) for D > 0, without x/D overflowing when b
+    // stands for ∞ (a camera ray that leaves the scene).
+    let theta_a = atan2(a - delta, distance);
+    let theta_b = atan2(b - delta, distance);
+    return Equiangular(delta, distance, theta_a, theta_b, a, b, theta_b > theta_a);
+}
+
+// The distance for u ∈ [0, 1) (EquiangularSampler::sample).
+fn equiangular_sample(s: Equiangular, u: f32) -> f32 {
+    let theta = s.theta_a + u * (s.theta_b - s.theta_a);
+    return clamp(s.delta + s.distance * tan(theta), s.a, s.b);
+}
+
+// The density at t, 0 outside [a, b] or for an empty sampler
+// (EquiangularSampler::pdf).
+fn equiangular_pdf(s: Equiangular, t: f32) -> f32 {
+    if !s.valid || t < s.a || t > s.b {
+        return 0.0;
+    }
+    let x = t - s.delta;
+    return s.distance / ((s.theta_b - s.theta_a) * (s.distance * s.distance + x * x));
+}
+
+// Distance sampling of t ∈ [a, b] proportionally to the transmittance
+// from a: density σ·e^{−σ(t−a)}/m with m = 1 − e^{−σ(b−a)}; b may be
+// INFINITE (tyndall::sampling::ExponentialSampler). `valid` is false for
+// σ ≤ 0 or an empty interval.
+struct Exponential {
+    sigma_t: f32,
+    a: f32,
+    b: f32,
+    mass: f32,
+    valid: bool,
+}
+
+fn exponential_new(sigma_t: f32, a: f32, b: f32) -> Exponential {
+    if !(sigma_t > 0.0 && a < b) {
+        return Exponential(sigma_t, a, b, 0.0, false);
+    }
+    // Past σ(b − a) = 88, 1 − e^{−σ(b−a)} is 1 in f32; the cap keeps the
+    // product finite when b stands for ∞.
+    let mass = one_minus_exp_neg(sigma_t * min(b - a, 88.0 / sigma_t));
+    return Exponential(sigma_t, a, b, mass, mass > 0.0);
+}
+
+// The distance for u ∈ [0, 1) (ExponentialSampler::sample).
+fn exponential_sample(s: Exponential, u: f32) -> f32 {
+    return clamp(s.a - ln_one_plus(-u * s.mass) / s.sigma_t, s.a, s.b);
+}
+
+// The density at t, 0 outside [a, b] or for an empty sampler
+// (ExponentialSampler::pdf).
+fn exponential_pdf(s: Exponential, t: f32) -> f32 {
+    if !s.valid || t < s.a || t > s.b {
+        return 0.0;
+    }
+    return s.sigma_t * exp(-s.sigma_t * (t - s.a)) / s.mass;
+}

@@ -70,6 +70,13 @@ struct Params {
     // 1: visibility from the maps of maps.wgsl; 0: shadow rays
     use_maps: u32,
     map_resolution: u32,
+    // ESTIMATOR_MARCH or ESTIMATOR_SINGLE: how the fog segment's
+    // in-scattering is estimated
+    estimator: u32,
+    // equiangular samples per light and segment (ESTIMATOR_SINGLE)
+    volume_samples: u32,
+    pad0: u32,
+    pad1: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -86,6 +93,8 @@ const MATERIAL_LAMP_FACE: u32 = 2u;
 const MATERIAL_GLASS: u32 = 3u;
 const LIGHT_POINT: u32 = 0u;
 const LIGHT_SPOT: u32 = 1u;
+const ESTIMATOR_MARCH: u32 = 0u;
+const ESTIMATOR_SINGLE: u32 = 1u;
 const PI: f32 = 3.14159265358979;
 // A distance standing for ∞ (a sun's): exp(−σt·INFINITE) is 0 for σt > 0.
 const INFINITE: f32 = 3.0e38;
@@ -409,6 +418,20 @@ fn light_arriving(i: u32, x: vec3<f32>, on_surface: bool, normal: vec3<f32>, inc
     return inc.irradiance * glass * fog_transmittance_along(x, inc.direction, inc.distance);
 }
 
+// Radiance scattered at fog point `x` towards the camera (against unit
+// `view`) from light `i`, per unit length: the paper's eq. 1,
+// σs·p(θ)·E·V·Tr_glass·T_fog (tyndall::integrators::scattered_radiance);
+// 0 outside a spot's cone, without a visibility query.
+fn scattered_radiance(i: u32, x: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
+    let inc = incident(i, x);
+    if !inc.valid {
+        return vec3<f32>(0.0);
+    }
+    let sigma_s = params.fog_albedo_sigma_t.xyz * sigma_t();
+    let phase = phase_hg(params.background_g.w, dot(inc.direction, view));
+    return sigma_s * phase * light_arriving(i, x, false, vec3<f32>(0.0), inc);
+}
+
 // The part of [t0, t1] along `ray` inside the cone of spot `light`
 // (tyndall::lights::SpotLight::clip_ray): the cone's quadric and apex
 // plane cut the segment; the pieces whose midpoint lies inside are
@@ -538,7 +561,6 @@ fn in_scattered(ray: Ray, t_hit: f32, stratum: u32, strata: u32) -> vec3<f32> {
     if !(lo < hi) {
         return vec3<f32>(0.0);
     }
-    let g = params.background_g.w;
     let h = params.step;
     // The first lattice index k ≥ 0 with t_k ≥ lo
     // (tyndall::integrators::march::lattice_range, in f32 here).
@@ -552,15 +574,102 @@ fn in_scattered(ray: Ray, t_hit: f32, stratum: u32, strata: u32) -> vec3<f32> {
         let x = ray_at(ray, t);
         let camera_t = transmittance(sigma_t(), t - a);
         for (var i = 0u; i < params.light_count; i++) {
-            let inc = incident(i, x);
-            if !inc.valid {
-                continue;
-            }
-            let phase = phase_hg(g, dot(inc.direction, ray.direction));
-            sum += camera_t * sigma_s * phase * light_arriving(i, x, false, vec3<f32>(0.0), inc);
+            sum += camera_t * scattered_radiance(i, x, ray.direction);
         }
     }
     return sum * h;
+}
+
+// ---- unbiased single scattering (tyndall::integrators::single) ----
+
+// The interleaving pattern's offset for light `i` in this frame, the same
+// in every pixel (a Cranley–Patterson rotation): the golden-ratio
+// sequence r_f = r₀ + f·φ (mod 1) from a random r₀ per seed and light.
+// Each r_f is uniform on [0, 1) because r₀ is, and successive frames'
+// offsets spread evenly over [0, 1), so a pixel's offsets over frames are
+// stratified as a CPU pixel's samples are.
+fn frame_offset(i: u32) -> f32 {
+    let r0 = pcg(pcg(params.seed ^ 0x5bd1e995u) ^ i);
+    // In 32-bit fixed point, where adding wraps modulo 1 exactly:
+    // 0x9e3779b9 = ⌊2³²·(φ − 1)⌋, φ − 1 = 0.6180339887….
+    return f32((r0 + params.frame * 0x9e3779b9u) >> 8u) * (1.0 / 16777216.0);
+}
+
+// The equiangular sample offset u ∈ [0, 1) of light `i` in this pixel:
+// stratum k of the interleaving tile's n² (Keller & Heidrich 2001), so
+// that the tile's pixels share out [0, 1) as a march's pixels share out
+// the step, jittered inside it, and shifted by the frame's offset modulo
+// 1. The shift makes u uniform on [0, 1) in every pixel, so each
+// pixel's estimate is unbiased on its own (not only the tile's mean),
+// while inside each frame neighbouring pixels stay stratified.
+fn interleaved_offset(stratum: u32, strata: u32, i: u32) -> f32 {
+    let u = (f32(stratum) + next_1d()) / f32(strata) + frame_offset(i);
+    // fract may round up to 1 just below an integer; keep u < 1.
+    return min(fract(u), 0.99999994);
+}
+
+// In-scattered radiance along `ray` over (0, t_hit), relative to the
+// radiance at its origin, as tyndall::integrators::single::in_scattered:
+// per light, n equiangular samples t_k at offsets (k + u)/n of its reach
+// (the spot's cone; none for a sun, which has no emitting point) and the
+// ray's one distance sample t_d, shared by the lights, combined by the
+// multi-sample balance heuristic (Veach 1997):
+// Σ_k f(t_k)/(n·p_e(t_k) + p_d(t_k)) + f(t_d)/(n·p_e(t_d) + p_d(t_d)),
+// f(t) = T(a, t)·eq. 1. Unbiased for any u distribution that is uniform
+// on [0, 1) per pixel, as interleaved_offset's is.
+fn single_in_scattered(ray: Ray, t_hit: f32, stratum: u32, strata: u32) -> vec3<f32> {
+    let u_distance = next_1d();
+    let span = fog_interval(ray, 0.0, t_hit);
+    let sigma_s = params.fog_albedo_sigma_t.xyz * sigma_t();
+    if span.z == 0.0 || all(sigma_s == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let a = span.x;
+    let b = span.y;
+    let distance = exponential_new(sigma_t(), a, b);
+    if !distance.valid {
+        return vec3<f32>(0.0);
+    }
+    let t_d = exponential_sample(distance, u_distance);
+    let pdf_d = exponential_pdf(distance, t_d);
+    let x_d = ray_at(ray, t_d);
+    let n = f32(params.volume_samples);
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < params.light_count; i++) {
+        let u_equiangular = interleaved_offset(stratum, strata, i);
+        var equiangular = Equiangular(0.0, 1.0, 0.0, 0.0, a, b, false);
+        let light = lights[i];
+        if light.kind == LIGHT_POINT || light.kind == LIGHT_SPOT {
+            let r = reach(i, ray, a, b);
+            if r.z != 0.0 {
+                equiangular = equiangular_new(ray.origin, ray.direction, light.position.xyz, r.x, r.y);
+            }
+        }
+        if equiangular.valid {
+            for (var k = 0u; k < params.volume_samples; k++) {
+                let t = equiangular_sample(equiangular, (f32(k) + u_equiangular) / n);
+                let f = scattered_radiance(i, ray_at(ray, t), ray.direction);
+                if any(f != vec3<f32>(0.0)) {
+                    let weight = n * equiangular_pdf(equiangular, t) + exponential_pdf(distance, t);
+                    sum += f * (transmittance(sigma_t(), t - a) / weight);
+                }
+            }
+        }
+        let f = scattered_radiance(i, x_d, ray.direction);
+        if any(f != vec3<f32>(0.0)) {
+            let weight = pdf_d + n * equiangular_pdf(equiangular, t_d);
+            sum += f * (transmittance(sigma_t(), t_d - a) / weight);
+        }
+    }
+    return sum;
+}
+
+// The fog segment's in-scattering by the estimator the host chose.
+fn fog_in_scattered(ray: Ray, t_hit: f32, stratum: u32, strata: u32) -> vec3<f32> {
+    if params.estimator == ESTIMATOR_SINGLE {
+        return single_in_scattered(ray, t_hit, stratum, strata);
+    }
+    return in_scattered(ray, t_hit, stratum, strata);
 }
 
 // Direct light on a Lambertian surface: Σ ρ/π·E·cos θ·V·Tr_glass·T_fog.
@@ -628,7 +737,7 @@ fn radiance(first: Ray, stratum: u32, strata: u32) -> vec3<f32> {
     loop {
         let hit = nearest_hit(ray);
         if has_fog() {
-            result += throughput * in_scattered(ray, hit.t, stratum, strata);
+            result += throughput * fog_in_scattered(ray, hit.t, stratum, strata);
             var fog_t = 1.0;
             let span = fog_interval(ray, 0.0, hit.t);
             if span.z != 0.0 {
