@@ -115,9 +115,23 @@ fn ray_at(ray: Ray, t: f32) -> vec3<f32> {
     return ray.origin + ray.direction * t;
 }
 
-// ---- random numbers: PCG hash (Jarzynski & Olano 2020) ----
+// ---- random numbers ----
+//
+// A pixel's first three dimensions in a frame (the film position and the
+// first in-scattering jitter or offset, where most of the noise is) are
+// frame f's point of the R₃ sequence (Roberts 2018, "The unreasonable
+// effectiveness of quasirandom sequences"), fract(r + f·α) with
+// α = (1/g, 1/g², 1/g³), g the real root > 1 of x⁴ = x + 1, under a
+// random rotation r per pixel (Cranley–Patterson): every frame's point
+// is uniform on [0, 1)³, so each pixel's mean is unbiased, and a pixel's
+// frames fill the cube evenly, as a CPU pixel's Sobol samples do. Later
+// dimensions come from the PCG hash (Jarzynski & Olano 2020).
 
 var<private> rng_state: u32;
+var<private> leading: vec3<u32>;
+// How many of `leading` next_1d has handed out: 3 (none left) until a
+// kernel sets them.
+var<private> leading_used: u32 = 3u;
 
 fn pcg(v: u32) -> u32 {
     let state = v * 747796405u + 2891336453u;
@@ -125,10 +139,25 @@ fn pcg(v: u32) -> u32 {
     return (word >> 22u) ^ word;
 }
 
+// 24 bits of `bits`: uniform on [0, 1) in f32.
+fn unit_f32(bits: u32) -> f32 {
+    return f32(bits >> 8u) * (1.0 / 16777216.0);
+}
+
+// Frame `frame`'s R₃ point rotated by `rotation`, in 32-bit fixed point
+// where adding wraps modulo 1 exactly: ⌊2³²·g⁻ᵏ⌋ for k = 1, 2, 3.
+fn r3_point(rotation: vec3<u32>, frame: u32) -> vec3<u32> {
+    return rotation + frame * vec3<u32>(3518319154u, 2882110344u, 2360945575u);
+}
+
 fn next_1d() -> f32 {
+    if leading_used < 3u {
+        let u = leading[leading_used];
+        leading_used += 1u;
+        return unit_f32(u);
+    }
     rng_state = pcg(rng_state);
-    // 24 bits: uniform on [0, 1) in f32.
-    return f32(rng_state >> 8u) * (1.0 / 16777216.0);
+    return unit_f32(rng_state);
 }
 
 // ---- shapes (tyndall::shapes) ----
@@ -800,6 +829,9 @@ fn march_frame(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let index = id.y * width + id.x;
     rng_state = pcg(index ^ pcg(params.seed ^ pcg(params.frame)));
+    let rotation = pcg(index ^ pcg(params.seed ^ 0x68e31da4u));
+    leading = r3_point(vec3<u32>(rotation, pcg(rotation), pcg(pcg(rotation))), params.frame);
+    leading_used = 0u;
     // The film position, uniform over the pixel (a box filter), then the
     // ray of tyndall::camera::Camera::ray.
     let film = vec2<f32>(f32(id.x) + next_1d(), f32(id.y) + next_1d());
