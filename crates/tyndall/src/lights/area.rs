@@ -17,6 +17,42 @@ pub struct QuadLight {
     pub quad: Quad,
     pub radiance: Rgb,
     pub two_sided: bool,
+    /// The quad's frame for solid-angle sampling if it is a rectangle
+    /// (set by [`QuadLight::new`], computed once rather than per sample).
+    pub(super) rectangle: Option<RectangleFrame>,
+}
+
+/// A rectangle's edges as an orthonormal frame (x and y along the edges,
+/// z their normal) and lengths, for [`SphericalRectangle`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct RectangleFrame {
+    corner: Vec3,
+    x: Vec3,
+    y: Vec3,
+    z: Vec3,
+    width: f32,
+    height: f32,
+}
+
+impl RectangleFrame {
+    /// The frame of `quad` if its edges are orthogonal (solid-angle
+    /// sampling needs a rectangle).
+    fn new(quad: &Quad) -> Option<Self> {
+        let (ex, ey) = (quad.edge_u, quad.edge_v);
+        let (width, height) = (ex.length(), ey.length());
+        if ex.dot(ey).abs() > 1e-5 * width * height {
+            return None;
+        }
+        let (x, y) = (ex / width, ey / height);
+        Some(Self {
+            corner: quad.origin,
+            x,
+            y,
+            z: x.cross(y),
+            width,
+            height,
+        })
+    }
 }
 
 /// An emissive sphere: constant radiance `radiance` (W·sr⁻¹·m⁻²) from
@@ -151,14 +187,13 @@ pub struct SphericalRectangle {
 }
 
 impl SphericalRectangle {
-    /// The rectangle `quad` (its edges must be orthogonal) seen from `o`;
-    /// `None` if `o` lies in its plane or it subtends no solid angle.
-    pub fn new(quad: &Quad, o: Vec3) -> Option<Self> {
-        let (ex, ey) = (quad.edge_u, quad.edge_v);
-        let (exl, eyl) = (ex.length(), ey.length());
-        let (x, y) = (ex / exl, ey / eyl);
-        let mut z = x.cross(y);
-        let d = quad.origin - o;
+    /// The rectangle `frame` seen from `o`; `None` if `o` lies in its
+    /// plane or it subtends no solid angle.
+    pub(super) fn new(frame: &RectangleFrame, o: Vec3) -> Option<Self> {
+        let (x, y) = (frame.x, frame.y);
+        let (exl, eyl) = (frame.width, frame.height);
+        let mut z = frame.z;
+        let d = frame.corner - o;
         let mut z0 = d.dot(z);
         if z0 > 0.0 {
             z = -z;
@@ -243,12 +278,17 @@ fn arc_cosine(x: f32) -> f32 {
     if x < 0.0 { PI - acos_a } else { acos_a }
 }
 
-/// Whether solid-angle sampling applies: a rectangle (orthogonal edges).
-fn is_rectangle(quad: &Quad) -> bool {
-    quad.edge_u.dot(quad.edge_v).abs() <= 1e-5 * quad.edge_u.length() * quad.edge_v.length()
-}
-
 impl QuadLight {
+    /// A light of radiance `radiance` on `quad`.
+    pub fn new(quad: Quad, radiance: Rgb, two_sided: bool) -> Self {
+        Self {
+            quad,
+            radiance,
+            two_sided,
+            rectangle: RectangleFrame::new(&quad),
+        }
+    }
+
     /// Light reaching `x` from the point `y` of the quad: `L·cos θ_y·A/d²`,
     /// the radiance over the point's density when chosen uniformly by
     /// area; `None` behind a one-sided quad.
@@ -269,8 +309,8 @@ impl QuadLight {
     /// otherwise. Returns the incident light divided by the point's
     /// density, and that density per unit solid angle seen from `x`.
     pub fn sample_incident(&self, x: Vec3, u: Vec2) -> Option<(Incident, f32)> {
-        if is_rectangle(&self.quad)
-            && let Some(rect) = SphericalRectangle::new(&self.quad, x)
+        if let Some(frame) = &self.rectangle
+            && let Some(rect) = SphericalRectangle::new(frame, x)
         {
             let y = rect.sample(u);
             let (direction, d2) = towards(x, y)?;
@@ -300,8 +340,8 @@ impl QuadLight {
     /// [`QuadLight::sample_incident`] picks the point `y` of this light
     /// in direction `direction` (unit, from `x`).
     pub fn pdf(&self, x: Vec3, y: Vec3, direction: Vec3) -> f32 {
-        if is_rectangle(&self.quad)
-            && let Some(rect) = SphericalRectangle::new(&self.quad, x)
+        if let Some(frame) = &self.rectangle
+            && let Some(rect) = SphericalRectangle::new(frame, x)
         {
             return 1.0 / rect.solid_angle;
         }
@@ -354,7 +394,8 @@ mod tests {
             Vec3::new(0.4, 1.5, 0.2),
             Vec3::new(3.0, 0.5, -2.0),
         ] {
-            let rect = SphericalRectangle::new(&quad, o).unwrap();
+            let frame = RectangleFrame::new(&quad).unwrap();
+            let rect = SphericalRectangle::new(&frame, o).unwrap();
             let n = 400;
             let mut omega = 0.0f64;
             for i in 0..n {

@@ -500,11 +500,7 @@ mod tests {
             Light::Spot(spot(SpotProfile::Linear, 35.0)),
             Light::Spot(spot(SpotProfile::Hard, 35.0)),
             Light::Spot(spot(SpotProfile::Smooth { cos_inner: inner }, 35.0)),
-            Light::Quad(QuadLight {
-                quad,
-                radiance: Rgb::splat(2.0),
-                two_sided: true,
-            }),
+            Light::Quad(QuadLight::new(quad, Rgb::splat(2.0), true)),
         ];
         for light in lights {
             let n = 256;
@@ -531,11 +527,7 @@ mod tests {
     #[test]
     fn quad_emission_density() {
         let quad = Quad::new(Vec3::ZERO, Vec3::X * 2.0, Vec3::Z, false).unwrap();
-        let front = QuadLight {
-            quad,
-            radiance: Rgb::ONE,
-            two_sided: false,
-        };
+        let front = QuadLight::new(quad, Rgb::ONE, false);
         let one_sided = Light::Quad(front);
         let n = quad.normal;
         let area = quad.area();

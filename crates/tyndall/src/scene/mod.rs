@@ -229,11 +229,9 @@ impl Scene {
                 } = *material
                 {
                     let light = match shape {
-                        Shape::Quad(quad) => Some(Light::Quad(QuadLight {
-                            quad,
-                            radiance,
-                            two_sided,
-                        })),
+                        Shape::Quad(quad) => {
+                            Some(Light::Quad(QuadLight::new(quad, radiance, two_sided)))
+                        }
                         Shape::Sphere(sphere) => Some(Light::Sphere(SphereLight {
                             sphere,
                             radiance,
