@@ -513,8 +513,8 @@ pub fn render_region(
         let pass_start = Instant::now();
         let mut subpath_counts = RayCounts::default();
         let pixels = full_width * settings.height as u64;
-        let light_subpaths =
-            LightSubpaths::for_pass(scene, settings, pixels, s, &mut subpath_counts);
+        let light_subpaths = pool
+            .install(|| LightSubpaths::for_pass(scene, settings, pixels, s, &mut subpath_counts));
         camera_rays.fetch_add(subpath_counts.camera, Ordering::Relaxed);
         let integrator = Integrator::new(settings, &visibility, &light_subpaths);
         pool.install(|| {

@@ -28,6 +28,7 @@ use crate::scene::Scene;
 use crate::settings::{IntegratorKind, RenderSettings};
 use crate::visibility::RayCounts;
 use glam::Vec3;
+use rayon::prelude::*;
 
 /// Seeds the pool's sequences apart from the pixels' and the caustic
 /// light paths'.
@@ -87,7 +88,8 @@ impl<'a> LightSubpaths<'a> {
     /// (its full image's pixel count, whatever part of it is rendered:
     /// the pool must not depend on the split). Subpath `j` is the
     /// `sample_index`-th sample of its own Owen-scrambled Sobol sequence,
-    /// so each subpath is stratified across passes. Empty unless
+    /// so each subpath is stratified across passes; traced in parallel
+    /// on the current rayon pool. Empty unless
     /// `volpath` with light-vertex connections applies to `scene`.
     pub fn for_pass(
         scene: &'a Scene,
@@ -100,12 +102,16 @@ impl<'a> LightSubpaths<'a> {
             return Self::none();
         };
         let seed = settings.seed ^ SUBPATH_SEED;
-        let subpaths = (0..Self::pool_size(samples_per_pass))
+        let (subpaths, flights): (Vec<_>, Vec<u64>) = (0..Self::pool_size(samples_per_pass))
+            .into_par_iter()
             .map(|j| {
                 let mut sampler = PixelSampler::new(seed, j, sample_index);
-                LightSubpath::sample(scene, fog, &mut sampler, counts)
+                let mut own = RayCounts::default();
+                let subpath = LightSubpath::sample(scene, fog, &mut sampler, &mut own);
+                (subpath, own.camera)
             })
-            .collect();
+            .unzip();
+        counts.camera += flights.iter().sum::<u64>();
         Self { subpaths }
     }
 
