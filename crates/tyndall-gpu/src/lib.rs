@@ -57,4 +57,4 @@ pub mod scene_buffers;
 mod shaders;
 
 pub use device::{AdapterSummary, Gpu, GpuError};
-pub use march::{GpuMarch, GpuVisibility, MarchSettings, render};
+pub use march::{GpuMarch, GpuVisibility, MapsRebuilt, MarchSettings, Update, render};
