@@ -52,7 +52,7 @@ pub mod device;
 pub mod formula_probe;
 mod maps;
 pub mod march;
-mod readback;
+pub mod readback;
 pub mod scene_buffers;
 mod shaders;
 

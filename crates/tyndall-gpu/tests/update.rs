@@ -94,10 +94,10 @@ fn updates_equal_a_fresh_march_of_the_final_state() {
             |d| {
                 let fog = &mut d.fog.as_mut().expect("the demo has fog").value;
                 fog.sigma_t *= 1.5;
-                fog.albedo = fog.albedo * 0.8;
+                fog.albedo *= 0.8;
                 d.camera.value.position += Vec3::new(0.2, 0.1, -0.1);
                 d.settings.step *= 0.8;
-                point(d).intensity = point(d).intensity * 2.0;
+                point(d).intensity *= 2.0;
             },
             MapsRebuilt::None,
         ),
