@@ -242,7 +242,7 @@ fn light_controls(ui: &mut egui::Ui, outcome: &mut Outcome, light: usize, l: &Li
             outcome,
             &format!("light {} elevation (°)", light + 1),
             elevation,
-            -89.0..=89.0,
+            -90.0..=90.0,
             false,
             move |e| Setting::Direction {
                 light,
