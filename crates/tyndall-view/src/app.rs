@@ -4,7 +4,10 @@
 //! changes the scene marks it dirty; the next redraw restarts the
 //! accumulation with the change, so the first frame after an input shows
 //! it, and the time from the input's arrival to that frame's present is
-//! measured and reported.
+//! measured and reported. Each redraw first runs the control panel
+//! ([`crate::panel`]): events it used (a click or drag on it) do not reach
+//! the camera or the keys, the settings its sliders changed are applied
+//! before the frame is rendered, and its pixels are drawn over the image.
 
 use crate::ViewOptions;
 use crate::accumulator::{Accumulator, FrameTimes};

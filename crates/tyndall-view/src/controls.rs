@@ -1,5 +1,6 @@
-//! The live controls: what each key changes in the scene description,
-//! within the ranges the loader accepts, and a one-line summary of the
+//! The live controls: what each key and slider changes in the scene
+//! description, within the ranges the loader accepts ([`LiveScene::set`]
+//! keeps them, for keys and sliders alike), and a one-line summary of the
 //! current values for the window title.
 //!
 //! | key | control |

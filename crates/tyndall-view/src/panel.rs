@@ -94,9 +94,12 @@ pub fn controls_ui(ctx: &egui::Context, live: &LiveScene, stats: &Stats) -> Outc
                     "{:.1} fps, frame {:.1} ms, {} frames",
                     stats.fps, stats.frame_ms, stats.frames
                 ));
-                if let Some(ms) = stats.latency_ms {
-                    ui.label(format!("input → frame {ms:.0} ms"));
-                }
+                // Always a line, so the sliders below do not move when
+                // the first latency arrives.
+                ui.label(match stats.latency_ms {
+                    Some(ms) => format!("input → frame {ms:.0} ms"),
+                    None => "input → frame: no input yet".to_string(),
+                });
                 fog_controls(ui, &mut outcome, live);
                 let desc = &live.desc;
                 slider(
