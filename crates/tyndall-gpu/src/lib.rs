@@ -87,9 +87,11 @@ pub mod device;
 pub mod formula_probe;
 mod maps;
 pub mod march;
-mod readback;
+pub mod readback;
 pub mod scene_buffers;
 mod shaders;
 
 pub use device::{AdapterSummary, Gpu, GpuError};
-pub use march::{GpuMarch, GpuVisibility, InScattering, MarchSettings, render};
+pub use march::{
+    GpuMarch, GpuVisibility, InScattering, MapsRebuilt, MarchSettings, Update, render,
+};

@@ -38,6 +38,13 @@ pub(crate) struct GpuLightMap {
     pad: [u32; 2],
 }
 
+impl GpuLightMap {
+    /// The indices of this light's faces in the face array.
+    pub(crate) fn face_range(&self) -> std::ops::Range<usize> {
+        self.face_base as usize..(self.face_base + self.face_count) as usize
+    }
+}
+
 fn v4(v: Vec3, w: f32) -> [f32; 4] {
     [v.x, v.y, v.z, w]
 }

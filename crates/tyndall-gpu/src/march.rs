@@ -19,6 +19,9 @@ use tyndall::settings::{IntegratorKind, MAX_MARCH_STEPS, VisibilityMode};
 use tyndall::{Image, RenderSettings, Rgb, Scene};
 use wgpu::util::DeviceExt;
 
+mod update;
+pub use update::{MapsRebuilt, Update};
+
 /// A GPU render's parameters: those of the CPU `march` and `single` the
 /// GPU honours (the name is the march's, which came first).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -126,6 +129,90 @@ struct Params {
     pad: [u32; 2],
 }
 
+impl Params {
+    /// The uniforms for `scene` (flattened into `buffers`) under
+    /// `settings`, at frame 0; refuses a march step that is not positive
+    /// and finite, and single scattering without samples.
+    fn new(
+        scene: &Scene,
+        settings: &MarchSettings,
+        buffers: &SceneBuffers,
+    ) -> Result<Self, GpuError> {
+        if settings.in_scattering == InScattering::March
+            && !(settings.step > 0.0 && settings.step.is_finite())
+        {
+            return Err(GpuError::Unsupported(format!(
+                "march step {} (must be positive and finite)",
+                settings.step
+            )));
+        }
+        let (estimator, volume_samples) = match settings.in_scattering {
+            InScattering::March => (0, 0),
+            InScattering::Single { volume_samples } => {
+                if volume_samples == 0 {
+                    return Err(GpuError::Unsupported(
+                        "0 volume samples (single scattering needs at least 1)".into(),
+                    ));
+                }
+                (1, volume_samples)
+            }
+        };
+        let (forward, right, up, half_extent) =
+            camera_frame(scene.camera(), settings.width, settings.height);
+        let glass = scene.glass();
+        let map_resolution = match settings.visibility {
+            GpuVisibility::ShadowRays => 0,
+            GpuVisibility::Maps { resolution } => resolution,
+        };
+        let mut params = Self {
+            camera_position: v4(scene.camera().position, 0.0),
+            camera_forward: v4(forward, 0.0),
+            camera_right: v4(right, 0.0),
+            camera_up: v4(up, 0.0),
+            half_extent_resolution: [
+                half_extent.x,
+                half_extent.y,
+                settings.width as f32,
+                settings.height as f32,
+            ],
+            background_g: v4(scene.background(), 0.0),
+            step: settings.step,
+            interleave: settings.interleave.max(1),
+            seed: (settings.seed ^ (settings.seed >> 32)) as u32,
+            primitive_count: buffers.primitives.len() as u32,
+            light_count: buffers.lights.len() as u32,
+            glass_model: match glass.model {
+                GlassModel::Filter => 0,
+                GlassModel::Blend => 1,
+            },
+            opaque_to_camera: glass.opaque_to_camera as u32,
+            max_bounces: settings.max_bounces,
+            // The CPU march's cap: MAX_MARCH_STEPS over the lights.
+            step_budget: (MAX_MARCH_STEPS / buffers.lights.len().max(1) as u64).min(u32::MAX as u64)
+                as u32,
+            use_maps: (map_resolution > 0) as u32,
+            map_resolution,
+            estimator,
+            volume_samples,
+            ..Default::default()
+        };
+        if let Some(fog) = scene.fog() {
+            let g = match fog.phase {
+                tyndall::phase::PhaseFunction::Isotropic => 0.0,
+                tyndall::phase::PhaseFunction::HenyeyGreenstein { g } => g,
+            };
+            params.fog_albedo_sigma_t = v4(fog.albedo, fog.sigma_t);
+            params.background_g[3] = g;
+            let (min, max, bounded) = fog
+                .bounds
+                .map_or((Vec3::ZERO, Vec3::ZERO, 0.0), |b| (b.min, b.max, 1.0));
+            params.fog_min = v4(min, 1.0);
+            params.fog_max = v4(max, bounded);
+        }
+        Ok(params)
+    }
+}
+
 fn v4(v: Vec3, w: f32) -> [f32; 4] {
     [v.x, v.y, v.z, w]
 }
@@ -162,6 +249,18 @@ pub struct GpuMarch {
     bind_group: wgpu::BindGroup,
     face_count: u32,
     frames: u32,
+    /// What the buffers now hold, to tell what an [`GpuMarch::update`]
+    /// changes.
+    uploaded: Uploaded,
+}
+
+/// Host copies of what is on the GPU: the scene's arrays, the maps'
+/// faces and each map texel's glass-layer count (from the last map build).
+struct Uploaded {
+    scene: SceneBuffers,
+    light_maps: Vec<maps::GpuLightMap>,
+    faces: Vec<maps::GpuFace>,
+    layer_counts: Vec<u32>,
 }
 
 /// A storage buffer holding `items`, or one zeroed item for an empty list
@@ -173,7 +272,7 @@ fn storage<T: Pod + Default>(gpu: &Gpu, label: &str, items: &[T]) -> wgpu::Buffe
         .create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some(label),
             contents: bytemuck::cast_slice(items),
-            usage: wgpu::BufferUsages::STORAGE,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         })
 }
 
@@ -227,90 +326,14 @@ impl GpuMarch {
     /// an empty accumulation of `settings.width × settings.height` pixels.
     pub fn new(gpu: &Gpu, scene: &Scene, settings: &MarchSettings) -> Result<Self, GpuError> {
         let buffers = SceneBuffers::new(scene)?;
-        if settings.in_scattering == InScattering::March
-            && !(settings.step > 0.0 && settings.step.is_finite())
-        {
-            return Err(GpuError::Unsupported(format!(
-                "march step {} (must be positive and finite)",
-                settings.step
-            )));
-        }
-        let (forward, right, up, half_extent) =
-            camera_frame(scene.camera(), settings.width, settings.height);
-        let glass = scene.glass();
-        let (estimator, volume_samples) = match settings.in_scattering {
-            InScattering::March => (0, 0),
-            InScattering::Single { volume_samples } => {
-                if volume_samples == 0 {
-                    return Err(GpuError::Unsupported(
-                        "0 volume samples (single scattering needs at least 1)".into(),
-                    ));
-                }
-                (1, volume_samples)
-            }
-        };
-        let map_resolution = match settings.visibility {
-            GpuVisibility::ShadowRays => 0,
-            GpuVisibility::Maps { resolution } => resolution,
-        };
-        let mut params = Params {
-            camera_position: v4(scene.camera().position, 0.0),
-            camera_forward: v4(forward, 0.0),
-            camera_right: v4(right, 0.0),
-            camera_up: v4(up, 0.0),
-            half_extent_resolution: [
-                half_extent.x,
-                half_extent.y,
-                settings.width as f32,
-                settings.height as f32,
-            ],
-            background_g: v4(scene.background(), 0.0),
-            step: settings.step,
-            interleave: settings.interleave.max(1),
-            seed: (settings.seed ^ (settings.seed >> 32)) as u32,
-            primitive_count: buffers.primitives.len() as u32,
-            light_count: buffers.lights.len() as u32,
-            glass_model: match glass.model {
-                GlassModel::Filter => 0,
-                GlassModel::Blend => 1,
-            },
-            opaque_to_camera: glass.opaque_to_camera as u32,
-            max_bounces: settings.max_bounces,
-            // The CPU march's cap: MAX_MARCH_STEPS over the lights.
-            step_budget: (MAX_MARCH_STEPS / buffers.lights.len().max(1) as u64).min(u32::MAX as u64)
-                as u32,
-            use_maps: (map_resolution > 0) as u32,
-            map_resolution,
-            estimator,
-            volume_samples,
-            ..Default::default()
-        };
-        if let Some(fog) = scene.fog() {
-            let g = match fog.phase {
-                tyndall::phase::PhaseFunction::Isotropic => 0.0,
-                tyndall::phase::PhaseFunction::HenyeyGreenstein { g } => g,
-            };
-            params.fog_albedo_sigma_t = v4(fog.albedo, fog.sigma_t);
-            params.background_g[3] = g;
-            let (min, max, bounded) = fog
-                .bounds
-                .map_or((Vec3::ZERO, Vec3::ZERO, 0.0), |b| (b.min, b.max, 1.0));
-            params.fog_min = v4(min, 1.0);
-            params.fog_max = v4(max, bounded);
-        }
+        let params = Params::new(scene, settings, &buffers)?;
+        let map_resolution = params.map_resolution;
         let (light_maps, faces) = if map_resolution > 0 {
             maps::faces(scene, map_resolution)
         } else {
             (Vec::new(), Vec::new())
         };
-        let texels = faces.len() as u64 * map_resolution as u64 * map_resolution as u64;
-        let limit = gpu.device.limits().max_storage_buffer_binding_size;
-        if texels * 4 + 4 > limit {
-            return Err(GpuError::Unsupported(format!(
-                "shadow maps of {} faces of {map_resolution}² texels exceed this GPU's storage buffer size ({limit} bytes); lower the resolution",
-                faces.len()
-            )));
-        }
+        let texels = map_texels(gpu, faces.len(), map_resolution)?;
         let layout = bind_group_layout(gpu);
         let pipeline_layout = gpu
             .device
@@ -334,6 +357,8 @@ impl GpuMarch {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             });
         let pixels = settings.width as u64 * settings.height as u64;
+        let buffers_on_host = buffers;
+        let buffers = &buffers_on_host;
         let buffers = vec![
             storage::<GpuPrimitive>(gpu, "primitives", &buffers.primitives),
             storage::<GpuMaterial>(gpu, "materials", &buffers.materials),
@@ -358,6 +383,12 @@ impl GpuMarch {
             bind_group,
             face_count: faces.len() as u32,
             frames: 0,
+            uploaded: Uploaded {
+                scene: buffers_on_host,
+                light_maps,
+                faces,
+                layer_counts: Vec::new(),
+            },
         };
         if map_resolution > 0 {
             march.build_maps(gpu)?;
@@ -382,7 +413,7 @@ impl GpuMarch {
         let mut offsets = Vec::with_capacity(counts.len() + 1);
         let mut total = 0u64;
         offsets.push(0u32);
-        for count in counts {
+        for &count in &counts {
             total += count as u64;
             offsets.push(u32::try_from(total).map_err(|_| {
                 GpuError::Unsupported("more glass layers in the shadow maps than 2³²".into())
@@ -390,6 +421,7 @@ impl GpuMarch {
         }
         gpu.queue
             .write_buffer(offsets_buffer, 0, bytemuck::cast_slice(&offsets));
+        self.uploaded.layer_counts = counts;
         self.layers = scratch(gpu, "layers", total * 16);
         self.bind_group = make_bind_group(
             gpu,
@@ -476,6 +508,19 @@ pub fn render(
     march.submit_frames(gpu, frames);
     march.wait(gpu)?;
     march.image(gpu)
+}
+
+/// The texels of `face_count` map faces of `resolution`², or an error when
+/// their depths would not fit one storage buffer of this GPU.
+fn map_texels(gpu: &Gpu, face_count: usize, resolution: u32) -> Result<u64, GpuError> {
+    let texels = face_count as u64 * resolution as u64 * resolution as u64;
+    let limit = gpu.device.limits().max_storage_buffer_binding_size;
+    if texels * 4 + 4 > limit {
+        return Err(GpuError::Unsupported(format!(
+            "shadow maps of {face_count} faces of {resolution}² texels exceed this GPU's storage buffer size ({limit} bytes); lower the resolution"
+        )));
+    }
+    Ok(texels)
 }
 
 /// The bind group of bindings 0 (`params`), 1–8 (`buffers`) and 9 (`layers`).

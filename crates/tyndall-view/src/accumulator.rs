@@ -1,8 +1,9 @@
 //! The GPU side of the viewer: the scene as the description now says,
 //! uploaded into a [`GpuMarch`], one frame added per displayed frame and
-//! the running mean read back. Any change to the scene restarts it: a new
-//! `GpuMarch` (upload, pipelines, shadow maps), whose cost is measured and
-//! reported as the restart time.
+//! the running mean read back. Any change to the scene restarts it: the
+//! `GpuMarch` is updated in place (changed uniforms and arrays written,
+//! the maps of a moved light rendered again, the sum cleared), whose cost
+//! is measured and reported as the restart time.
 
 use anyhow::{Context, Result};
 use std::time::{Duration, Instant};
@@ -23,8 +24,8 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene> {
 pub struct Accumulator {
     gpu: Gpu,
     march: GpuMarch,
-    /// How long the last (re)start took: scene build, upload, pipelines,
-    /// shadow maps.
+    /// How long the last (re)start took: scene build and upload (at the
+    /// start also pipelines), shadow maps.
     pub restart_time: Duration,
 }
 
@@ -56,6 +57,11 @@ impl Accumulator {
             .context("the GPU cannot render this view")
     }
 
+    /// The GPU the march runs on (the control panel draws with it too).
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
+    }
+
     /// The adapter in words.
     pub fn adapter(&self) -> String {
         self.gpu.adapter.to_string()
@@ -63,9 +69,16 @@ impl Accumulator {
 
     /// Starts accumulating anew for `desc`. On an error (a setting the GPU
     /// refuses) the previous view stays.
+    ///
+    /// The march is updated in place ([`GpuMarch::update`]): only the
+    /// uniforms and arrays that changed are written and only the shadow
+    /// maps of a light that moved are rendered again; pipelines are kept.
     pub fn restart(&mut self, desc: &SceneDesc) -> Result<()> {
         let start = Instant::now();
-        self.march = Self::upload(&self.gpu, desc)?;
+        let scene = build_scene(desc)?;
+        self.march
+            .update(&self.gpu, &scene, &MarchSettings::from(&desc.settings))
+            .context("the GPU cannot render this view")?;
         self.restart_time = start.elapsed();
         Ok(())
     }

@@ -4,15 +4,19 @@
 //! changes the scene marks it dirty; the next redraw restarts the
 //! accumulation with the change, so the first frame after an input shows
 //! it, and the time from the input's arrival to that frame's present is
-//! measured and reported.
+//! measured and reported. Each redraw first runs the control panel
+//! ([`crate::panel`]): events it used (a click or drag on it) do not reach
+//! the camera or the keys, the settings its sliders changed are applied
+//! before the frame is rendered, and its pixels are drawn over the image.
 
 use crate::ViewOptions;
 use crate::accumulator::{Accumulator, FrameTimes};
 use crate::controls::LiveScene;
 use crate::cpu_preview::{CpuPreview, Pass};
-use crate::framebuffer::{blit, tone_map};
+use crate::framebuffer::{blit, composite_over, tone_map};
 use crate::keys::{Action, action};
 use crate::orbit;
+use crate::panel::{Panel, Stats};
 use anyhow::{Context, Result, anyhow};
 use std::num::NonZeroU32;
 use std::path::PathBuf;
@@ -56,6 +60,10 @@ pub struct App {
     accumulator: Accumulator,
     mode: Mode,
     window: Option<(Rc<Window>, Surface)>,
+    /// The sliders, made with the window.
+    panel: Option<Panel>,
+    /// When the oldest input the panel took, not yet acted on, arrived.
+    panel_input: Option<Instant>,
     /// The image on screen (linear radiance), for re-exposure and `P`.
     shown: Option<Image>,
     /// Scene changed since the last GPU frame.
@@ -83,6 +91,8 @@ impl App {
             accumulator,
             mode: Mode::Gpu,
             window: None,
+            panel: None,
+            panel_input: None,
             shown: None,
             dirty: false,
             pending_input: None,
@@ -115,6 +125,7 @@ impl App {
         let surface = Surface::new(&context, window.clone())
             .map_err(|e| anyhow!("no framebuffer for the window: {e}"))?;
         window.request_redraw();
+        self.panel = Some(Panel::new(self.accumulator.gpu(), &window));
         self.window = Some((window, surface));
         Ok(())
     }
@@ -165,6 +176,12 @@ impl App {
                 Ok(path) => eprintln!("saved {}", path.display()),
                 Err(e) => eprintln!("error: {e:#}"),
             },
+            Action::TogglePanel => {
+                if let Some(panel) = &mut self.panel {
+                    panel.visible = !panel.visible;
+                }
+                self.request_redraw();
+            }
             Action::ToggleCpu => {
                 self.mode = match self.mode {
                     Mode::Gpu => {
@@ -198,8 +215,37 @@ impl App {
         Ok(path)
     }
 
+    /// Runs the control panel: applies what its sliders changed (through
+    /// [`LiveScene::set`], as keys do) before this redraw's frame, so the
+    /// change is in it, and returns the panel's pixels to draw over it.
+    fn run_panel(&mut self) -> Result<Option<Vec<u8>>> {
+        let (Some(panel), Some((window, _))) = (&mut self.panel, &self.window) else {
+            return Ok(None);
+        };
+        let m = &self.meter;
+        let stats = Stats {
+            fps: m.fps,
+            frame_ms: m.times.render.as_secs_f64() * 1e3,
+            frames: self.accumulator.frames(),
+            latency_ms: m.latency.map(|l| l.as_secs_f64() * 1e3),
+        };
+        let (outcome, pixels) = panel.frame(self.accumulator.gpu(), window, &self.live, &stats)?;
+        let at = self.panel_input.take().unwrap_or_else(Instant::now);
+        for setting in outcome.settings {
+            match self.live.set(setting) {
+                Err(why) => eprintln!("{setting:?}: {why}"),
+                Ok(()) if setting.changes_radiance() => self.changed(at),
+                Ok(()) => {
+                    self.pending_input.get_or_insert(at);
+                }
+            }
+        }
+        Ok(pixels)
+    }
+
     /// One redraw: the next GPU frame or the CPU render's newest pass.
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let panel = self.run_panel()?;
         match &self.mode {
             Mode::Gpu => {
                 if self.dirty {
@@ -232,7 +278,7 @@ impl App {
             },
         }
         let start = Instant::now();
-        self.present()?;
+        self.present(panel.as_deref())?;
         self.meter.display = start.elapsed();
         // A CPU pass of the changed view comes later than the next redraw:
         // latency is measured for GPU frames only.
@@ -261,8 +307,10 @@ impl App {
         Ok(())
     }
 
-    /// Tone-maps the image on screen into the framebuffer and presents it.
-    fn present(&mut self) -> Result<()> {
+    /// Tone-maps the image on screen into the framebuffer, draws the
+    /// panel's pixels (window-sized, premultiplied RGBA) over it and
+    /// presents it.
+    fn present(&mut self, panel: Option<&[u8]>) -> Result<()> {
         let (Some((window, surface)), Some(image)) = (&mut self.window, &self.shown) else {
             return Ok(());
         };
@@ -274,6 +322,11 @@ impl App {
         let pixels = tone_map(image, self.live.desc.settings.exposure);
         let mut buffer = surface.buffer_mut().map_err(|e| anyhow!("{e}"))?;
         blit(&pixels, image.width(), &mut buffer, w.get());
+        if let Some(panel) = panel
+            && panel.len() == buffer.len() * 4
+        {
+            composite_over(panel, &mut buffer);
+        }
         buffer.present().map_err(|e| anyhow!("{e}"))?;
         Ok(())
     }
@@ -327,6 +380,28 @@ impl ApplicationHandler for App {
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
         let now = Instant::now();
+        if let (Some(panel), Some((window, _))) = (&mut self.panel, &self.window)
+            && !matches!(event, WindowEvent::RedrawRequested)
+        {
+            let used = panel.on_window_event(window, &event);
+            let pointer_or_key = matches!(
+                event,
+                WindowEvent::KeyboardInput { .. }
+                    | WindowEvent::MouseInput { .. }
+                    | WindowEvent::CursorMoved { .. }
+                    | WindowEvent::MouseWheel { .. }
+            );
+            if pointer_or_key {
+                // The panel redraws on hover and clicks, even when the
+                // view has converged and nothing else would redraw.
+                window.request_redraw();
+            }
+            if used && pointer_or_key {
+                self.panel_input.get_or_insert(now);
+                self.drag = None;
+                return;
+            }
+        }
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::Resized(size) => {

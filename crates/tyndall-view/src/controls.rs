@@ -1,5 +1,6 @@
-//! The live controls: what each key changes in the scene description,
-//! within the ranges the loader accepts, and a one-line summary of the
+//! The live controls: what each key and slider changes in the scene
+//! description, within the ranges the loader accepts ([`LiveScene::set`]
+//! keeps them, for keys and sliders alike), and a one-line summary of the
 //! current values for the window title.
 //!
 //! | key | control |
@@ -15,7 +16,7 @@
 //! | arrows | selected spot or sun: direction yaw (←/→) and pitch (↑/↓) by 3° |
 //! | `G` | glass model: filter ↔ blend |
 
-use glam::{Quat, Vec3};
+use glam::{Quat, Vec2, Vec3};
 use tyndall::Rgb;
 use tyndall::SceneDesc;
 use tyndall::description::{LightDesc, Sourced};
@@ -58,8 +59,90 @@ impl Control {
     }
 }
 
+/// An absolute value of one control: what a slider sets, and what a key's
+/// relative [`Control`] step becomes before it is applied.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Setting {
+    /// Fog extinction coefficient σt (1/scene unit); adds fog if none.
+    Density(f32),
+    /// Fog single-scattering albedo per channel.
+    Albedo(Rgb),
+    /// HG asymmetry g.
+    Asymmetry(f32),
+    /// March step length (scene units).
+    Step(f32),
+    /// Exposure in stops (display only).
+    Exposure(f32),
+    /// A light's radiant intensity (W/sr; irradiance W/m² for a sun).
+    Intensity {
+        light: usize,
+        emission: Rgb,
+    },
+    /// A spot's cone cutoff half-angle in degrees.
+    Cutoff {
+        light: usize,
+        degrees: f32,
+    },
+    /// A spot's axis or the direction a sun's light travels (normalised
+    /// here).
+    Direction {
+        light: usize,
+        direction: Vec3,
+    },
+    GlassModel(GlassModel),
+}
+
+impl Setting {
+    /// Whether the change alters the rendered radiance (and so restarts
+    /// accumulation); exposure does not.
+    pub fn changes_radiance(self) -> bool {
+        !matches!(self, Setting::Exposure(_))
+    }
+}
+
+/// Range of the fog density σt the controls keep to.
+pub const MIN_FOG_DENSITY: f32 = 1e-4;
+pub const MAX_FOG_DENSITY: f32 = 1e3;
+/// Range of the march step the controls keep to.
+pub const MIN_STEP: f32 = 1e-3;
+pub const MAX_STEP: f32 = 10.0;
+/// |g| the controls keep to (HG is degenerate at ±1).
+pub const MAX_ASYMMETRY: f32 = 0.95;
+/// |exposure| in stops the controls keep to.
+pub const MAX_EXPOSURE_STOPS: f32 = 20.0;
+
+/// The cutoffs (degrees) a spot of `profile` may take: at least 1° (and
+/// 0.5° past a smooth profile's inner cone, which must stay inside); at
+/// most 89.5°, not 90°: cos(90°) rounds below 0 in f32, which reads back
+/// as just over the loader's 90°.
+pub fn cutoff_range(profile: &SpotProfile) -> (f32, f32) {
+    let min = match profile {
+        SpotProfile::Smooth { cos_inner } => cos_inner.clamp(-1.0, 1.0).acos().to_degrees() + 0.5,
+        _ => 1.0,
+    };
+    (min.min(89.5), 89.5)
+}
+
+/// A light's emission: intensity (W/sr) or a sun's irradiance (W/m²).
+pub fn emission(light: &LightDesc) -> Rgb {
+    match light {
+        LightDesc::Point(l) => l.intensity,
+        LightDesc::Spot(l) => l.intensity,
+        LightDesc::Directional(l) => l.irradiance,
+    }
+}
+
+/// A spot's axis or a sun's direction of travel.
+pub fn direction(light: &LightDesc) -> Result<Vec3, String> {
+    match light {
+        LightDesc::Spot(l) => Ok(l.direction),
+        LightDesc::Directional(l) => Ok(l.direction),
+        LightDesc::Point(_) => Err("a point light has no direction".into()),
+    }
+}
+
 /// Fog density given to a scene without fog when density is raised.
-const NEW_FOG_DENSITY: f32 = 0.05;
+pub const NEW_FOG_DENSITY: f32 = 0.05;
 /// Degrees the arrows turn a light by.
 pub const TURN_DEGREES: f32 = 3.0;
 
@@ -80,102 +163,145 @@ impl LiveScene {
         }
     }
 
-    /// Applies `control`; `Err` says why it did nothing (no fog, no light,
-    /// not a spot, a limit reached).
+    /// Applies `control` (a key's relative step) as the absolute
+    /// [`Setting`] it leads to, through [`LiveScene::set`]; `Err` says why
+    /// it did nothing (no fog, no light, not a spot, a limit reached).
     pub fn apply(&mut self, control: Control) -> Result<(), String> {
-        let desc = &mut self.desc;
-        match control {
-            Control::Density(f) => match &mut desc.fog {
-                Some(fog) => fog.value.sigma_t = (fog.value.sigma_t * f).clamp(1e-4, 1e3),
-                None => {
-                    desc.fog = Some(Sourced::code(Fog {
-                        sigma_t: NEW_FOG_DENSITY,
-                        albedo: Rgb::splat(1.0),
-                        phase: PhaseFunction::Isotropic,
-                        bounds: None,
-                    }))
-                }
+        let light = self.selected_light;
+        let setting = match control {
+            Control::Density(f) => match &self.desc.fog {
+                Some(fog) => Setting::Density(fog.value.sigma_t * f),
+                None => Setting::Density(NEW_FOG_DENSITY),
             },
-            Control::Albedo(d) => {
-                let fog = desc
-                    .fog
-                    .as_mut()
-                    .ok_or("no fog (raise the density first)")?;
-                fog.value.albedo = (fog.value.albedo + Rgb::splat(d))
-                    .clamp(Rgb::ZERO, Rgb::splat(limits::MAX_FOG_ALBEDO));
-            }
-            Control::Asymmetry(d) => {
-                let fog = desc
-                    .fog
-                    .as_mut()
-                    .ok_or("no fog (raise the density first)")?;
-                let g = (asymmetry(&fog.value.phase) + d).clamp(-0.95, 0.95);
-                // Snap the accumulated key steps back onto 0 exactly.
-                let g = if g.abs() < 1e-4 { 0.0 } else { g };
-                fog.value.phase = PhaseFunction::from_asymmetry(g);
-            }
-            Control::Step(f) => desc.settings.step = (desc.settings.step * f).clamp(1e-3, 10.0),
-            Control::Exposure(d) => desc.settings.exposure += d,
+            Control::Albedo(d) => Setting::Albedo(self.fog()?.albedo + Rgb::splat(d)),
+            Control::Asymmetry(d) => Setting::Asymmetry(asymmetry(&self.fog()?.phase) + d),
+            Control::Step(f) => Setting::Step(self.desc.settings.step * f),
+            Control::Exposure(d) => Setting::Exposure(self.desc.settings.exposure + d),
             Control::NextLight => {
-                if desc.lights.is_empty() {
+                if self.desc.lights.is_empty() {
                     return Err("the scene has no point, spot or directional light".into());
                 }
-                self.selected_light = (self.selected_light + 1) % desc.lights.len();
+                self.selected_light = (self.selected_light + 1) % self.desc.lights.len();
+                return Ok(());
             }
-            Control::Intensity(f) => {
-                let emission = match self.light_mut()? {
-                    LightDesc::Point(l) => &mut l.intensity,
-                    LightDesc::Spot(l) => &mut l.intensity,
-                    LightDesc::Directional(l) => &mut l.irradiance,
-                };
-                let scaled = *emission * f;
-                if scaled.max_element() > limits::MAX_EMISSION {
-                    return Err("the light is at the largest emission the renderer takes".into());
-                }
-                *emission = scaled;
-            }
-            Control::Cutoff(d) => match self.light_mut()? {
-                LightDesc::Spot(l) => {
-                    let degrees = l.cos_cutoff.clamp(-1.0, 1.0).acos().to_degrees();
-                    // At least 1° (and 0.5° past a smooth profile's inner
-                    // cone, which must stay inside); at most 89.5°, not 90°:
-                    // cos(90°) rounds below 0 in f32, which reads back as
-                    // just over the loader's 90°.
-                    let min = match l.profile {
-                        SpotProfile::Smooth { cos_inner } => {
-                            cos_inner.clamp(-1.0, 1.0).acos().to_degrees() + 0.5
-                        }
-                        _ => 1.0,
-                    };
-                    let new = (degrees + d).clamp(min.min(89.5), 89.5);
-                    l.cos_cutoff = new.to_radians().cos();
-                }
+            Control::Intensity(f) => Setting::Intensity {
+                light,
+                emission: emission(self.light(light)?) * f,
+            },
+            Control::Cutoff(d) => match self.light(light)? {
+                LightDesc::Spot(l) => Setting::Cutoff {
+                    light,
+                    degrees: l.cos_cutoff.clamp(-1.0, 1.0).acos().to_degrees() + d,
+                },
                 _ => return Err("the selected light is not a spot".into()),
             },
-            Control::Turn { yaw, pitch } => {
-                let direction = match self.light_mut()? {
-                    LightDesc::Spot(l) => &mut l.direction,
-                    LightDesc::Directional(l) => &mut l.direction,
-                    LightDesc::Point(_) => {
-                        return Err("a point light has no direction".into());
+            Control::Turn { yaw, pitch } => Setting::Direction {
+                light,
+                direction: turn(direction(self.light(light)?)?, yaw, pitch),
+            },
+            Control::GlassModel => Setting::GlassModel(match self.desc.glass.model {
+                GlassModel::Filter => GlassModel::Blend,
+                GlassModel::Blend => GlassModel::Filter,
+            }),
+        };
+        self.set(setting)
+    }
+
+    /// Sets one value, kept within the ranges the loader and the
+    /// renderer accept (the one place those clamps are applied, for keys
+    /// and sliders alike); `Err` says why it did nothing.
+    pub fn set(&mut self, setting: Setting) -> Result<(), String> {
+        let desc = &mut self.desc;
+        match setting {
+            Setting::Density(sigma_t) => {
+                let sigma_t = sigma_t.clamp(MIN_FOG_DENSITY, MAX_FOG_DENSITY);
+                match &mut desc.fog {
+                    Some(fog) => fog.value.sigma_t = sigma_t,
+                    None => {
+                        desc.fog = Some(Sourced::code(Fog {
+                            sigma_t,
+                            albedo: Rgb::splat(1.0),
+                            phase: PhaseFunction::Isotropic,
+                            bounds: None,
+                        }))
                     }
-                };
-                *direction = turn(*direction, yaw, pitch);
-            }
-            Control::GlassModel => {
-                desc.glass.model = match desc.glass.model {
-                    GlassModel::Filter => GlassModel::Blend,
-                    GlassModel::Blend => GlassModel::Filter,
                 }
             }
+            Setting::Albedo(albedo) => {
+                self.fog_mut()?.albedo =
+                    albedo.clamp(Rgb::ZERO, Rgb::splat(limits::MAX_FOG_ALBEDO));
+            }
+            Setting::Asymmetry(g) => {
+                let g = g.clamp(-MAX_ASYMMETRY, MAX_ASYMMETRY);
+                // Snap accumulated key steps back onto 0 exactly.
+                let g = if g.abs() < 1e-4 { 0.0 } else { g };
+                self.fog_mut()?.phase = PhaseFunction::from_asymmetry(g);
+            }
+            Setting::Step(step) => desc.settings.step = step.clamp(MIN_STEP, MAX_STEP),
+            Setting::Exposure(stops) => {
+                desc.settings.exposure = stops.clamp(-MAX_EXPOSURE_STOPS, MAX_EXPOSURE_STOPS)
+            }
+            Setting::Intensity { light, emission } => {
+                if !(emission.is_finite() && emission.max_element() <= limits::MAX_EMISSION) {
+                    return Err("the light is at the largest emission the renderer takes".into());
+                }
+                let emission = emission.max(Rgb::ZERO);
+                match self.light_mut(light)? {
+                    LightDesc::Point(l) => l.intensity = emission,
+                    LightDesc::Spot(l) => l.intensity = emission,
+                    LightDesc::Directional(l) => l.irradiance = emission,
+                }
+            }
+            Setting::Cutoff { light, degrees } => match self.light_mut(light)? {
+                LightDesc::Spot(l) => {
+                    let (min, max) = cutoff_range(&l.profile);
+                    l.cos_cutoff = degrees.clamp(min, max).to_radians().cos();
+                }
+                _ => return Err("the light is not a spot".into()),
+            },
+            Setting::Direction { light, direction } => {
+                if !(direction.is_finite() && direction.length_squared() > 1e-12) {
+                    return Err("a light's direction must be a nonzero vector".into());
+                }
+                match self.light_mut(light)? {
+                    LightDesc::Spot(l) => l.direction = direction.normalize(),
+                    LightDesc::Directional(l) => l.direction = direction.normalize(),
+                    LightDesc::Point(_) => return Err("a point light has no direction".into()),
+                }
+            }
+            Setting::GlassModel(model) => desc.glass.model = model,
         }
         Ok(())
     }
 
-    fn light_mut(&mut self) -> Result<&mut LightDesc, String> {
+    fn fog(&self) -> Result<&Fog, String> {
+        self.desc
+            .fog
+            .as_ref()
+            .map(|f| &f.value)
+            .ok_or_else(|| "no fog (raise the density first)".to_string())
+    }
+
+    fn fog_mut(&mut self) -> Result<&mut Fog, String> {
+        self.desc
+            .fog
+            .as_mut()
+            .map(|f| &mut f.value)
+            .ok_or_else(|| "no fog (raise the density first)".to_string())
+    }
+
+    fn light(&self, index: usize) -> Result<&LightDesc, String> {
         self.desc
             .lights
-            .get_mut(self.selected_light)
+            .get(index)
+            .map(|l| &l.value)
+            .ok_or_else(|| "the scene has no point, spot or directional light".to_string())
+    }
+
+    fn light_mut(&mut self, index: usize) -> Result<&mut LightDesc, String> {
+        self.desc
+            .lights
+            .get_mut(index)
             .map(|l| &mut l.value)
             .ok_or_else(|| "the scene has no point, spot or directional light".to_string())
     }
@@ -224,11 +350,30 @@ impl LiveScene {
 }
 
 /// The HG asymmetry of a phase function (0 for isotropic).
-fn asymmetry(phase: &PhaseFunction) -> f32 {
+pub fn asymmetry(phase: &PhaseFunction) -> f32 {
     match phase {
         PhaseFunction::Isotropic => 0.0,
         PhaseFunction::HenyeyGreenstein { g } => *g,
     }
+}
+
+/// The azimuth (degrees about the y axis from +z towards +x, in
+/// [−180°, 180°]) and elevation (degrees above the horizontal plane) of a
+/// unit `direction`: the angles of the panel's direction sliders.
+pub fn direction_angles(direction: Vec3) -> (f32, f32) {
+    let d = direction.normalize();
+    (
+        d.x.atan2(d.z).to_degrees(),
+        // atan2, not asin: well conditioned near the poles too.
+        d.y.atan2(Vec2::new(d.x, d.z).length()).to_degrees(),
+    )
+}
+
+/// The unit direction of `azimuth` and `elevation` (degrees), the inverse
+/// of [`direction_angles`].
+pub fn direction_from_angles(azimuth: f32, elevation: f32) -> Vec3 {
+    let (a, e) = (azimuth.to_radians(), elevation.to_radians());
+    Vec3::new(e.cos() * a.sin(), e.sin(), e.cos() * a.cos())
 }
 
 /// `direction` turned by `yaw` degrees about the world's y axis and
@@ -308,6 +453,24 @@ mod tests {
         assert_eq!(live.selected_light, 1 % demo.lights.len());
         assert!(!Control::Exposure(0.25).changes_radiance());
         assert!(Control::Cutoff(1.0).changes_radiance());
+    }
+
+    #[test]
+    fn direction_angles_round_trip() {
+        for d in [
+            Vec3::new(0.82, -0.58, 0.02),
+            Vec3::new(-0.3, 0.2, -0.9),
+            Vec3::new(0.0, -1.0, 0.001),
+        ] {
+            let d = d.normalize();
+            let (a, e) = direction_angles(d);
+            let back = direction_from_angles(a, e);
+            // A handful of f32 operations (atan2, sin, cos, products),
+            // each good to about 1e-7: 1e-5 leaves 100× room, and an
+            // ill-conditioned formula (asin of y near the pole: 2e-5 for
+            // the last case) fails it.
+            assert!((back - d).length() < 1e-5, "{d} → ({a}, {e}) → {back}");
+        }
     }
 
     #[test]

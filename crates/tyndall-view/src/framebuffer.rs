@@ -29,6 +29,25 @@ pub fn blit(pixels: &[u32], width: u32, target: &mut [u32], target_width: u32) {
     }
 }
 
+/// Composites `overlay` — premultiplied RGBA bytes in sRGB encoding, as
+/// egui draws them, one pixel per word of `target`, row-major — over
+/// `target`'s words: `out = overlay + (1 − α)·target` per channel, in the
+/// encoded values (egui's blending in a non-sRGB framebuffer).
+pub fn composite_over(overlay: &[u8], target: &mut [u32]) {
+    for (word, px) in target.iter_mut().zip(overlay.chunks_exact(4)) {
+        let alpha = px[3] as u32;
+        if alpha == 0 {
+            continue;
+        }
+        let under = word.to_be_bytes();
+        let channel = |i: usize| {
+            let blended = px[i] as u32 + (under[i + 1] as u32 * (255 - alpha) + 127) / 255;
+            blended.min(255)
+        };
+        *word = channel(0) << 16 | channel(1) << 8 | channel(2);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -43,6 +62,18 @@ mod tests {
         for (w, c) in words.iter().zip(bytes.chunks_exact(3)) {
             assert_eq!(w.to_be_bytes(), [0, c[0], c[1], c[2]]);
         }
+    }
+
+    #[test]
+    fn composite_over_blends_premultiplied() {
+        let mut target = vec![0x00_80_40_20, 0x00_10_20_30, 0x00_FF_FF_FF];
+        // Transparent, opaque red, half-transparent white (premultiplied).
+        let overlay = [0, 0, 0, 0, 255, 0, 0, 255, 128, 128, 128, 128];
+        composite_over(&overlay, &mut target);
+        assert_eq!(target[0], 0x00_80_40_20);
+        assert_eq!(target[1], 0x00_FF_00_00);
+        // 128 + 255·127/255 = 255 per channel.
+        assert_eq!(target[2], 0x00_FF_FF_FF);
     }
 
     #[test]

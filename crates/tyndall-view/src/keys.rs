@@ -14,6 +14,8 @@ pub enum Action {
     SavePng,
     /// Switch between the GPU view and the progressive CPU render (`R`).
     ToggleCpu,
+    /// Show or hide the control panel (`H`).
+    TogglePanel,
     Quit,
 }
 
@@ -67,6 +69,7 @@ pub fn action(key: &Key) -> Option<Action> {
             "g" => Some(C(Control::GlassModel)),
             "p" => Some(Action::SavePng),
             "r" => Some(Action::ToggleCpu),
+            "h" => Some(Action::TogglePanel),
             _ => None,
         },
         _ => None,
@@ -89,4 +92,5 @@ arrows       turn the selected spot or sun (← → yaw, ↑ ↓ pitch, 3°)
 G            glass model: filter ↔ blend
 P            save a PNG of the current view (tyndall-view-NNNN.png)
 R            progressive CPU render of the same view on / off
+H            control panel (sliders for all of the above, fps) hide / show
 Esc          quit";

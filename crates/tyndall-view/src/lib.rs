@@ -1,6 +1,6 @@
 //! `tyndall view`: the GPU ray march (`tyndall-gpu`) live in a window,
-//! with an orbit/fly camera and keyboard controls for the fog, the march
-//! step, the lights, the glass model and the exposure.
+//! with an orbit/fly camera, and sliders (an egui panel) and keys for the
+//! fog, the march step, the lights, the glass model and the exposure.
 //!
 //! # Design
 //!
@@ -22,26 +22,34 @@
 //!   ≈ 40–60 ms + 15–25 ms, which would bound a real GPU to ~15 fps;
 //!   there, presenting a wgpu texture tone-mapped in a shader (a second
 //!   copy of the PNG writer's tone curve) is the way past it.
-//! - **Accumulate while still, restart on change.** Every displayed frame
-//!   adds one GPU frame (own film and march jitter) to the mean, so a
-//!   still view converges to the CPU `march` image. Any change to the
-//!   scene or camera marks the view dirty; the next redraw builds the
-//!   scene anew and a new [`tyndall_gpu::GpuMarch`] (upload, pipelines,
-//!   shadow maps) and renders its first frame, so a change is on screen in
-//!   the next frame. The restart time and the time from the input's
-//!   arrival to that frame's present are printed (`input to frame`).
-//!   Measured on lavapipe under Xvfb, keys and drags sent by `xdotool`:
-//!   restart 50–110 ms; input to frame 0.30–0.54 s on fig. 7 at 96×54
-//!   (frames 0.22–0.38 s) and 1.57–2.05 s on the demo at 160×90 (frames
-//!   1.5–1.9 s): the restart plus one frame, plus what remains of the
-//!   frame in flight when the input arrives (a frame is not interrupted).
-//!   Under heavy load (other builds on the 2 cores) the first frame after
-//!   a restart once took 1.5–1.8 s against 0.3 s steady, which looks like
-//!   llvmpipe compiling the new pipeline at its first dispatch; updating
-//!   a `GpuMarch` in place (uniforms, lights, maps; pipelines kept) would
-//!   remove both that and the restart.
-//! - **Keyboard controls** in place of sliders ([`keys::KEY_TABLE`]): no
-//!   GUI toolkit to build, and every value is in the title.
+//! - **Accumulate while still, update in place on change.** Every
+//!   displayed frame adds one GPU frame (own film and march jitter) to
+//!   the mean, so a still view converges to the CPU `march` image. Any
+//!   change to the scene or camera marks the view dirty; the next redraw
+//!   builds the runtime scene from the description and updates the
+//!   [`tyndall_gpu::GpuMarch`] in place ([`tyndall_gpu::GpuMarch::update`]:
+//!   the changed uniforms and arrays written, the sum cleared, the shadow
+//!   maps of a light that moved rendered again, pipelines kept), then
+//!   renders its first frame, so a change is on screen in the next frame.
+//!   The restart time and the time from the input's arrival to that
+//!   frame's present are printed (`input to frame`). Measured on
+//!   lavapipe under Xvfb (2 shared cores, keys sent by `xdotool`, 96×54;
+//!   docs/viewer.md has the table): the restart went from 52–260 ms (a
+//!   new `GpuMarch`) to 0.1–0.2 ms, and input to frame on fig. 7 from
+//!   0.29–0.44 s to 21–52 ms, one frame in flight plus the next at a
+//!   steady 21–48 ms a frame. With `--visibility maps` a turned spot
+//!   renders its one map face again (0.6–0.8 s on lavapipe at 512²)
+//!   where every change rebuilt all maps before (4.7–6.1 s).
+//! - **Sliders and keys over one state.** The [`panel`] (egui 0.37,
+//!   egui-winit, egui-wgpu) has a slider per control; keys
+//!   ([`keys::KEY_TABLE`]) step the same values. Both go through
+//!   [`controls::LiveScene::set`], the one place the ranges are kept.
+//!   egui draws into an offscreen texture on the march's own wgpu device,
+//!   which is read back and composited over the tone-mapped framebuffer
+//!   ([`framebuffer::composite_over`]): the window still needs no Vulkan
+//!   surface, and screenshots (`P`, `--screenshot`) stay the render
+//!   alone. `H` hides the panel. egui-wgpu needs Rust 1.95, so this crate
+//!   declares `rust-version = "1.95"` (the workspace: 1.87).
 //! - **`R`** shows a progressive CPU render (`tyndall::render` with the
 //!   `march` integrator, 1, 2, 4, … spp) of the same view, computed on a
 //!   background thread ([`cpu_preview`]).
@@ -56,6 +64,7 @@ pub mod cpu_preview;
 pub mod framebuffer;
 pub mod keys;
 pub mod orbit;
+pub mod panel;
 
 use anyhow::{Context, Result};
 use std::path::PathBuf;

@@ -1,0 +1,320 @@
+//! Updating a [`GpuMarch`] in place for a changed scene or view (the live
+//! viewer's sliders and keys): only what changed is written — the
+//! uniforms (camera, fog, step, glass model), the light, material and
+//! primitive arrays — the accumulated sum is cleared, and shadow maps are
+//! rendered again only where they depend on the change. Pipelines and
+//! the bind group layout are kept; a buffer whose size changes is
+//! allocated anew (and the bind group with it).
+//!
+//! What a light's map depends on (`shaders/maps.wgsl`): its faces (the
+//! light's position, direction and cutoff; a sun's also the scene's
+//! bounds), the geometry, the glass materials and the glass model (the
+//! tint stored per layer). Fog, intensities, the camera and the step do
+//! not enter it. So a light that turns gets its own faces traced again
+//! while the other lights' layers are copied to their new place in the
+//! packed layer array; a change of geometry, materials, glass model, map
+//! resolution or face layout (a spot crossing 60° goes from one face to
+//! a cube) renders every map again. Either way the buffers end up holding
+//! the same bytes a fresh [`GpuMarch::new`] of the new scene would, so
+//! the frames that follow are the same.
+
+use super::{GpuError, storage};
+use super::{GpuMarch, MarchSettings, Params, Uploaded, make_bind_group, map_texels, scratch};
+use crate::device::Gpu;
+use crate::maps::{self, GpuFace};
+use crate::readback::read_buffer;
+use crate::scene_buffers::SceneBuffers;
+use bytemuck::Pod;
+use tyndall::Scene;
+
+/// Which shadow maps an update rendered again.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum MapsRebuilt {
+    /// None (no maps, or nothing they depend on changed).
+    None,
+    /// These lights' maps (indices in the scene's light order).
+    Lights(Vec<usize>),
+    /// Every light's.
+    All,
+}
+
+/// What [`GpuMarch::update`] wrote to the GPU.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Update {
+    /// The uniforms changed (camera, fog, step, glass model, size, …).
+    pub params: bool,
+    pub primitives: bool,
+    pub materials: bool,
+    pub lights: bool,
+    /// The image size changed: the accumulation buffer was allocated anew.
+    pub resized: bool,
+    pub maps: MapsRebuilt,
+}
+
+/// Whether two arrays differ in any byte.
+fn differ<T: Pod>(old: &[T], new: &[T]) -> bool {
+    bytemuck::cast_slice::<T, u8>(old) != bytemuck::cast_slice::<T, u8>(new)
+}
+
+/// Exclusive prefix sums of `counts`, one more entry than `counts` (the
+/// total last), or an error past 2³² layers.
+fn offsets_of(counts: &[u32]) -> Result<Vec<u32>, GpuError> {
+    let mut offsets = Vec::with_capacity(counts.len() + 1);
+    let mut total = 0u64;
+    offsets.push(0u32);
+    for &count in counts {
+        total += count as u64;
+        offsets.push(u32::try_from(total).map_err(|_| {
+            GpuError::Unsupported("more glass layers in the shadow maps than 2³²".into())
+        })?);
+    }
+    Ok(offsets)
+}
+
+impl GpuMarch {
+    /// Makes this march render `scene` under `settings`, writing only
+    /// what differs from what it holds, and restarts the accumulation
+    /// (frame 0, sums cleared). The frames that follow equal those of
+    /// `GpuMarch::new(gpu, scene, settings)` with the same seed.
+    ///
+    /// Everything that can refuse the scene (what the GPU does not
+    /// implement, a bad step, maps too large) is checked before anything
+    /// is written: on such an error the march still renders the previous
+    /// scene. An error after that (reading back the map counts) leaves it
+    /// unusable; make a new one.
+    pub fn update(
+        &mut self,
+        gpu: &Gpu,
+        scene: &Scene,
+        settings: &MarchSettings,
+    ) -> Result<Update, GpuError> {
+        let scene_buffers = SceneBuffers::new(scene)?;
+        let mut params = Params::new(scene, settings, &scene_buffers)?;
+        let resolution = params.map_resolution;
+        let (light_maps, faces) = if resolution > 0 {
+            maps::faces(scene, resolution)
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        let texels = map_texels(gpu, faces.len(), resolution)?;
+
+        let old = &self.uploaded;
+        params.frame = 0;
+        let mut old_params = self.params;
+        old_params.frame = 0;
+        let mut update = Update {
+            params: bytemuck::bytes_of(&params) != bytemuck::bytes_of(&old_params),
+            primitives: differ(&old.scene.primitives, &scene_buffers.primitives),
+            materials: differ(&old.scene.materials, &scene_buffers.materials),
+            lights: differ(&old.scene.lights, &scene_buffers.lights),
+            resized: params.half_extent_resolution[2..] != self.params.half_extent_resolution[2..],
+            maps: MapsRebuilt::None,
+        };
+        let map_layout_changed = resolution != self.params.map_resolution
+            || differ(&old.light_maps, &light_maps)
+            || faces.len() != old.faces.len();
+        let faces_changed = differ(&old.faces, &faces);
+        let light_maps_changed = differ(&old.light_maps, &light_maps);
+        let all_maps = resolution > 0
+            && (map_layout_changed
+                || update.primitives
+                || update.materials
+                || params.glass_model != self.params.glass_model);
+        let moved_lights: Vec<usize> = if resolution > 0 && !all_maps {
+            light_maps
+                .iter()
+                .enumerate()
+                .filter(|(_, map)| {
+                    let range = map.face_range();
+                    differ(&old.faces[range.clone()], &faces[range])
+                })
+                .map(|(i, _)| i)
+                .collect()
+        } else {
+            Vec::new()
+        };
+
+        // Nothing is refused from here on.
+        let mut rebind = false;
+        if update.primitives {
+            rebind |= self.rewrite(gpu, 0, "primitives", &scene_buffers.primitives);
+        }
+        if update.materials {
+            rebind |= self.rewrite(gpu, 1, "materials", &scene_buffers.materials);
+        }
+        if update.lights {
+            rebind |= self.rewrite(gpu, 2, "lights", &scene_buffers.lights);
+        }
+        if update.resized {
+            let pixels = settings.width as u64 * settings.height as u64;
+            self.buffers[3] = scratch(gpu, "accumulation", pixels * 16);
+            rebind = true;
+        }
+        if faces_changed {
+            rebind |= self.rewrite(gpu, 4, "faces", &faces);
+        }
+        if light_maps_changed {
+            rebind |= self.rewrite(gpu, 5, "light maps", &light_maps);
+        }
+        if map_layout_changed {
+            self.buffers[6] = scratch(gpu, "map depths", texels * 4);
+            self.buffers[7] = scratch(gpu, "layer offsets", (texels + 1) * 4);
+            rebind = true;
+        }
+        self.params = params;
+        gpu.queue
+            .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&self.params));
+        if rebind {
+            self.bind_group = make_bind_group(
+                gpu,
+                &self.layout,
+                &self.params_buffer,
+                &self.buffers,
+                &self.layers,
+            );
+        }
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        encoder.clear_buffer(&self.buffers[3], 0, None);
+        gpu.queue.submit([encoder.finish()]);
+        self.frames = 0;
+        self.face_count = faces.len() as u32;
+        let layer_counts = std::mem::take(&mut self.uploaded.layer_counts);
+        self.uploaded = Uploaded {
+            scene: scene_buffers,
+            light_maps,
+            faces,
+            layer_counts,
+        };
+        if all_maps {
+            self.build_maps(gpu)?;
+            update.maps = MapsRebuilt::All;
+        } else if !moved_lights.is_empty() {
+            self.rebuild_light_maps(gpu, &moved_lights)?;
+            update.maps = MapsRebuilt::Lights(moved_lights);
+        }
+        Ok(update)
+    }
+
+    /// Writes `items` into buffer `index` (binding `index + 1`), or into a
+    /// new buffer when the size differs; says whether it is new.
+    fn rewrite<T: Pod + Default>(
+        &mut self,
+        gpu: &Gpu,
+        index: usize,
+        label: &str,
+        items: &[T],
+    ) -> bool {
+        let one = [T::default()];
+        let items = if items.is_empty() { &one[..] } else { items };
+        let bytes: &[u8] = bytemuck::cast_slice(items);
+        if bytes.len() as u64 == self.buffers[index].size() {
+            gpu.queue.write_buffer(&self.buffers[index], 0, bytes);
+            false
+        } else {
+            self.buffers[index] = storage(gpu, label, items);
+            true
+        }
+    }
+
+    /// The march's bind group with `faces` in place of the face array
+    /// (binding 5): the map kernels then trace only those faces, whose
+    /// `texel_base` still places their texels in the whole map.
+    fn bind_group_with_faces(&self, gpu: &Gpu, faces: &wgpu::Buffer) -> wgpu::BindGroup {
+        let mut buffers: Vec<wgpu::Buffer> = self.buffers.clone();
+        buffers[4] = faces.clone();
+        make_bind_group(
+            gpu,
+            &self.layout,
+            &self.params_buffer,
+            &buffers,
+            &self.layers,
+        )
+    }
+
+    fn dispatch_with(
+        &self,
+        gpu: &Gpu,
+        pipeline: &wgpu::ComputePipeline,
+        bind_group: &wgpu::BindGroup,
+        groups: (u32, u32, u32),
+    ) {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, bind_group, &[]);
+            pass.dispatch_workgroups(groups.0, groups.1, groups.2);
+        }
+        gpu.queue.submit([encoder.finish()]);
+    }
+
+    /// Renders the maps of `lights` again, keeping the other lights'
+    /// (same face layout as before): their faces are counted, the layer
+    /// offsets of all texels summed anew (the others' counts kept from
+    /// the last build), the other lights' layers copied to their new
+    /// offsets, and these lights' layers written. Waits for the GPU.
+    fn rebuild_light_maps(&mut self, gpu: &Gpu, lights: &[usize]) -> Result<(), GpuError> {
+        let r = self.params.map_resolution as usize;
+        let per_face = r * r;
+        let groups = |faces: usize| (r.div_ceil(8) as u32, r.div_ceil(8) as u32, faces as u32);
+        let texel_range = |light: usize| {
+            let faces = self.uploaded.light_maps[light].face_range();
+            faces.start * per_face..faces.end * per_face
+        };
+        let face_buffers: Vec<(usize, wgpu::Buffer)> = lights
+            .iter()
+            .map(|&light| {
+                let faces: &[GpuFace] =
+                    &self.uploaded.faces[self.uploaded.light_maps[light].face_range()];
+                (faces.len(), storage(gpu, "faces of a light", faces))
+            })
+            .collect();
+        for (count, faces) in &face_buffers {
+            let bind_group = self.bind_group_with_faces(gpu, faces);
+            self.dispatch_with(gpu, &self.map_count_pipeline, &bind_group, groups(*count));
+        }
+        let texels = self.uploaded.faces.len() * per_face;
+        let bytes = read_buffer(gpu, &self.buffers[7], texels as u64 * 4)?;
+        let counted: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
+        let old_offsets = offsets_of(&self.uploaded.layer_counts)?;
+        let mut counts = self.uploaded.layer_counts.clone();
+        for &light in lights {
+            let range = texel_range(light);
+            counts[range.clone()].copy_from_slice(&counted[range]);
+        }
+        let offsets = offsets_of(&counts)?;
+        gpu.queue
+            .write_buffer(&self.buffers[7], 0, bytemuck::cast_slice(&offsets));
+        let total = *offsets.last().unwrap_or(&0) as u64;
+        let layers = scratch(gpu, "layers", total * 16);
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        for light in (0..self.uploaded.light_maps.len()).filter(|l| !lights.contains(l)) {
+            let range = texel_range(light);
+            let (from, to) = (old_offsets[range.start], old_offsets[range.end]);
+            if to > from {
+                encoder.copy_buffer_to_buffer(
+                    &self.layers,
+                    from as u64 * 16,
+                    &layers,
+                    offsets[range.start] as u64 * 16,
+                    (to - from) as u64 * 16,
+                );
+            }
+        }
+        gpu.queue.submit([encoder.finish()]);
+        self.layers = layers;
+        self.bind_group = make_bind_group(
+            gpu,
+            &self.layout,
+            &self.params_buffer,
+            &self.buffers,
+            &self.layers,
+        );
+        for (count, faces) in &face_buffers {
+            let bind_group = self.bind_group_with_faces(gpu, faces);
+            self.dispatch_with(gpu, &self.map_layers_pipeline, &bind_group, groups(*count));
+        }
+        self.uploaded.layer_counts = counts;
+        self.wait(gpu)
+    }
+}
