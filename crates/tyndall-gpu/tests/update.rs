@@ -25,15 +25,21 @@ use tyndall::description::LightDesc;
 use tyndall::glass::GlassModel;
 use tyndall::settings::VisibilityMode;
 use tyndall::{Image, Scene, SceneDesc};
-use tyndall_gpu::{Gpu, GpuMarch, MapsRebuilt, MarchSettings};
+use tyndall_gpu::{Gpu, GpuMarch, InScattering, MapsRebuilt, MarchSettings};
 
 /// Frames rendered after each update (and before the first, so the sum
 /// an update must clear is not empty).
 const FRAMES: u32 = 2;
 
+/// The scene and the march's settings (as the viewer renders: the march,
+/// whatever integrator the description names).
 fn scene_and_settings(desc: &SceneDesc) -> (Scene, MarchSettings) {
     let scene = Scene::build(desc).expect("scene");
-    (scene, MarchSettings::from(&desc.settings))
+    let settings = MarchSettings {
+        in_scattering: InScattering::March,
+        ..MarchSettings::from(&desc.settings)
+    };
+    (scene, settings)
 }
 
 fn frames(gpu: &Gpu, march: &mut GpuMarch) -> Image {
