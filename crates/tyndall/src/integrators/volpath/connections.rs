@@ -1,6 +1,7 @@
 //! Light-vertex connections: the first (and second) fog events of light
-//! subpaths started on quad lights ([`LightSubpaths`](super::LightSubpaths)) joined to a
-//! camera-path vertex ([`connect_light_vertex`]).
+//! subpaths started on quad lights
+//! ([`LightSubpaths`](super::LightSubpaths)) joined to a camera-path
+//! vertex ([`connect_light_vertex`]).
 
 use super::Volpath;
 use super::mis::{FogEventDensities, segment_term};
@@ -16,8 +17,9 @@ use glam::Vec3;
 
 /// Light-vertex connections at the camera-path vertex `at.x` (a fog event
 /// or a Lambertian surface point): a light subpath is chosen uniformly
-/// from the pass's ([`LightSubpaths`](super::LightSubpaths)), its first fog event y1 is
-/// connected to x, and, if `at.twice`, its second y2 as well.
+/// from the pass's pool ([`LightSubpaths`](super::LightSubpaths)), its
+/// first fog event y1 is connected to x, and, if `at.twice`, its second
+/// y2 as well.
 /// Returns the MIS-weighted radiance both bring to the path (to be
 /// multiplied by the path's throughput at x, which holds a fog event's
 /// albedo but not a surface's BRDF).
