@@ -24,22 +24,25 @@ use glam::Vec3;
 use tyndall::description::LightDesc;
 use tyndall::glass::GlassModel;
 use tyndall::settings::VisibilityMode;
-use tyndall::{Image, Scene, SceneDesc};
+use tyndall::{Image, IntegratorKind, Scene, SceneDesc};
 use tyndall_gpu::{Gpu, GpuMarch, InScattering, MapsRebuilt, MarchSettings};
 
 /// Frames rendered after each update (and before the first, so the sum
 /// an update must clear is not empty).
 const FRAMES: u32 = 2;
 
-/// The scene and the march's settings (as the viewer renders: the march,
-/// whatever integrator the description names).
 fn scene_and_settings(desc: &SceneDesc) -> (Scene, MarchSettings) {
     let scene = Scene::build(desc).expect("scene");
-    let settings = MarchSettings {
-        in_scattering: InScattering::March,
-        ..MarchSettings::from(&desc.settings)
-    };
-    (scene, settings)
+    (scene, MarchSettings::from(&desc.settings))
+}
+
+/// The demo at `width × height`, rendered with the march (as the viewer
+/// starts; its description names `single`).
+fn demo(width: u32, height: u32) -> SceneDesc {
+    let mut desc = tyndall_load::demo::load().expect("demo");
+    (desc.settings.width, desc.settings.height) = (width, height);
+    desc.settings.integrator = IntegratorKind::March;
+    desc
 }
 
 fn frames(gpu: &Gpu, march: &mut GpuMarch) -> Image {
@@ -77,16 +80,14 @@ fn updates_equal_a_fresh_march_of_the_final_state() {
     let Some(gpu) = support::gpu_or_skip(TEST) else {
         return;
     };
-    let mut desc = tyndall_load::demo::load().expect("demo");
-    desc.settings.width = 48;
-    desc.settings.height = 32;
+    let mut desc = demo(48, 32);
     desc.settings.visibility = VisibilityMode::Maps { resolution: 64 };
     let (scene, settings) = scene_and_settings(&desc);
     let mut march = GpuMarch::new(&gpu, &scene, &settings).expect("march");
     let before = frames(&gpu, &mut march);
 
     type Change = fn(&mut SceneDesc);
-    let steps: [(&str, Change, MapsRebuilt); 6] = [
+    let steps: [(&str, Change, MapsRebuilt); 7] = [
         (
             "spot turned",
             |d| {
@@ -130,6 +131,11 @@ fn updates_equal_a_fresh_march_of_the_final_state() {
             |d| point(d).position += Vec3::new(-0.3, 0.0, 0.2),
             MapsRebuilt::Lights(vec![1]),
         ),
+        (
+            "single scattering instead of the march",
+            |d| d.settings.integrator = IntegratorKind::Single,
+            MapsRebuilt::None,
+        ),
     ];
     let mut last = before;
     for (what, change, expected_maps) in steps {
@@ -168,9 +174,9 @@ fn a_refused_update_changes_nothing() {
     let Some(gpu) = support::gpu_or_skip(TEST) else {
         return;
     };
-    let mut desc = tyndall_load::demo::load().expect("demo");
-    (desc.settings.width, desc.settings.height) = (24, 16);
+    let desc = demo(24, 16);
     let (scene, settings) = scene_and_settings(&desc);
+    assert_eq!(settings.in_scattering, InScattering::March);
     let mut march = GpuMarch::new(&gpu, &scene, &settings).expect("march");
     let mut bad = settings;
     bad.step = f32::NAN;

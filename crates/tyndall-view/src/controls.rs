@@ -15,16 +15,17 @@
 //! | `-` / `=` | selected spot's cone cutoff − / + 1° (1° or its inner cone + 0.5°, to 89.5°) |
 //! | arrows | selected spot or sun: direction yaw (←/→) and pitch (↑/↓) by 3° |
 //! | `G` | glass model: filter ↔ blend |
+//! | `I` | in-scattering: the march ↔ unbiased single scattering (interleaved equiangular samples) |
 
 use glam::{Quat, Vec2, Vec3};
 use tyndall::Rgb;
-use tyndall::SceneDesc;
 use tyndall::description::{LightDesc, Sourced};
 use tyndall::glass::GlassModel;
 use tyndall::lights::SpotProfile;
 use tyndall::limits;
 use tyndall::media::Fog;
 use tyndall::phase::PhaseFunction;
+use tyndall::{IntegratorKind, SceneDesc};
 
 /// A change to the scene that restarts accumulation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,6 +50,8 @@ pub enum Control {
     Turn { yaw: f32, pitch: f32 },
     /// Switch the glass model between filter and blend.
     GlassModel,
+    /// Switch the in-scattering estimator between the march and `single`.
+    Estimator,
 }
 
 impl Control {
@@ -90,6 +93,9 @@ pub enum Setting {
         direction: Vec3,
     },
     GlassModel(GlassModel),
+    /// The in-scattering estimator: `March` or `Single` (the GPU's two;
+    /// `single` takes the scene's `volume_samples` per light).
+    Estimator(IntegratorKind),
 }
 
 impl Setting {
@@ -153,10 +159,11 @@ pub struct LiveScene {
 }
 
 impl LiveScene {
-    /// The view of `desc`, rendered with `march` (the GPU's integrator,
-    /// which also accepts the paper's albedos above 1).
+    /// The view of `desc`, rendered with `march` at first (the GPU's
+    /// integrator that also accepts the paper's albedos above 1; `I`
+    /// switches to `single`).
     pub fn new(mut desc: SceneDesc) -> Self {
-        desc.settings.integrator = tyndall::IntegratorKind::March;
+        desc.settings.integrator = IntegratorKind::March;
         Self {
             desc,
             selected_light: 0,
@@ -203,6 +210,10 @@ impl LiveScene {
                 GlassModel::Filter => GlassModel::Blend,
                 GlassModel::Blend => GlassModel::Filter,
             }),
+            Control::Estimator => Setting::Estimator(match self.desc.settings.integrator {
+                IntegratorKind::Single => IntegratorKind::March,
+                _ => IntegratorKind::Single,
+            }),
         };
         self.set(setting)
     }
@@ -228,8 +239,12 @@ impl LiveScene {
                 }
             }
             Setting::Albedo(albedo) => {
-                self.fog_mut()?.albedo =
-                    albedo.clamp(Rgb::ZERO, Rgb::splat(limits::MAX_FOG_ALBEDO));
+                // The paper's albedos above 1 only under the march.
+                let max = match desc.settings.integrator {
+                    IntegratorKind::March => limits::MAX_FOG_ALBEDO,
+                    _ => 1.0,
+                };
+                self.fog_mut()?.albedo = albedo.clamp(Rgb::ZERO, Rgb::splat(max));
             }
             Setting::Asymmetry(g) => {
                 let g = g.clamp(-MAX_ASYMMETRY, MAX_ASYMMETRY);
@@ -270,6 +285,22 @@ impl LiveScene {
                 }
             }
             Setting::GlassModel(model) => desc.glass.model = model,
+            Setting::Estimator(kind) => match kind {
+                IntegratorKind::March => desc.settings.integrator = kind,
+                IntegratorKind::Single => {
+                    if desc
+                        .fog
+                        .as_ref()
+                        .is_some_and(|f| f.value.albedo.max_element() > 1.0)
+                    {
+                        return Err("single scattering takes only a physical fog albedo (at most 1); the march renders the paper's".into());
+                    }
+                    desc.settings.integrator = kind;
+                }
+                IntegratorKind::Volpath => {
+                    return Err("the GPU view renders the march or single scattering".into());
+                }
+            },
         }
         Ok(())
     }
@@ -342,9 +373,13 @@ impl LiveScene {
             GlassModel::Filter => "filter",
             GlassModel::Blend => "blend",
         };
+        let estimator = match d.settings.integrator {
+            IntegratorKind::Single => format!("single {}/light", d.settings.volume_samples),
+            _ => format!("march step {:.4}", d.settings.step),
+        };
         format!(
-            "{fog} step {:.4} | {light} | glass {glass} | exposure {:+.2}",
-            d.settings.step, d.settings.exposure
+            "{fog} {estimator} | {light} | glass {glass} | exposure {:+.2}",
+            d.settings.exposure
         )
     }
 }
@@ -397,7 +432,7 @@ fn short(v: Vec3) -> String {
 mod tests {
     use super::*;
 
-    const EVERY_CONTROL: [Control; 14] = [
+    const EVERY_CONTROL: [Control; 15] = [
         Control::Density(1.25),
         Control::Density(0.8),
         Control::Albedo(0.05),
@@ -415,6 +450,7 @@ mod tests {
             pitch: 3.0,
         },
         Control::GlassModel,
+        Control::Estimator,
     ];
 
     /// Held down for 500 presses, every control keeps the scene one the
@@ -453,6 +489,37 @@ mod tests {
         assert_eq!(live.selected_light, 1 % demo.lights.len());
         assert!(!Control::Exposure(0.25).changes_radiance());
         assert!(Control::Cutoff(1.0).changes_radiance());
+    }
+
+    /// `I` switches the GPU view between the march and `single`, and the
+    /// GPU renders what it says; `single` refuses the paper's albedos and
+    /// keeps the fog physical while it is on.
+    #[test]
+    fn the_estimator_switch_sets_what_the_gpu_renders() {
+        use tyndall_gpu::{InScattering, MarchSettings};
+        let mut live = LiveScene::new(tyndall_load::demo::load().expect("demo"));
+        let gpu = |live: &LiveScene| MarchSettings::from(&live.desc.settings).in_scattering;
+        assert_eq!(gpu(&live), InScattering::March);
+        live.apply(Control::Estimator).expect("to single");
+        assert_eq!(
+            gpu(&live),
+            InScattering::Single {
+                volume_samples: live.desc.settings.volume_samples
+            }
+        );
+        live.set(Setting::Albedo(Rgb::splat(5.0))).expect("albedo");
+        assert_eq!(
+            live.desc.fog.as_ref().map(|f| f.value.albedo),
+            Some(Rgb::ONE)
+        );
+        live.apply(Control::Estimator).expect("back to the march");
+        assert_eq!(gpu(&live), InScattering::March);
+        live.set(Setting::Albedo(Rgb::splat(5.0))).expect("albedo");
+        assert!(
+            live.apply(Control::Estimator).is_err(),
+            "albedo 5 under single"
+        );
+        assert_eq!(gpu(&live), InScattering::March);
     }
 
     #[test]

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::thread::JoinHandle;
-use tyndall::{Image, IntegratorKind, SceneDesc};
+use tyndall::{Image, SceneDesc};
 
 /// Most samples per pixel the preview doubles up to.
 const MAX_SPP: u32 = 1 << 16;
@@ -27,11 +27,11 @@ pub struct CpuPreview {
 }
 
 impl CpuPreview {
-    /// Starts rendering `desc` (its camera, fog, lights and settings) with
-    /// the `march` integrator, the CPU twin of the GPU view.
+    /// Starts rendering `desc` (its camera, fog, lights and settings)
+    /// with the integrator the GPU view shows (`march` or `single`), its
+    /// CPU twin.
     pub fn start(desc: &SceneDesc) -> Self {
-        let mut desc = desc.clone();
-        desc.settings.integrator = IntegratorKind::March;
+        let desc = desc.clone();
         let (send, passes) = channel();
         let stop = Arc::new(AtomicBool::new(false));
         let stopped = stop.clone();

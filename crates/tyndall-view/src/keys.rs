@@ -67,6 +67,7 @@ pub fn action(key: &Key) -> Option<Action> {
             "-" => Some(C(Control::Cutoff(-1.0))),
             "=" | "+" => Some(C(Control::Cutoff(1.0))),
             "g" => Some(C(Control::GlassModel)),
+            "i" => Some(C(Control::Estimator)),
             "p" => Some(Action::SavePng),
             "r" => Some(Action::ToggleCpu),
             "h" => Some(Action::TogglePanel),
@@ -90,6 +91,7 @@ Tab          select the next light
 - / =        selected spot's cone cutoff − / + 1°
 arrows       turn the selected spot or sun (← → yaw, ↑ ↓ pitch, 3°)
 G            glass model: filter ↔ blend
+I            in-scattering: the march ↔ single (interleaved equiangular samples)
 P            save a PNG of the current view (tyndall-view-NNNN.png)
 R            progressive CPU render of the same view on / off
 H            control panel (sliders for all of the above, fps) hide / show

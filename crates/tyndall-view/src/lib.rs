@@ -51,11 +51,12 @@
 //!   alone. `H` hides the panel. egui-wgpu needs Rust 1.95, so this crate
 //!   declares `rust-version = "1.95"` (the workspace: 1.87).
 //! - **`R`** shows a progressive CPU render (`tyndall::render` with the
-//!   `march` integrator, 1, 2, 4, … spp) of the same view, computed on a
+//!   view's integrator, 1, 2, 4, … spp) of the same view, computed on a
 //!   background thread ([`cpu_preview`]).
 //!
-//! The GPU path renders only `march`: the view ignores the scene's
-//! integrator.
+//! The view starts with `march`, whatever integrator the scene names;
+//! `I` (or the panel) switches to the GPU's `single`, unbiased
+//! interleaved equiangular single scattering, for physical albedos.
 
 pub mod accumulator;
 mod app;

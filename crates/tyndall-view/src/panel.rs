@@ -24,6 +24,7 @@ use crate::controls::{
     direction_from_angles, emission,
 };
 use anyhow::{Result, anyhow};
+use tyndall::IntegratorKind;
 use tyndall::description::LightDesc;
 use tyndall::glass::GlassModel;
 use tyndall_gpu::Gpu;
@@ -129,6 +130,18 @@ pub fn controls_ui(ctx: &egui::Context, live: &LiveScene, stats: &Stats) -> Outc
                             && desc.glass.model != model
                         {
                             outcome.settings.push(Setting::GlassModel(model));
+                        }
+                    }
+                });
+                ui.horizontal(|ui| {
+                    ui.label("in-scattering");
+                    for (kind, name) in [
+                        (IntegratorKind::March, "march"),
+                        (IntegratorKind::Single, "single (equiangular)"),
+                    ] {
+                        let now = desc.settings.integrator;
+                        if ui.radio(now == kind, name).clicked() && now != kind {
+                            outcome.settings.push(Setting::Estimator(kind));
                         }
                     }
                 });
