@@ -65,16 +65,19 @@
 //!   pixel for pixel within noise.
 //! - **Accumulation.** Each frame adds one sample per pixel to a sum on
 //!   the GPU with fresh random numbers: the film position and the first
-//!   in-scattering jitter (the march's inside the pixel's stratum, or the
-//!   first light's equiangular offset) are frame f's point of the R₃
+//!   in-scattering number (the march's jitter inside the pixel's stratum,
+//!   or `single`'s distance sample) are frame f's point of the R₃
 //!   quasirandom sequence (Roberts 2018) under a random rotation per
 //!   pixel, so a pixel's frames are stratified as the CPU's Sobol samples
-//!   are; later dimensions (distance samples, glossy directions) are a PCG
-//!   hash of pixel, frame and seed. Each frame's sample is uniform, so the
-//!   mean converges to the CPU image's expectation. Against PCG in every
-//!   dimension this cut fig. 3's noise between two 16-frame renders
-//!   (`tests/images.rs`) from 4.2·10⁻⁵ to 5.4·10⁻⁶ relMSE; the CPU's is
-//!   still ~10⁻⁷, where the Sobol sequence stratifies every dimension.
+//!   are; later dimensions (later segments, glossy directions) are a PCG
+//!   hash of pixel, frame and seed (`single`'s equiangular offsets are
+//!   stratified over frames by their own golden-ratio rotation). Each
+//!   frame's sample is uniform, so the mean converges to the CPU image's
+//!   expectation. Against PCG in every dimension this cut fig. 3's noise
+//!   between two 16-frame renders (`tests/images.rs`) from 4.1·10⁻⁵ to
+//!   5.4·10⁻⁶ relMSE (march) and from 4.2·10⁻⁵ to 5.7·10⁻⁶ (`single`);
+//!   the CPU's is still ~10⁻⁷, where the Sobol sequence stratifies every
+//!   dimension.
 //!
 //! What a scene may hold: point, spot (all profiles) and directional
 //! lights; opaque (Lambert + reflective layer), emissive, lamp-face and

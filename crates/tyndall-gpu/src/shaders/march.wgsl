@@ -118,7 +118,8 @@ fn ray_at(ray: Ray, t: f32) -> vec3<f32> {
 // ---- random numbers ----
 //
 // A pixel's first three dimensions in a frame (the film position and the
-// first in-scattering jitter or offset, where most of the noise is) are
+// first in-scattering number: the march's jitter, or single's distance
+// sample) are
 // frame f's point of the R₃ sequence (Roberts 2018, "The unreasonable
 // effectiveness of quasirandom sequences"), fract(r + f·α) with
 // α = (1/g, 1/g², 1/g³), g the real root > 1 of x⁴ = x + 1, under a
