@@ -4,7 +4,7 @@
 //! headless, with the CPU path's flags where they apply. A flag the GPU
 //! path cannot honour is an error naming it.
 
-use crate::{Overrides, RenderArgs, load_scene};
+use crate::{Overrides, RenderArgs, load_scene, refuse_flags};
 use anyhow::{Context, Result, bail};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -15,41 +15,41 @@ use tyndall_load::SceneError;
 /// The flags the CPU path has and the GPU path cannot honour, with why.
 fn refuse_unsupported_flags(args: &RenderArgs) -> Result<()> {
     let o: &Overrides = &args.overrides;
-    let refused: [(bool, &str, &str); 6] = [
-        (
-            args.tile.is_some(),
-            "--tile",
-            "the GPU renders whole images",
-        ),
-        (
-            args.samples.is_some(),
-            "--samples",
-            "the GPU renders whole images",
-        ),
-        (
-            args.checkpoint.is_some(),
-            "--checkpoint",
-            "GPU renders are not checkpointed",
-        ),
-        (
-            args.time_limit.is_some(),
-            "--time-limit",
-            "the GPU renders --spp frames",
-        ),
-        (
-            o.threads.is_some(),
-            "--threads",
-            "the GPU does not use CPU worker threads",
-        ),
-        (
-            o.max_depth.is_some(),
-            "--max-depth",
-            "the GPU renders only `march` and `single`, which have no path depth",
-        ),
-    ];
-    if let Some((_, flag, why)) = refused.iter().find(|(given, _, _)| *given) {
-        bail!("{flag} cannot be used with --gpu: {why}");
-    }
+    refuse_flags(
+        "--gpu",
+        &[
+            (
+                args.tile.is_some(),
+                "--tile",
+                "the GPU renders whole images",
+            ),
+            (
+                args.samples.is_some(),
+                "--samples",
+                "the GPU renders whole images",
+            ),
+            (
+                args.checkpoint.is_some(),
+                "--checkpoint",
+                "GPU renders are not checkpointed",
+            ),
+            (
+                args.time_limit.is_some(),
+                "--time-limit",
+                "the GPU renders --spp frames",
+            ),
+            (
+                o.threads.is_some(),
+                "--threads",
+                "the GPU does not use CPU worker threads",
+            ),
+            (
+                o.max_depth.is_some(),
+                "--max-depth",
+                "the GPU renders only `march` and `single`, which have no path depth",
+            ),
+        ],
+    )?;
     if let Some(kind) = o.integrator
         && !on_gpu(kind)
     {

@@ -296,6 +296,17 @@ impl Overrides {
     }
 }
 
+/// Refuses the first flag in `refused` that was given — each a flag's
+/// presence, its name and why `command` cannot honour it — with an error
+/// naming the flag: a flag is never silently ignored.
+#[cfg(feature = "gpu")]
+fn refuse_flags(command: &str, refused: &[(bool, &str, &str)]) -> Result<()> {
+    match refused.iter().find(|(given, _, _)| *given) {
+        Some((_, flag, why)) => bail!("{flag} cannot be used with {command}: {why}"),
+        None => Ok(()),
+    }
+}
+
 /// Loads a scene by its file ending, or the demo for `None`.
 pub fn load_scene(path: Option<&Path>, two_sided: bool) -> Result<SceneDesc> {
     Ok(match path {

@@ -3,7 +3,7 @@
 //! an orbit/fly camera and keyboard controls. `--frames N --screenshot
 //! OUT.png` renders N frames, saves the window's image and exits (CI).
 
-use crate::{Overrides, load_scene};
+use crate::{Overrides, load_scene, refuse_flags};
 use anyhow::{Result, bail};
 use clap::Args;
 use std::path::PathBuf;
@@ -32,31 +32,31 @@ pub struct ViewArgs {
 /// Opens the viewer on `args.scene`.
 pub fn run(args: ViewArgs) -> Result<()> {
     let o = &args.overrides;
-    let refused: [(bool, &str, &str); 3] = [
-        (
-            o.spp.is_some(),
-            "--spp",
-            "the view accumulates until it changes (CI: --frames)",
-        ),
-        (
-            o.max_depth.is_some(),
-            "--max-depth",
-            "the view renders only `march`",
-        ),
-        (
-            o.volume_samples.is_some(),
-            "--volume-samples",
-            "the view renders only `march`",
-        ),
-    ];
-    if let Some((_, flag, why)) = refused.iter().find(|(given, _, _)| *given) {
-        bail!("{flag} cannot be used with view: {why}");
-    }
+    refuse_flags(
+        "view",
+        &[
+            (
+                o.spp.is_some(),
+                "--spp",
+                "the view accumulates until it changes (CI: --frames)",
+            ),
+            (
+                o.max_depth.is_some(),
+                "--max-depth",
+                "the view renders `march` and `single`, which have no path depth",
+            ),
+            (
+                o.volume_samples.is_some(),
+                "--volume-samples",
+                "the view starts with only `march` (`I` switches to `single` with the scene's samples)",
+            ),
+        ],
+    )?;
     if let Some(kind) = o.integrator
         && kind != IntegratorKind::March
     {
         bail!(
-            "--integrator {}: the view renders only `march`",
+            "--integrator {}: the view starts with only `march` (`I` switches to `single`)",
             kind.name()
         );
     }
@@ -73,7 +73,6 @@ pub fn run(args: ViewArgs) -> Result<()> {
     desc.settings
         .check_ranges()
         .map_err(|e| anyhow::anyhow!("--{}: {e}", e.setting.replace('_', "-")))?;
-    desc.settings.integrator = IntegratorKind::March;
     for w in std::mem::take(&mut desc.warnings) {
         eprintln!("warning: {w}");
     }

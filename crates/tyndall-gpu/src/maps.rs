@@ -9,10 +9,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use tyndall::Scene;
 use tyndall::lights::LightOrigin;
-
-/// Spot cutoffs above this use a cube map
-/// (`tyndall::shadow_maps::MAX_PERSPECTIVE_CUTOFF_DEG`).
-const MAX_PERSPECTIVE_CUTOFF_DEG: f32 = 60.0;
+use tyndall::shadow_map_layout::{CUBE_FACES, is_narrow};
 
 /// One face: a frame at the light and its projection (`Face` in
 /// `maps.wgsl`). `forward_kind.w` is 0 for perspective, 1 for
@@ -72,22 +69,13 @@ pub(crate) fn faces(scene: &Scene, resolution: u32) -> (Vec<GpuLightMap>, Vec<Gp
                 apex,
                 axis,
                 cos_cutoff,
-            } if cos_cutoff >= MAX_PERSPECTIVE_CUTOFF_DEG.to_radians().cos() => {
+            } if is_narrow(cos_cutoff) => {
                 let (right, up) = axis.any_orthonormal_pair();
                 let tan_half = cos_cutoff.acos().tan();
                 faces.push(perspective(apex, right, up, axis, tan_half));
             }
             LightOrigin::Cone { apex: position, .. } | LightOrigin::Point { position } => {
-                // (forward, right, up) for +x, −x, +y, −y, +z, −z, as the CPU's.
-                let axes = [
-                    (Vec3::X, Vec3::NEG_Z, Vec3::Y),
-                    (Vec3::NEG_X, Vec3::Z, Vec3::Y),
-                    (Vec3::Y, Vec3::X, Vec3::NEG_Z),
-                    (Vec3::NEG_Y, Vec3::X, Vec3::Z),
-                    (Vec3::Z, Vec3::X, Vec3::Y),
-                    (Vec3::NEG_Z, Vec3::NEG_X, Vec3::Y),
-                ];
-                for (forward, right, up) in axes {
+                for (forward, right, up) in CUBE_FACES {
                     faces.push(perspective(position, right, up, forward, 1.0));
                 }
             }

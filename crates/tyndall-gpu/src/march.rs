@@ -12,8 +12,8 @@ use crate::readback::read_buffer;
 use crate::scene_buffers::{GpuLight, GpuMaterial, GpuPrimitive, SceneBuffers};
 use crate::shaders;
 use bytemuck::{Pod, Zeroable};
-use glam::{Vec2, Vec3};
-use tyndall::camera::{CameraSpec, FieldOfView};
+use glam::Vec3;
+use tyndall::camera::Camera;
 use tyndall::glass::GlassModel;
 use tyndall::settings::{IntegratorKind, MAX_MARCH_STEPS, VisibilityMode};
 use tyndall::{Image, RenderSettings, Rgb, Scene};
@@ -158,7 +158,7 @@ impl Params {
             }
         };
         let (forward, right, up, half_extent) =
-            camera_frame(scene.camera(), settings.width, settings.height);
+            Camera::new(scene.camera(), settings.width, settings.height).frame();
         let glass = scene.glass();
         let map_resolution = match settings.visibility {
             GpuVisibility::ShadowRays => 0,
@@ -215,23 +215,6 @@ impl Params {
 
 fn v4(v: Vec3, w: f32) -> [f32; 4] {
     [v.x, v.y, v.z, w]
-}
-
-/// The camera frame of `tyndall::camera::Camera::new`: forward, right, up
-/// and the image plane's half-extent at distance 1.
-fn camera_frame(spec: &CameraSpec, width: u32, height: u32) -> (Vec3, Vec3, Vec3, Vec2) {
-    let forward = (spec.look_at - spec.position).normalize();
-    let right = forward.cross(spec.up).normalize();
-    let up = right.cross(forward);
-    let aspect = width as f32 / height as f32;
-    let tan_y = match spec.fov {
-        FieldOfView::Vertical(deg) => (0.5 * deg.to_radians()).tan(),
-        FieldOfView::ShorterSide(deg) => {
-            let t = (0.5 * deg.to_radians()).tan();
-            if aspect >= 1.0 { t } else { t / aspect }
-        }
-    };
-    (forward, right, up, Vec2::new(tan_y * aspect, tan_y))
 }
 
 /// A scene on the GPU with its shadow maps and running per-pixel sums.

@@ -42,16 +42,11 @@ use tyndall::settings::VisibilityMode;
 use tyndall::shapes::Bounds;
 use tyndall::{Image, IntegratorKind, RenderSettings, Rgb, Scene, SceneDesc};
 use tyndall_gpu::{MarchSettings, render};
-use tyndall_image::metrics::pixel_relative_se;
+use tyndall_image::metrics::pixel_errors;
 /// relMSE (as `tyndall compare`) over all pixels but the worst 0.1 %
 /// (see the module documentation).
 fn trimmed_relative_mse(candidate: &Image, reference: &Image) -> f64 {
-    let mut errors: Vec<f64> = candidate
-        .pixels()
-        .iter()
-        .zip(reference.pixels())
-        .map(|(c, r)| pixel_relative_se(*c, *r))
-        .collect();
+    let mut errors = pixel_errors(candidate, reference);
     errors.sort_by(f64::total_cmp);
     let kept = errors.len() - errors.len().div_ceil(1000);
     errors[..kept].iter().sum::<f64>() / kept as f64

@@ -41,12 +41,7 @@ pub fn error_concentration(candidate: &Image, reference: &Image, fraction: f64) 
         (reference.width(), reference.height()),
         "images must be the same size"
     );
-    let mut errors: Vec<f64> = candidate
-        .pixels()
-        .iter()
-        .zip(reference.pixels())
-        .map(|(c, r)| pixel_relative_se(*c, *r))
-        .collect();
+    let mut errors = pixel_errors(candidate, reference);
     errors.sort_by(|a, b| b.total_cmp(a));
     let total: f64 = errors.iter().sum();
     let worst = ((errors.len() as f64 * fraction).ceil() as usize).max(1);
@@ -55,6 +50,17 @@ pub fn error_concentration(candidate: &Image, reference: &Image, fraction: f64) 
     } else {
         0.0
     }
+}
+
+/// Every pixel's relative squared error ([`pixel_relative_se`]), in
+/// pixel order; the images must be the same size.
+pub fn pixel_errors(candidate: &Image, reference: &Image) -> Vec<f64> {
+    candidate
+        .pixels()
+        .iter()
+        .zip(reference.pixels())
+        .map(|(c, r)| pixel_relative_se(*c, *r))
+        .collect()
 }
 
 /// One pixel's relative squared error, averaged over its channels.

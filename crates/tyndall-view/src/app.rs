@@ -9,7 +9,6 @@
 //! the camera or the keys, the settings its sliders changed are applied
 //! before the frame is rendered, and its pixels are drawn over the image.
 
-use crate::ViewOptions;
 use crate::accumulator::{Accumulator, FrameTimes};
 use crate::controls::LiveScene;
 use crate::cpu_preview::{CpuPreview, Pass};
@@ -84,10 +83,17 @@ pub struct App {
 }
 
 impl App {
-    pub fn new(options: ViewOptions, accumulator: Accumulator) -> Self {
+    /// The window's state for `live` (uploaded into `accumulator`),
+    /// stopping after `frames` frames if given, with a screenshot.
+    pub fn new(
+        live: LiveScene,
+        frames: Option<u32>,
+        screenshot: Option<PathBuf>,
+        accumulator: Accumulator,
+    ) -> Self {
         Self {
-            accepted: options.desc.clone(),
-            live: LiveScene::new(options.desc),
+            accepted: live.desc.clone(),
+            live,
             accumulator,
             mode: Mode::Gpu,
             window: None,
@@ -108,8 +114,8 @@ impl App {
             },
             cpu_pass: None,
             cpu_spp: 0,
-            frames: options.frames,
-            screenshot: options.screenshot,
+            frames,
+            screenshot,
             error: None,
         }
     }

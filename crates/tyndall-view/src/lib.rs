@@ -84,8 +84,15 @@ pub struct ViewOptions {
 /// Opens the GPU and the window and runs until the window closes (or
 /// `frames` frames are done).
 pub fn run(options: ViewOptions) -> Result<()> {
-    // The GPU and the scene first: their errors need no window.
-    let accumulator = accumulator::Accumulator::new(&options.desc)?;
+    let ViewOptions {
+        desc,
+        frames,
+        screenshot,
+    } = options;
+    // The scene as the view renders it (the march at first), then the
+    // GPU and its upload: their errors need no window.
+    let live = controls::LiveScene::new(desc);
+    let accumulator = accumulator::Accumulator::new(&live.desc)?;
     eprintln!(
         "GPU: {} (scene uploaded in {:.1} ms)",
         accumulator.adapter(),
@@ -93,7 +100,7 @@ pub fn run(options: ViewOptions) -> Result<()> {
     );
     let event_loop = winit::event_loop::EventLoop::new()
         .context("cannot open a window: no display (set DISPLAY, or run under xvfb-run)")?;
-    let mut app = app::App::new(options, accumulator);
+    let mut app = app::App::new(live, frames, screenshot, accumulator);
     event_loop.run_app(&mut app)?;
     match app.error.take() {
         Some(e) => Err(e),

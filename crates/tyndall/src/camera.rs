@@ -91,6 +91,13 @@ impl Camera {
         }
     }
 
+    /// The camera's frame: forward, right and image-up (unit vectors) and
+    /// the image plane's half-extent at distance 1, for renderers that
+    /// build the rays themselves (the GPU path).
+    pub fn frame(&self) -> (Vec3, Vec3, Vec3, Vec2) {
+        (self.forward, self.right, self.up, self.half_extent)
+    }
+
     /// The ray through the film position `pixel` (in pixels: x to the
     /// right, y down, pixel (i, j) covers `[i, i+1) × [j, j+1)`).
     #[inline]

@@ -59,6 +59,12 @@ pub use visibility::RayCounts;
 /// Not for applications: these are the renderer's internals and may
 /// change at any time.
 #[doc(hidden)]
+/// How the CPU's shadow maps choose and orient their faces, for
+/// renderers that build the same maps (the GPU path).
+pub mod shadow_map_layout {
+    pub use crate::shadow_maps::{CUBE_FACES, is_narrow};
+}
+
 pub mod testing {
     pub use crate::integrators::light_tracer::{self, LightPaths, has_caustics};
     pub use crate::integrators::march::interleaved_stratum;

@@ -171,8 +171,9 @@ pub struct MapScene<'a> {
 }
 
 /// Whether a spotlight of cutoff cosine `cos_cutoff` is narrow enough
-/// for one perspective map over its cone (θc ≤ 60°).
-fn is_narrow(cos_cutoff: f32) -> bool {
+/// for one perspective map over its cone (θc ≤ 60°); a wider one gets a
+/// cube map of [`CUBE_FACES`].
+pub fn is_narrow(cos_cutoff: f32) -> bool {
     cos_cutoff >= MAX_PERSPECTIVE_CUTOFF_DEG.to_radians().cos()
 }
 
@@ -358,18 +359,19 @@ impl Face {
     }
 }
 
+/// A cube map's faces in order: (forward, right, up) for +x, −x, +y, −y,
+/// +z, −z, right-handed (right × up = forward).
+pub const CUBE_FACES: [(Vec3, Vec3, Vec3); 6] = [
+    (Vec3::X, Vec3::NEG_Z, Vec3::Y),
+    (Vec3::NEG_X, Vec3::Z, Vec3::Y),
+    (Vec3::Y, Vec3::X, Vec3::NEG_Z),
+    (Vec3::NEG_Y, Vec3::X, Vec3::Z),
+    (Vec3::Z, Vec3::X, Vec3::Y),
+    (Vec3::NEG_Z, Vec3::NEG_X, Vec3::Y),
+];
+
 fn cube(scene: &MapScene, origin: Vec3, resolution: u32) -> LightMap {
-    // (forward, right, up) for +x, −x, +y, −y, +z, −z: right-handed,
-    // right × up = forward.
-    let axes = [
-        (Vec3::X, Vec3::NEG_Z, Vec3::Y),
-        (Vec3::NEG_X, Vec3::Z, Vec3::Y),
-        (Vec3::Y, Vec3::X, Vec3::NEG_Z),
-        (Vec3::NEG_Y, Vec3::X, Vec3::Z),
-        (Vec3::Z, Vec3::X, Vec3::Y),
-        (Vec3::NEG_Z, Vec3::NEG_X, Vec3::Y),
-    ];
-    let faces = axes.map(|(forward, right, up)| {
+    let faces = CUBE_FACES.map(|(forward, right, up)| {
         render_face(
             scene,
             Projection {

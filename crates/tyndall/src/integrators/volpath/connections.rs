@@ -54,24 +54,29 @@ pub(super) fn connect_light_vertex<'a>(
     let (light, y0, y1) = (subpath.light, subpath.y0, subpath.y1);
     let to_light = -subpath.direction;
     let samples = strategies.later_equiangular();
+    // The balance heuristic at y1 reached along `segment` at `t` (phase
+    // density `phase_y1` there): the first and second light-vertex
+    // strategies' densities, and the sum of every strategy's.
+    let densities = |segment: &FogSegment, t: f32, phase_y1: f32| {
+        let first = segment.connection_term(t, subpath.at_y1);
+        let second = segment.second_vertex_term(subpath.at_y1);
+        let equiangular = segment_term(segment, t, samples, light, y0);
+        let total = FogEventDensities::new(
+            strategies,
+            subpath.p_omega,
+            phase_y1,
+            equiangular,
+            first + second,
+        )
+        .total();
+        (first, second, total)
+    };
     let mut sum = Rgb::ZERO;
     if let Some(first) = at.join(integrator, scene, fog, y1, counts) {
         // f/p of x → y1 → y0: f(x)·T(x, y1)/t² · σs/σt · p(y1) · β·n_q.
         let phase_y1 = fog.phase.eval(to_light.dot(first.omega));
-        let t = first.distance;
-        let connection = first.segment.connection_term(t, subpath.at_y1);
-        let p_connect = connection + first.segment.second_vertex_term(subpath.at_y1);
-        let equiangular = segment_term(&first.segment, t, samples, light, y0);
-        let weight = connection
-            / FogEventDensities::new(
-                strategies,
-                subpath.p_omega,
-                phase_y1,
-                equiangular,
-                p_connect,
-            )
-            .total();
-        sum += subpath.emitted * fog.albedo * first.value * (phase_y1 * weight);
+        let (connection, _, total) = densities(&first.segment, first.distance, phase_y1);
+        sum += subpath.emitted * fog.albedo * first.value * (phase_y1 * (connection / total));
     }
     if !at.twice {
         return sum;
@@ -113,18 +118,8 @@ pub(super) fn connect_light_vertex<'a>(
         return sum;
     };
     let phase_y1 = fog.phase.eval(to_light.dot(back));
-    let second_vertex = segment.second_vertex_term(subpath.at_y1);
-    let p_connect = segment.connection_term(t12, subpath.at_y1) + second_vertex;
-    let equiangular = segment_term(&segment, t12, samples, light, y0);
-    let weight = second_vertex
-        / FogEventDensities::new(
-            strategies,
-            subpath.p_omega,
-            phase_y1,
-            equiangular,
-            p_connect,
-        )
-        .total();
+    let (_, second_vertex, total) = densities(&segment, t12, phase_y1);
+    let weight = second_vertex / total;
     // f/p of x → y2 → y1 → y0: f(x)·T(x, y2)/t² · (σs/σt)² · p(y2) ·
     // β·n_q (the second flight's density cancels p(y1), T(y1, y2)
     // and 1/|y2 − y1|²).
