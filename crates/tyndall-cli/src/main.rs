@@ -207,7 +207,9 @@ pub struct Overrides {
     #[arg(long)]
     pub shadow_map_resolution: Option<u32>,
     /// Interleaved sampling for `march`: pixels of an N×N tile start their
-    /// march at different offsets (Keller & Heidrich 2001); 1 is off.
+    /// march at different offsets (Keller & Heidrich 2001); 1 is off. On the
+    /// GPU (`--gpu`, `view`) the tile also shares out the march's lattice:
+    /// each pixel evaluates 1/N² of it per frame, the same image in the mean.
     #[arg(long)]
     pub interleave: Option<u32>,
     /// Fog extinction σt per scene unit (the paper's air density τ). Adds fog

@@ -29,6 +29,13 @@ pub struct ViewArgs {
     screenshot: Option<PathBuf>,
 }
 
+/// The interleaving tile of a view whose scene does not set one (and
+/// whose command line does not): on the GPU a 4×4 tile shares out the
+/// march's lattice, 1/16 of it per pixel and frame, and the view filters
+/// the tile's cells back together while the image is young
+/// (`GpuMarch::display_image`).
+const VIEW_INTERLEAVE: u32 = 4;
+
 /// Opens the viewer on `args.scene`.
 pub fn run(args: ViewArgs) -> Result<()> {
     let o = &args.overrides;
@@ -69,6 +76,10 @@ pub fn run(args: ViewArgs) -> Result<()> {
         bail!("--frames must be at least 1");
     }
     let mut desc = load_scene(args.scene.as_deref(), args.two_sided)?;
+    if desc.settings.interleave == 1 {
+        // What makes the march real-time: the tile shares out its lattice.
+        desc.settings.interleave = VIEW_INTERLEAVE;
+    }
     args.overrides.apply(&mut desc)?;
     desc.settings
         .check_ranges()

@@ -86,6 +86,7 @@
 //! (vertex-normal) meshes and textures are refused with
 //! [`GpuError::Unsupported`] naming them.
 
+mod bvh;
 pub mod device;
 pub mod formula_probe;
 mod maps;

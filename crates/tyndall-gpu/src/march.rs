@@ -126,7 +126,9 @@ struct Params {
     /// `ESTIMATOR_MARCH` (0) or `ESTIMATOR_SINGLE` (1) of `march.wgsl`.
     estimator: u32,
     volume_samples: u32,
-    pad: [u32; 2],
+    /// Nodes of the flattened BVH (`bvh.rs`).
+    node_count: u32,
+    pad: u32,
 }
 
 impl Params {
@@ -180,6 +182,7 @@ impl Params {
             interleave: settings.interleave.max(1),
             seed: (settings.seed ^ (settings.seed >> 32)) as u32,
             primitive_count: buffers.primitives.len() as u32,
+            node_count: buffers.bvh_nodes.len() as u32,
             light_count: buffers.lights.len() as u32,
             glass_model: match glass.model {
                 GlassModel::Filter => 0,
@@ -221,14 +224,15 @@ fn v4(v: Vec3, w: f32) -> [f32; 4] {
 pub struct GpuMarch {
     params: Params,
     params_buffer: wgpu::Buffer,
-    /// Bindings 0–8 of `march.wgsl`/`maps.wgsl`; binding 9 (the layers)
-    /// is added when the bind group is made.
+    /// Bindings 1–8 and 10–12 of `march.wgsl`/`maps.wgsl`, in order;
+    /// binding 9 (the layers) is added when the bind group is made.
     buffers: Vec<wgpu::Buffer>,
     layers: wgpu::Buffer,
     layout: wgpu::BindGroupLayout,
     march_pipeline: wgpu::ComputePipeline,
     map_count_pipeline: wgpu::ComputePipeline,
     map_layers_pipeline: wgpu::ComputePipeline,
+    resolve_pipeline: wgpu::ComputePipeline,
     bind_group: wgpu::BindGroup,
     face_count: u32,
     frames: u32,
@@ -272,10 +276,35 @@ fn scratch(gpu: &Gpu, label: &str, size: u64) -> wgpu::Buffer {
 }
 
 /// Which bindings of the march's module are written by some kernel.
-const READ_WRITE_BINDINGS: [u32; 4] = [4, 7, 8, 9];
+const READ_WRITE_BINDINGS: [u32; 6] = [4, 7, 8, 9, 10, 11];
+
+/// Index in [`GpuMarch::buffers`] of the BVH's nodes (binding 12).
+const BVH_NODES: usize = 10;
+
+/// Index in [`GpuMarch::buffers`] of the per-pixel sums (binding 4), of
+/// their in-scattered part with the first-hit depths (binding 10) and of
+/// the resolved image (binding 11).
+const ACCUMULATION: usize = 3;
+const FOG_ACCUMULATION: usize = 8;
+const DISPLAY: usize = 9;
+
+/// The per-pixel buffers of a `width × height` image, at their indices
+/// in [`GpuMarch::buffers`]: the sums, their in-scattered part, the
+/// resolved image (a `vec4<f32>` each).
+fn pixel_buffers(gpu: &Gpu, width: u32, height: u32) -> [(usize, wgpu::Buffer); 3] {
+    let bytes = width as u64 * height as u64 * 16;
+    [
+        (ACCUMULATION, scratch(gpu, "accumulation", bytes)),
+        (
+            FOG_ACCUMULATION,
+            scratch(gpu, "in-scattered accumulation", bytes),
+        ),
+        (DISPLAY, scratch(gpu, "display", bytes)),
+    ]
+}
 
 fn bind_group_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
-    let entries: Vec<_> = (0..10u32)
+    let entries: Vec<_> = (0..13u32)
         .map(|binding| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -325,12 +354,22 @@ impl GpuMarch {
                 bind_group_layouts: &[Some(&layout)],
                 immediate_size: 0,
             });
-        let [march_pipeline, map_count_pipeline, map_layers_pipeline] = compute_pipelines(
+        let [
+            march_pipeline,
+            map_count_pipeline,
+            map_layers_pipeline,
+            resolve_pipeline,
+        ] = compute_pipelines(
             gpu,
             "march",
             &shaders::march(),
             Some(&pipeline_layout),
-            ["march_frame", "map_count", "map_layers"],
+            [
+                "march_frame",
+                "map_count",
+                "map_layers",
+                "interleave_resolve",
+            ],
         )?;
         let params_buffer = gpu
             .device
@@ -339,18 +378,22 @@ impl GpuMarch {
                 contents: bytemuck::bytes_of(&params),
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             });
-        let pixels = settings.width as u64 * settings.height as u64;
         let buffers_on_host = buffers;
         let buffers = &buffers_on_host;
+        let [(_, accumulation), (_, fog_accumulation), (_, display)] =
+            pixel_buffers(gpu, settings.width, settings.height);
         let buffers = vec![
             storage::<GpuPrimitive>(gpu, "primitives", &buffers.primitives),
             storage::<GpuMaterial>(gpu, "materials", &buffers.materials),
             storage::<GpuLight>(gpu, "lights", &buffers.lights),
-            scratch(gpu, "accumulation", pixels * 16),
+            accumulation,
             storage(gpu, "faces", &faces),
             storage(gpu, "light maps", &light_maps),
             scratch(gpu, "map depths", texels * 4),
             scratch(gpu, "layer offsets", (texels + 1) * 4),
+            fog_accumulation,
+            display,
+            storage(gpu, "BVH nodes", &buffers.bvh_nodes),
         ];
         let layers = scratch(gpu, "layers", 16);
         let bind_group = make_bind_group(gpu, &layout, &params_buffer, &buffers, &layers);
@@ -363,6 +406,7 @@ impl GpuMarch {
             march_pipeline,
             map_count_pipeline,
             map_layers_pipeline,
+            resolve_pipeline,
             bind_group,
             face_count: faces.len() as u32,
             frames: 0,
@@ -458,13 +502,65 @@ impl GpuMarch {
             .map_err(|e| GpuError::Readback(e.to_string()))
     }
 
-    /// The mean of the frames so far per pixel (radiance, linear RGB).
+    /// The mean of the frames so far per pixel (radiance, linear RGB): the
+    /// estimate that converges to the CPU image.
     pub fn image(&self, gpu: &Gpu) -> Result<Image, GpuError> {
-        let (w, h) = (
+        self.read_image(gpu, ACCUMULATION)
+    }
+
+    /// Whether [`GpuMarch::display_image`] filters: a march whose
+    /// interleaving tile shares out the lattice (n > 1), while fewer than
+    /// (n²)² frames are summed. Until every pixel has taken every residue
+    /// n² times over, a pixel's own sum holds fewer lattice cells than
+    /// the filtered one's window; after that the unfiltered mean is
+    /// shown, whose only error is noise that keeps falling.
+    pub fn display_filters(&self) -> bool {
+        let strata = self.params.interleave * self.params.interleave;
+        self.params.estimator == 0 && strata > 1 && self.frames < strata * strata
+    }
+
+    /// Dispatches the discontinuity-buffer filter (`interleave_resolve`
+    /// in `march.wgsl`) into the display buffer when
+    /// [`GpuMarch::display_filters`], without waiting; says whether it did.
+    pub fn submit_resolve(&self, gpu: &Gpu) -> bool {
+        if !self.display_filters() {
+            return false;
+        }
+        let (w, h) = self.size();
+        self.dispatch(
+            gpu,
+            &self.resolve_pipeline,
+            (w.div_ceil(8), h.div_ceil(8), 1),
+        );
+        true
+    }
+
+    /// The image to show while the view is live: [`GpuMarch::image`], but
+    /// while [`GpuMarch::display_filters`] with each pixel's in-scattered
+    /// light averaged over its interleaving window's pixels on the same
+    /// surface (Keller & Heidrich 2001's discontinuity buffer). That
+    /// makes one frame of a march whose tile shares out the lattice look
+    /// like one full lattice per pixel, at the price of blur across the
+    /// window; it is not used for renders to files.
+    pub fn display_image(&self, gpu: &Gpu) -> Result<Image, GpuError> {
+        if self.submit_resolve(gpu) {
+            self.read_image(gpu, DISPLAY)
+        } else {
+            self.image(gpu)
+        }
+    }
+
+    fn size(&self) -> (u32, u32) {
+        (
             self.params.half_extent_resolution[2] as u32,
             self.params.half_extent_resolution[3] as u32,
-        );
-        let bytes = read_buffer(gpu, &self.buffers[3], w as u64 * h as u64 * 16)?;
+        )
+    }
+
+    /// Buffer `index` (sums or display: (rgb, weight) per pixel) divided out.
+    fn read_image(&self, gpu: &Gpu, index: usize) -> Result<Image, GpuError> {
+        let (w, h) = self.size();
+        let bytes = read_buffer(gpu, &self.buffers[index], w as u64 * h as u64 * 16)?;
         let sums: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
         let pixels = sums
             .iter()
@@ -506,7 +602,8 @@ fn map_texels(gpu: &Gpu, face_count: usize, resolution: u32) -> Result<u64, GpuE
     Ok(texels)
 }
 
-/// The bind group of bindings 0 (`params`), 1–8 (`buffers`) and 9 (`layers`).
+/// The bind group of bindings 0 (`params`), 1–8 (`buffers[..8]`), 9
+/// (`layers`) and 10–12 (`buffers[8..]`).
 fn make_bind_group(
     gpu: &Gpu,
     layout: &wgpu::BindGroupLayout,
@@ -515,8 +612,9 @@ fn make_bind_group(
     layers: &wgpu::Buffer,
 ) -> wgpu::BindGroup {
     let all = std::iter::once(params)
-        .chain(buffers)
-        .chain(std::iter::once(layers));
+        .chain(&buffers[..8])
+        .chain(std::iter::once(layers))
+        .chain(&buffers[8..]);
     let entries: Vec<_> = all
         .enumerate()
         .map(|(i, b)| wgpu::BindGroupEntry {

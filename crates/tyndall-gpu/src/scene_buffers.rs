@@ -6,6 +6,7 @@
 //! march does not implement is refused here with a message naming it, so
 //! no scene renders silently wrong.
 
+use crate::bvh::{FlatBvh, GpuBvhNode};
 use crate::device::GpuError;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -79,7 +80,9 @@ pub struct GpuLight {
 
 /// The scene's arrays, ready to upload.
 pub struct SceneBuffers {
+    /// In the order of the BVH's leaves.
     pub primitives: Vec<GpuPrimitive>,
+    pub(crate) bvh_nodes: Vec<GpuBvhNode>,
     pub materials: Vec<GpuMaterial>,
     pub lights: Vec<GpuLight>,
 }
@@ -106,11 +109,15 @@ impl SceneBuffers {
             return Err(GpuError::Unsupported("textured surfaces".into()));
         }
         check_panes(scene)?;
-        let primitives = scene
-            .geometry()
-            .primitives()
+        let scene_primitives = scene.geometry().primitives();
+        let bvh = FlatBvh::new(scene_primitives);
+        let primitives = bvh
+            .order
             .iter()
-            .map(|p| primitive(&p.shape, p.material))
+            .map(|&i| {
+                let p = &scene_primitives[i as usize];
+                primitive(&p.shape, p.material)
+            })
             .collect();
         let materials = scene
             .materials()
@@ -120,6 +127,7 @@ impl SceneBuffers {
         let lights = scene.lights().iter().map(light).collect::<Result<_, _>>()?;
         Ok(Self {
             primitives,
+            bvh_nodes: bvh.nodes,
             materials,
             lights,
         })

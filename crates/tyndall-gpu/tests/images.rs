@@ -196,6 +196,17 @@ fn demo_matches_cpu_march() {
     );
 }
 
+/// The demo as the viewer runs it: a 4×4 tile sharing out the march's
+/// lattice (each pixel evaluates 1/16 of the cells per frame; 64 frames
+/// take each residue 4 times), two lights whose reaches start the
+/// lattice at different cells, glass and a glossy sphere.
+#[test]
+fn demo_interleaved_matches_cpu_march() {
+    let mut desc = tyndall_load::demo::load().expect("demo loads");
+    desc.settings.interleave = 4;
+    gpu_matches_cpu("demo interleaved", desc, IntegratorKind::March);
+}
+
 /// Interleaved sampling (Keller & Heidrich 2001) with a long step: each
 /// pixel's expectation depends on its stratum of the 4×4 tile, so the GPU
 /// must give every pixel the CPU's stratum (CPU images with interleave 1

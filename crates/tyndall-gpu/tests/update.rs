@@ -37,18 +37,23 @@ fn scene_and_settings(desc: &SceneDesc) -> (Scene, MarchSettings) {
 }
 
 /// The demo at `width × height`, rendered with the march (as the viewer
-/// starts; its description names `single`).
+/// starts; its description names `single`) on the viewer's 4×4
+/// interleaving tile.
 fn demo(width: u32, height: u32) -> SceneDesc {
     let mut desc = tyndall_load::demo::load().expect("demo");
     (desc.settings.width, desc.settings.height) = (width, height);
     desc.settings.integrator = IntegratorKind::March;
+    desc.settings.interleave = 4;
     desc
 }
 
+/// The image the viewer shows after `FRAMES` frames: for the march, the
+/// young image's filtered display, which reads both the sums and their
+/// in-scattered part (so a part not cleared by an update shows).
 fn frames(gpu: &Gpu, march: &mut GpuMarch) -> Image {
     march.submit_frames(gpu, FRAMES);
     march.wait(gpu).expect("wait");
-    march.image(gpu).expect("image")
+    march.display_image(gpu).expect("image")
 }
 
 /// The index of the first pixel where the images differ, if any.
@@ -84,6 +89,7 @@ fn updates_equal_a_fresh_march_of_the_final_state() {
     desc.settings.visibility = VisibilityMode::Maps { resolution: 64 };
     let (scene, settings) = scene_and_settings(&desc);
     let mut march = GpuMarch::new(&gpu, &scene, &settings).expect("march");
+    assert!(march.display_filters(), "the march's display is filtered");
     let before = frames(&gpu, &mut march);
 
     type Change = fn(&mut SceneDesc);

@@ -1,6 +1,7 @@
 //! The GPU side of the viewer: the scene as the description now says,
 //! uploaded into a [`GpuMarch`], one frame added per displayed frame and
-//! the running mean read back. Any change to the scene restarts it: the
+//! the running mean read back (its in-scattered light filtered over the
+//! interleaving tile while the image is young: `GpuMarch::display_image`). Any change to the scene restarts it: the
 //! `GpuMarch` is updated in place (changed uniforms and arrays written,
 //! the maps of a moved light rendered again, the sum cleared), whose cost
 //! is measured and reported as the restart time.
@@ -34,7 +35,8 @@ pub struct Accumulator {
 pub struct FrameTimes {
     /// Submitting the frame and waiting for the GPU.
     pub render: Duration,
-    /// Copying the sums to the host and dividing by the frame count.
+    /// Filtering the young image over the interleaving tile (on the GPU),
+    /// copying it to the host and dividing by the frame count.
     pub readback: Duration,
 }
 
@@ -94,7 +96,7 @@ impl Accumulator {
         self.march.submit_frames(&self.gpu, 1);
         self.march.wait(&self.gpu)?;
         let rendered = Instant::now();
-        let image = self.march.image(&self.gpu)?;
+        let image = self.march.display_image(&self.gpu)?;
         Ok((
             image,
             FrameTimes {

@@ -1,13 +1,17 @@
 //! `tyndall bench --gpu`: frames per second of the GPU's single
 //! scattering (crate `tyndall-gpu`) at 1280×720 and 1920×1080 on the demo
 //! and the fig. 7 scene: the march, for steps giving about 32, 64 and 128
-//! steps along the central camera ray's fog segment, and interleaved
-//! equiangular single scattering (`--integrator single`) with 1 and 8
-//! equiangular samples per light on a 4×4 interleaving tile.
+//! steps along the central camera ray's fog segment, with every pixel
+//! evaluating every step and with a 4×4 interleaving tile sharing the
+//! steps out (1/16 of them per pixel and frame, as the viewer runs it);
+//! and interleaved equiangular single scattering (`--integrator single`)
+//! with 1 and 8 equiangular samples per light on a 4×4 tile.
 //!
 //! A frame is one sample per pixel: camera ray, in-scattering with a
 //! shadow-map lookup per march step or volume sample and light (512²
-//! texels per face, the CPU's default), direct light. Each point times `args.runs` frames after one untimed
+//! texels per face, the CPU's default), direct light; for the shared-out
+//! march also the filter that the viewer runs on each young frame
+//! (`GpuMarch::submit_resolve`). Each point times `args.runs` frames after one untimed
 //! warm-up frame and reports the median; the time to build every light's
 //! maps (both passes and the offsets between them) is the median of as
 //! many rebuilds.
@@ -36,8 +40,9 @@ fn central_fog_length(scene: &Scene) -> Option<f32> {
     Some(b - a)
 }
 
-/// Side of the interleaving tile of the single-scattering rows.
-const SINGLE_INTERLEAVE: u32 = 4;
+/// Side of the interleaving tile of the single-scattering rows and the
+/// shared-out march rows (the viewer's).
+const TILE: u32 = 4;
 
 /// Equiangular samples per light and segment of the single-scattering
 /// rows: one, and the CPU `single`'s default.
@@ -82,22 +87,34 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 },
                 in_scattering: InScattering::March,
             };
-            let mut rows: Vec<(MarchSettings, &str, String)> = [32u32, 64, 128]
-                .into_iter()
-                .map(|steps| {
+            let mut rows: Vec<(MarchSettings, &str, String)> = Vec::new();
+            for interleave in [1, TILE] {
+                for steps in [32u32, 64, 128] {
                     let step = length / steps as f32;
-                    let settings = MarchSettings { step, ..base };
-                    (settings, "march", format!("{steps} steps ({step:.4})"))
-                })
-                .collect();
+                    let settings = MarchSettings {
+                        step,
+                        interleave,
+                        ..base
+                    };
+                    let label = if interleave == 1 {
+                        format!("{steps} steps ({step:.4})")
+                    } else {
+                        format!(
+                            "{steps} steps ({step:.4}) shared out over {TILE}×{TILE}: {} a pixel",
+                            steps / (TILE * TILE)
+                        )
+                    };
+                    rows.push((settings, "march", label));
+                }
+            }
             for volume_samples in SINGLE_VOLUME_SAMPLES {
                 let settings = MarchSettings {
-                    interleave: SINGLE_INTERLEAVE,
+                    interleave: TILE,
                     in_scattering: InScattering::Single { volume_samples },
                     ..base
                 };
                 let label = format!(
-                    "{volume_samples} equiangular/light + 1 distance, {SINGLE_INTERLEAVE}×{SINGLE_INTERLEAVE} interleaved"
+                    "{volume_samples} equiangular/light + 1 distance, {TILE}×{TILE} interleaved"
                 );
                 rows.push((settings, "single", label));
             }
@@ -130,6 +147,7 @@ fn time_frames_and_maps(
         .map(|_| {
             let start = Instant::now();
             march.submit_frames(gpu, 1);
+            march.submit_resolve(gpu);
             march.wait(gpu).map(|()| start.elapsed())
         })
         .collect::<Result<_, _>>()?;

@@ -18,8 +18,11 @@
 //! the same bytes a fresh [`GpuMarch::new`] of the new scene would, so
 //! the frames that follow are the same.
 
+use super::{
+    ACCUMULATION, BVH_NODES, FOG_ACCUMULATION, GpuMarch, MarchSettings, Params, Uploaded,
+    make_bind_group, map_texels, pixel_buffers, scratch,
+};
 use super::{GpuError, storage};
-use super::{GpuMarch, MarchSettings, Params, Uploaded, make_bind_group, map_texels, scratch};
 use crate::device::Gpu;
 use crate::maps::{self, GpuFace};
 use crate::readback::read_buffer;
@@ -138,6 +141,7 @@ impl GpuMarch {
         let mut rebind = false;
         if update.primitives {
             rebind |= self.rewrite(gpu, 0, "primitives", &scene_buffers.primitives);
+            rebind |= self.rewrite(gpu, BVH_NODES, "BVH nodes", &scene_buffers.bvh_nodes);
         }
         if update.materials {
             rebind |= self.rewrite(gpu, 1, "materials", &scene_buffers.materials);
@@ -146,8 +150,9 @@ impl GpuMarch {
             rebind |= self.rewrite(gpu, 2, "lights", &scene_buffers.lights);
         }
         if update.resized {
-            let pixels = settings.width as u64 * settings.height as u64;
-            self.buffers[3] = scratch(gpu, "accumulation", pixels * 16);
+            for (index, buffer) in pixel_buffers(gpu, settings.width, settings.height) {
+                self.buffers[index] = buffer;
+            }
             rebind = true;
         }
         if faces_changed {
@@ -174,7 +179,8 @@ impl GpuMarch {
             );
         }
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        encoder.clear_buffer(&self.buffers[3], 0, None);
+        encoder.clear_buffer(&self.buffers[ACCUMULATION], 0, None);
+        encoder.clear_buffer(&self.buffers[FOG_ACCUMULATION], 0, None);
         gpu.queue.submit([encoder.finish()]);
         self.frames = 0;
         self.face_count = faces.len() as u32;

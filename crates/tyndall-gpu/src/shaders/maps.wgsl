@@ -85,7 +85,14 @@ fn trace_texel(f: u32, x: u32, y: u32) -> f32 {
     let clearance = LIGHT_CLEARANCE * (1.0 + max(o.x, max(o.y, o.z)));
     var opaque = INFINITE;
     texel_glass_count = 0u;
-    for (var i = 0u; i < params.primitive_count; i++) {
+    var walk = bvh_walk(ray);
+    loop {
+        // Glass beyond the nearest opaque surface so far is dropped below,
+        // so the walk may stop there.
+        let i = bvh_next(&walk, opaque);
+        if i == NO_PRIMITIVE {
+            break;
+        }
         let t = intersect_from_light(i, ray, INFINITE);
         if t <= clearance {
             continue;
@@ -136,8 +143,13 @@ fn map_layers(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= params.map_resolution || id.y >= params.map_resolution {
         return;
     }
+    let texel = texel_index(id);
+    let offset = layer_offsets[texel];
+    // Most texels see no glass: nothing to write, no need to trace again.
+    if layer_offsets[texel + 1u] == offset {
+        return;
+    }
     trace_texel(id.z, id.x, id.y);
-    let offset = layer_offsets[texel_index(id)];
     var tint = vec3<f32>(1.0);
     for (var j = 0u; j < texel_glass_count; j++) {
         let g = materials[texel_glass_m[j]];

@@ -42,6 +42,19 @@ struct Light {
     intensity: vec4<f32>,
 }
 
+// A node of the threaded BVH (bvh.rs): its box, the node after its
+// subtree, and for a leaf `count` > 0 primitives from `first`.
+struct BvhNode {
+    min: vec3<f32>,
+    skip: u32,
+    max: vec3<f32>,
+    first: u32,
+    count: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+}
+
 struct Params {
     camera_position: vec4<f32>,
     camera_forward: vec4<f32>,
@@ -75,7 +88,8 @@ struct Params {
     estimator: u32,
     // equiangular samples per light and segment (ESTIMATOR_SINGLE)
     volume_samples: u32,
-    pad0: u32,
+    // nodes in bvh_nodes (0 without primitives)
+    node_count: u32,
     pad1: u32,
 }
 
@@ -84,6 +98,12 @@ struct Params {
 @group(0) @binding(2) var<storage, read> materials: array<Material>;
 @group(0) @binding(3) var<storage, read> lights: array<Light>;
 @group(0) @binding(4) var<storage, read_write> accumulation: array<vec4<f32>>;
+// Per pixel, the part of `accumulation` that is in-scattered light and
+// the sum of the first hit's distances: what `interleave_resolve` filters.
+@group(0) @binding(10) var<storage, read_write> fog_accumulation: array<vec4<f32>>;
+// The resolved image (mean radiance, 1) that `interleave_resolve` writes.
+@group(0) @binding(11) var<storage, read_write> display: array<vec4<f32>>;
+@group(0) @binding(12) var<storage, read> bvh_nodes: array<BvhNode>;
 
 const SHAPE_SPHERE: u32 = 0u;
 const SHAPE_QUAD: u32 = 1u;
@@ -261,11 +281,72 @@ struct Hit {
     found: bool,
 }
 
-// Primary visibility: the nearest hit, by testing every primitive (the
-// scenes of the paper have tens of primitives; see the crate docs).
+// ---- the BVH (bvh.rs) ----
+
+// A walk of the threaded BVH along one ray: the next node to visit and
+// the rest of the current leaf's primitives.
+struct BvhWalk {
+    origin: vec3<f32>,
+    // 1/direction, with zero components replaced by a tiny value of
+    // their sign, so that no slab test meets 0·∞.
+    inverse: vec3<f32>,
+    node: u32,
+    primitive: u32,
+    primitive_end: u32,
+}
+
+// Marks the end of a walk.
+const NO_PRIMITIVE: u32 = 0xffffffffu;
+
+fn bvh_walk(ray: Ray) -> BvhWalk {
+    let tiny = select(vec3<f32>(1e-20), vec3<f32>(-1e-20), ray.direction < vec3<f32>(0.0));
+    let d = select(ray.direction, tiny, abs(ray.direction) < vec3<f32>(1e-20));
+    return BvhWalk(ray.origin, 1.0 / d, 0u, 0u, 0u);
+}
+
+// The next primitive whose leaf box the ray meets in [0, t_max], or
+// NO_PRIMITIVE: a subtree whose box the ray misses is skipped whole.
+// Callers test each primitive themselves and may lower t_max between
+// calls (the nearest hit so far).
+fn bvh_next(walk: ptr<function, BvhWalk>, t_max: f32) -> u32 {
+    loop {
+        if (*walk).primitive < (*walk).primitive_end {
+            let p = (*walk).primitive;
+            (*walk).primitive = p + 1u;
+            return p;
+        }
+        if (*walk).node >= params.node_count {
+            return NO_PRIMITIVE;
+        }
+        let node = bvh_nodes[(*walk).node];
+        let a = (node.min - (*walk).origin) * (*walk).inverse;
+        let b = (node.max - (*walk).origin) * (*walk).inverse;
+        let lo = min(a, b);
+        let hi = max(a, b);
+        let near = max(max(lo.x, lo.y), max(lo.z, 0.0));
+        let far = min(min(hi.x, hi.y), min(hi.z, t_max));
+        if near <= far {
+            if node.count > 0u {
+                (*walk).primitive = node.first;
+                (*walk).primitive_end = node.first + node.count;
+            }
+            (*walk).node += 1u;
+        } else {
+            (*walk).node = node.skip;
+        }
+    }
+    return NO_PRIMITIVE;
+}
+
+// Primary visibility: the nearest hit, through the BVH.
 fn nearest_hit(ray: Ray) -> Hit {
     var hit = Hit(INFINITE, 0u, false);
-    for (var i = 0u; i < params.primitive_count; i++) {
+    var walk = bvh_walk(ray);
+    loop {
+        let i = bvh_next(&walk, hit.t);
+        if i == NO_PRIMITIVE {
+            break;
+        }
         let t = intersect(i, ray, hit.t);
         if t > 0.0 {
             hit = Hit(t, i, true);
@@ -309,7 +390,12 @@ fn shadow_transmittance(origin: vec3<f32>, direction: vec3<f32>, distance: f32) 
     var pane_t: array<f32, MAX_BLEND_PANES>;
     var pane_m: array<u32, MAX_BLEND_PANES>;
     var count = 0u;
-    for (var i = 0u; i < params.primitive_count; i++) {
+    var walk = bvh_walk(ray);
+    loop {
+        let i = bvh_next(&walk, t_max);
+        if i == NO_PRIMITIVE {
+            break;
+        }
         let t = intersect(i, ray, t_max);
         if t <= 0.0 {
             continue;
@@ -566,11 +652,27 @@ fn interleaved_stratum(px: vec2<u32>, n_in: u32) -> u32 {
     return y * n + x;
 }
 
+// The lattice cells k ≡ r (mod m) a pixel of stratum s evaluates in this
+// frame, m = n² the tile's strata: r = (s + f + ρ) mod m, with ρ a random
+// rotation per seed. Inside one frame the tile's pixels take each residue
+// once (Keller & Heidrich 2001: the tile shares out the lattice); over m
+// consecutive frames each pixel takes each residue once, and in any one
+// frame its r is uniform over the m residues (because ρ is).
+fn lattice_residue(stratum: u32, strata: u32) -> u32 {
+    return (stratum + params.frame + pcg(params.seed ^ 0x2c1b3c6du) % strata) % strata;
+}
+
 // In-scattered radiance along `ray` over (0, t_hit) by the jittered
-// lattice t_k = a + (ξ + k)·h, ξ in stratum k of n²: Σ_k T(a, t_k)·
-// Σ_lights σs·p(θ)·E·V·Tr_glass·T_fog·h (the paper's eq. 1 per step).
+// lattice t_k = a + (ξ + k)·h, ξ in stratum s of m = n²: the CPU march's
+// Σ_k T(a, t_k)·Σ_lights σs·p(θ)·E·V·Tr_glass·T_fog·h (the paper's eq. 1
+// per step), of which this pixel evaluates only the cells k ≡ r (mod m)
+// of lattice_residue, each weighted m·h. As r is uniform over the
+// residues, the expectation over r is the full sum's: each pixel
+// converges to the CPU march of the same step and interleave, while a
+// frame costs 1/m of the lattice per pixel.
 fn in_scattered(ray: Ray, t_hit: f32, stratum: u32, strata: u32) -> vec3<f32> {
     let jitter = (f32(stratum) + next_1d()) / f32(strata);
+    let residue = lattice_residue(stratum, strata);
     let span = fog_interval(ray, 0.0, t_hit);
     let sigma_s = params.fog_albedo_sigma_t.xyz * sigma_t();
     if span.z == 0.0 || all(sigma_s == vec3<f32>(0.0)) {
@@ -595,8 +697,10 @@ fn in_scattered(ray: Ray, t_hit: f32, stratum: u32, strata: u32) -> vec3<f32> {
     // The first lattice index k ≥ 0 with t_k ≥ lo
     // (tyndall::integrators::march::lattice_range, in f32 here).
     let first = u32(max(ceil((lo - a) / h - jitter), 0.0));
+    // The first cell at or after `first` in this pixel's residue class.
+    let own = first + (residue + strata - first % strata) % strata;
     var sum = vec3<f32>(0.0);
-    for (var k = first; k - first < params.step_budget; k++) {
+    for (var k = own; k - first < params.step_budget; k += strata) {
         let t = a + (jitter + f32(k)) * h;
         if t >= hi {
             break;
@@ -607,7 +711,7 @@ fn in_scattered(ray: Ray, t_hit: f32, stratum: u32, strata: u32) -> vec3<f32> {
             sum += camera_t * scattered_radiance(i, x, ray.direction);
         }
     }
-    return sum * h;
+    return sum * (h * f32(strata));
 }
 
 // ---- unbiased single scattering (tyndall::integrators::single) ----
@@ -758,16 +862,34 @@ fn reflect_layer(roughness: f32, incoming: vec3<f32>, normal: vec3<f32>) -> vec3
 
 // The camera path of tyndall::integrators::CameraPath::radiance for the
 // materials the GPU renders (no dielectrics: the host refuses them).
+//
+// Also leaves the in-scattered part of the result in `fog_radiance` and
+// the first segment's length (FAR_DEPTH if the camera ray escapes) in
+// `first_depth`, for interleave_resolve.
+var<private> fog_radiance: vec3<f32>;
+var<private> first_depth: f32;
+
+// The depth recorded for a camera ray that meets nothing: finite, so that
+// sums of it over frames stay finite.
+const FAR_DEPTH: f32 = 1.0e30;
+
 fn radiance(first: Ray, stratum: u32, strata: u32) -> vec3<f32> {
     var ray = first;
+    fog_radiance = vec3<f32>(0.0);
+    first_depth = -1.0;
     var result = vec3<f32>(0.0);
     var throughput = vec3<f32>(1.0);
     var bounces = 0u;
     var crossings = 0u;
     loop {
         let hit = nearest_hit(ray);
+        if first_depth < 0.0 {
+            first_depth = select(FAR_DEPTH, hit.t, hit.found);
+        }
         if has_fog() {
-            result += throughput * fog_in_scattered(ray, hit.t, stratum, strata);
+            let in_scattered = throughput * fog_in_scattered(ray, hit.t, stratum, strata);
+            result += in_scattered;
+            fog_radiance += in_scattered;
             var fog_t = 1.0;
             let span = fog_interval(ray, 0.0, hit.t);
             if span.z != 0.0 {
@@ -844,4 +966,53 @@ fn march_frame(@builtin(global_invocation_id) id: vec3<u32>) {
     let stratum = interleaved_stratum(id.xy, n);
     let l = radiance(Ray(params.camera_position.xyz, direction), stratum, n * n);
     accumulation[index] += vec4<f32>(l, 1.0);
+    fog_accumulation[index] += vec4<f32>(fog_radiance, first_depth);
+}
+
+// Two mean first-hit depths belong to one surface (the discontinuity
+// buffer's test, Keller & Heidrich 2001 §4): within DEPTH_TOLERANCE of
+// each other, relatively.
+const DEPTH_TOLERANCE: f32 = 0.05;
+
+// The image of the frames so far with the in-scattered light of each
+// pixel averaged over the n×n window around it (which holds each stratum
+// of the interleaving tile once), over the window's pixels whose mean
+// first-hit depth matches this pixel's: Keller & Heidrich's discontinuity
+// buffer, which turns the tile's shared-out lattice cells back into one
+// full lattice per pixel. Surface light is not filtered. Dispatched by
+// the host only while the image is young (see GpuMarch::display_image).
+@compute @workgroup_size(8, 8)
+fn interleave_resolve(@builtin(global_invocation_id) id: vec3<u32>) {
+    let width = u32(params.half_extent_resolution.z);
+    let height = u32(params.half_extent_resolution.w);
+    if id.x >= width || id.y >= height {
+        return;
+    }
+    let index = id.y * width + id.x;
+    let total = accumulation[index];
+    let own = fog_accumulation[index];
+    if !(total.w > 0.0) {
+        display[index] = vec4<f32>(0.0, 0.0, 0.0, 1.0);
+        return;
+    }
+    let n = i32(max(params.interleave, 1u));
+    let depth = own.w;
+    var fog = vec3<f32>(0.0);
+    var weight = 0.0;
+    for (var dy = 0; dy < n; dy++) {
+        for (var dx = 0; dx < n; dx++) {
+            let x = i32(id.x) + dx - n / 2;
+            let y = i32(id.y) + dy - n / 2;
+            if x < 0 || y < 0 || x >= i32(width) || y >= i32(height) {
+                continue;
+            }
+            let other = fog_accumulation[u32(y) * width + u32(x)];
+            if abs(other.w - depth) <= DEPTH_TOLERANCE * min(other.w, depth) {
+                fog += other.xyz;
+                weight += 1.0;
+            }
+        }
+    }
+    // The pixel itself always passes, so weight ≥ 1.
+    display[index] = vec4<f32>((total.xyz - own.xyz + fog / weight) / total.w, 1.0);
 }
