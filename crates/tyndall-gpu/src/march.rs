@@ -224,7 +224,7 @@ fn v4(v: Vec3, w: f32) -> [f32; 4] {
 pub struct GpuMarch {
     params: Params,
     params_buffer: wgpu::Buffer,
-    /// Bindings 1–8 and 10–12 of `march.wgsl`/`maps.wgsl`, in order;
+    /// Bindings 1–8 and 10–13 of `march.wgsl`/`maps.wgsl`, in order;
     /// binding 9 (the layers) is added when the bind group is made.
     buffers: Vec<wgpu::Buffer>,
     layers: wgpu::Buffer,
@@ -242,12 +242,55 @@ pub struct GpuMarch {
 }
 
 /// Host copies of what is on the GPU: the scene's arrays, the maps'
-/// faces and each map texel's glass-layer count (from the last map build).
+/// faces, and how many glass layers the maps have taken.
 struct Uploaded {
     scene: SceneBuffers,
     light_maps: Vec<maps::GpuLightMap>,
     faces: Vec<maps::GpuFace>,
-    layer_counts: Vec<u32>,
+    layers: LayerUse,
+}
+
+/// Glass layers of the shadow maps: handed out so far (the counter's
+/// value), and by the last build of every map. A light's maps rendered
+/// again take new layers after the others' (`GpuMarch::update`), leaving
+/// its old ones unused until the next full build.
+#[derive(Clone, Copy, Debug, Default)]
+struct LayerUse {
+    taken: u32,
+    at_full_build: u32,
+}
+
+impl LayerUse {
+    /// Whether more layers were taken since the last full build than it
+    /// took (and more than a megabyte's worth): most of what lights
+    /// rendered again left behind is then unused, and a full build,
+    /// which packs the array again, is due. This bounds the array at
+    /// about twice what the maps use.
+    fn mostly_unused(self) -> bool {
+        const SLACK: u32 = 1 << 16;
+        self.taken - self.at_full_build > self.at_full_build.max(SLACK)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::LayerUse;
+
+    #[test]
+    fn a_full_build_is_due_once_unused_layers_outnumber_used_ones() {
+        let full = |taken, at_full_build| {
+            LayerUse {
+                taken,
+                at_full_build,
+            }
+            .mostly_unused()
+        };
+        assert!(!full(1_000_000, 1_000_000), "just built");
+        assert!(!full(2_000_000, 1_000_000), "as many unused as used");
+        assert!(full(2_000_001, 1_000_000));
+        assert!(!full(60_000, 0), "below the slack");
+        assert!(full(70_000, 0));
+    }
 }
 
 /// A storage buffer holding `items`, or one zeroed item for an empty list
@@ -276,10 +319,15 @@ fn scratch(gpu: &Gpu, label: &str, size: u64) -> wgpu::Buffer {
 }
 
 /// Which bindings of the march's module are written by some kernel.
-const READ_WRITE_BINDINGS: [u32; 6] = [4, 7, 8, 9, 10, 11];
+const READ_WRITE_BINDINGS: [u32; 7] = [4, 7, 8, 9, 10, 11, 13];
 
-/// Index in [`GpuMarch::buffers`] of the BVH's nodes (binding 12).
+/// Index in [`GpuMarch::buffers`] of the BVH's nodes (binding 12) and of
+/// the counter of glass layers handed out (binding 13).
 const BVH_NODES: usize = 10;
+const LAYERS_TAKEN: usize = 11;
+
+/// Bytes of a map texel's (first layer, count) span.
+const SPAN_BYTES: u64 = 8;
 
 /// Index in [`GpuMarch::buffers`] of the per-pixel sums (binding 4), of
 /// their in-scattered part with the first-hit depths (binding 10) and of
@@ -304,7 +352,7 @@ fn pixel_buffers(gpu: &Gpu, width: u32, height: u32) -> [(usize, wgpu::Buffer); 
 }
 
 fn bind_group_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
-    let entries: Vec<_> = (0..13u32)
+    let entries: Vec<_> = (0..14u32)
         .map(|binding| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -390,10 +438,11 @@ impl GpuMarch {
             storage(gpu, "faces", &faces),
             storage(gpu, "light maps", &light_maps),
             scratch(gpu, "map depths", texels * 4),
-            scratch(gpu, "layer offsets", (texels + 1) * 4),
+            scratch(gpu, "layer spans", texels * SPAN_BYTES),
             fog_accumulation,
             display,
             storage(gpu, "BVH nodes", &buffers.bvh_nodes),
+            scratch(gpu, "layers taken", 4),
         ];
         let layers = scratch(gpu, "layers", 16);
         let bind_group = make_bind_group(gpu, &layout, &params_buffer, &buffers, &layers);
@@ -414,7 +463,7 @@ impl GpuMarch {
                 scene: buffers_on_host,
                 light_maps,
                 faces,
-                layer_counts: Vec::new(),
+                layers: LayerUse::default(),
             },
         };
         if map_resolution > 0 {
@@ -423,33 +472,65 @@ impl GpuMarch {
         Ok(march)
     }
 
-    /// Renders every light's depth and coloured transmittance map: a
-    /// counting pass (depths and layers per texel), offsets summed on the
-    /// host, then the layers. Waits for the GPU.
+    /// Renders every light's depth and coloured transmittance map, all on
+    /// the GPU: a first pass traces each texel for its depth and takes a
+    /// span of the layer array for the glass it sees; then, the array
+    /// grown if the 4-byte count read back says so, a second pass writes
+    /// the layers. Waits for the GPU.
     pub fn build_maps(&mut self, gpu: &Gpu) -> Result<(), GpuError> {
         let r = self.params.map_resolution;
         if r == 0 || self.face_count == 0 {
             return Ok(());
         }
         let groups = (r.div_ceil(8), r.div_ceil(8), self.face_count);
-        self.dispatch(gpu, &self.map_count_pipeline, groups);
-        let texels = self.face_count as u64 * r as u64 * r as u64;
-        let offsets_buffer = &self.buffers[7];
-        let bytes = read_buffer(gpu, offsets_buffer, texels * 4)?;
-        let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
-        let mut offsets = Vec::with_capacity(counts.len() + 1);
-        let mut total = 0u64;
-        offsets.push(0u32);
-        for &count in &counts {
-            total += count as u64;
-            offsets.push(u32::try_from(total).map_err(|_| {
-                GpuError::Unsupported("more glass layers in the shadow maps than 2³²".into())
-            })?);
-        }
         gpu.queue
-            .write_buffer(offsets_buffer, 0, bytemuck::cast_slice(&offsets));
-        self.uploaded.layer_counts = counts;
-        self.layers = scratch(gpu, "layers", total * 16);
+            .write_buffer(&self.buffers[LAYERS_TAKEN], 0, &0u32.to_ne_bytes());
+        self.dispatch(gpu, &self.map_count_pipeline, groups);
+        let taken = self.read_layers_taken(gpu)?;
+        self.reserve_layers(gpu, taken, 0)?;
+        self.dispatch(gpu, &self.map_layers_pipeline, groups);
+        self.uploaded.layers = LayerUse {
+            taken,
+            at_full_build: taken,
+        };
+        self.wait(gpu)
+    }
+
+    /// The glass layers handed out so far (waits for the GPU).
+    fn read_layers_taken(&self, gpu: &Gpu) -> Result<u32, GpuError> {
+        let bytes = read_buffer(gpu, &self.buffers[LAYERS_TAKEN], 4)?;
+        Ok(u32::from_ne_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]))
+    }
+
+    /// Makes the layer array hold `needed` layers, keeping its first
+    /// `keep`: a larger array when it is too small — of `needed` layers
+    /// for a full build (`keep` = 0), of twice that when lights rendered
+    /// again append (so that the next ones need not grow it again) — or
+    /// an error past this GPU's storage buffer size.
+    fn reserve_layers(&mut self, gpu: &Gpu, needed: u32, keep: u32) -> Result<(), GpuError> {
+        const LAYER_BYTES: u64 = 16;
+        let bytes = needed as u64 * LAYER_BYTES;
+        if bytes <= self.layers.size() {
+            return Ok(());
+        }
+        let limit = gpu.device.limits().max_storage_buffer_binding_size;
+        if bytes > limit {
+            return Err(GpuError::Unsupported(format!(
+                "the shadow maps' {needed} glass layers exceed this GPU's storage buffer size ({limit} bytes); lower the resolution"
+            )));
+        }
+        let capacity = if keep > 0 {
+            (2 * bytes).min(limit)
+        } else {
+            bytes
+        };
+        let layers = scratch(gpu, "layers", capacity);
+        if keep > 0 {
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            encoder.copy_buffer_to_buffer(&self.layers, 0, &layers, 0, keep as u64 * LAYER_BYTES);
+            gpu.queue.submit([encoder.finish()]);
+        }
+        self.layers = layers;
         self.bind_group = make_bind_group(
             gpu,
             &self.layout,
@@ -457,8 +538,7 @@ impl GpuMarch {
             &self.buffers,
             &self.layers,
         );
-        self.dispatch(gpu, &self.map_layers_pipeline, groups);
-        self.wait(gpu)
+        Ok(())
     }
 
     fn dispatch(&self, gpu: &Gpu, pipeline: &wgpu::ComputePipeline, groups: (u32, u32, u32)) {
@@ -594,7 +674,10 @@ pub fn render(
 fn map_texels(gpu: &Gpu, face_count: usize, resolution: u32) -> Result<u64, GpuError> {
     let texels = face_count as u64 * resolution as u64 * resolution as u64;
     let limit = gpu.device.limits().max_storage_buffer_binding_size;
-    if texels * 4 + 4 > limit {
+    // Also: the u32 counter of layers handed out must not wrap, though
+    // every texel took the most layers a ray keeps.
+    let most_layers = texels * crate::scene_buffers::MAX_PANES as u64;
+    if texels * SPAN_BYTES > limit || most_layers > u32::MAX as u64 {
         return Err(GpuError::Unsupported(format!(
             "shadow maps of {face_count} faces of {resolution}² texels exceed this GPU's storage buffer size ({limit} bytes); lower the resolution"
         )));
@@ -603,7 +686,7 @@ fn map_texels(gpu: &Gpu, face_count: usize, resolution: u32) -> Result<u64, GpuE
 }
 
 /// The bind group of bindings 0 (`params`), 1–8 (`buffers[..8]`), 9
-/// (`layers`) and 10–12 (`buffers[8..]`).
+/// (`layers`) and 10–13 (`buffers[8..]`).
 fn make_bind_group(
     gpu: &Gpu,
     layout: &wgpu::BindGroupLayout,

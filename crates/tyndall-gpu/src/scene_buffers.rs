@@ -137,7 +137,7 @@ impl SceneBuffers {
 /// Most panes a ray keeps on the GPU: a blend-model shadow ray, to apply
 /// them in order, and a shadow-map texel, as its layers
 /// (`MAX_BLEND_PANES` in `march.wgsl`, `MAX_MAP_LAYERS` in `maps.wgsl`).
-const MAX_PANES: usize = 16;
+pub(crate) const MAX_PANES: usize = 16;
 
 /// A ray crosses a quad or triangle at most once and a sphere twice;
 /// scenes whose glass a ray could cross more than [`MAX_PANES`] times are

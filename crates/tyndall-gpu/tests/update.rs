@@ -6,9 +6,10 @@
 //! march's frames of the final state exactly.
 //!
 //! Why exact, not within a tolerance: an update is meant to leave every
-//! buffer holding the bytes `new` would write (uniforms with frame 0, the
-//! scene's arrays, the map faces, depths, layer offsets and layers in the
-//! same packed order, a zeroed sum); the same kernels then run the same
+//! buffer holding what `new` would write (uniforms with frame 0, the
+//! scene's arrays, the map faces, every texel's depth and glass layers —
+//! their place in the layer array may differ, which no lookup sees — and
+//! zeroed sums); the same kernels then run the same
 //! dispatches on the same device, and each pixel's sum is written by its
 //! one invocation without atomics, so there is no reordering of f32 sums
 //! that could differ by round-off. Any difference is a stale or missing

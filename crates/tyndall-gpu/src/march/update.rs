@@ -10,22 +10,24 @@
 //! light's position, direction and cutoff; a sun's also the scene's
 //! bounds), the geometry, the glass materials and the glass model (the
 //! tint stored per layer). Fog, intensities, the camera and the step do
-//! not enter it. So a light that turns gets its own faces traced again
-//! while the other lights' layers are copied to their new place in the
-//! packed layer array; a change of geometry, materials, glass model, map
-//! resolution or face layout (a spot crossing 60° goes from one face to
-//! a cube) renders every map again. Either way the buffers end up holding
-//! the same bytes a fresh [`GpuMarch::new`] of the new scene would, so
-//! the frames that follow are the same.
+//! not enter it. So a light that turns gets its own faces traced again,
+//! their glass layers taking new spans after the layers handed out so
+//! far (the old ones left unused, until unused layers outnumber used ones
+//! and every map is rendered again, which packs the array); a change of
+//! geometry, materials, glass model, map resolution or face layout (a
+//! spot crossing 60° goes from one face to a cube) renders every map
+//! again. Either way every texel ends up with the depth and layers a
+//! fresh [`GpuMarch::new`] of the new scene would give it — only where
+//! in the layer array its span lies may differ, which no lookup sees —
+//! so the frames that follow are the same.
 
 use super::{
-    ACCUMULATION, BVH_NODES, FOG_ACCUMULATION, GpuMarch, MarchSettings, Params, Uploaded,
-    make_bind_group, map_texels, pixel_buffers, scratch,
+    ACCUMULATION, BVH_NODES, FOG_ACCUMULATION, GpuMarch, MarchSettings, Params, SPAN_BYTES,
+    Uploaded, make_bind_group, map_texels, pixel_buffers, scratch,
 };
 use super::{GpuError, storage};
 use crate::device::Gpu;
 use crate::maps::{self, GpuFace};
-use crate::readback::read_buffer;
 use crate::scene_buffers::SceneBuffers;
 use bytemuck::Pod;
 use tyndall::Scene;
@@ -57,21 +59,6 @@ pub struct Update {
 /// Whether two arrays differ in any byte.
 fn differ<T: Pod>(old: &[T], new: &[T]) -> bool {
     bytemuck::cast_slice::<T, u8>(old) != bytemuck::cast_slice::<T, u8>(new)
-}
-
-/// Exclusive prefix sums of `counts`, one more entry than `counts` (the
-/// total last), or an error past 2³² layers.
-fn offsets_of(counts: &[u32]) -> Result<Vec<u32>, GpuError> {
-    let mut offsets = Vec::with_capacity(counts.len() + 1);
-    let mut total = 0u64;
-    offsets.push(0u32);
-    for &count in counts {
-        total += count as u64;
-        offsets.push(u32::try_from(total).map_err(|_| {
-            GpuError::Unsupported("more glass layers in the shadow maps than 2³²".into())
-        })?);
-    }
-    Ok(offsets)
 }
 
 impl GpuMarch {
@@ -163,7 +150,7 @@ impl GpuMarch {
         }
         if map_layout_changed {
             self.buffers[6] = scratch(gpu, "map depths", texels * 4);
-            self.buffers[7] = scratch(gpu, "layer offsets", (texels + 1) * 4);
+            self.buffers[7] = scratch(gpu, "layer spans", texels * SPAN_BYTES);
             rebind = true;
         }
         self.params = params;
@@ -184,12 +171,11 @@ impl GpuMarch {
         gpu.queue.submit([encoder.finish()]);
         self.frames = 0;
         self.face_count = faces.len() as u32;
-        let layer_counts = std::mem::take(&mut self.uploaded.layer_counts);
         self.uploaded = Uploaded {
             scene: scene_buffers,
             light_maps,
             faces,
-            layer_counts,
+            layers: self.uploaded.layers,
         };
         if all_maps {
             self.build_maps(gpu)?;
@@ -197,6 +183,10 @@ impl GpuMarch {
         } else if !moved_lights.is_empty() {
             self.rebuild_light_maps(gpu, &moved_lights)?;
             update.maps = MapsRebuilt::Lights(moved_lights);
+            if self.uploaded.layers.mostly_unused() {
+                self.build_maps(gpu)?;
+                update.maps = MapsRebuilt::All;
+            }
         }
         Ok(update)
     }
@@ -255,18 +245,13 @@ impl GpuMarch {
     }
 
     /// Renders the maps of `lights` again, keeping the other lights'
-    /// (same face layout as before): their faces are counted, the layer
-    /// offsets of all texels summed anew (the others' counts kept from
-    /// the last build), the other lights' layers copied to their new
-    /// offsets, and these lights' layers written. Waits for the GPU.
+    /// (same face layout as before): their faces are traced again and take
+    /// new spans after the layers handed out so far (the array grown,
+    /// keeping those, if needed), then their layers are written. Their
+    /// old layers stay in the array unused. Waits for the GPU.
     fn rebuild_light_maps(&mut self, gpu: &Gpu, lights: &[usize]) -> Result<(), GpuError> {
-        let r = self.params.map_resolution as usize;
-        let per_face = r * r;
-        let groups = |faces: usize| (r.div_ceil(8) as u32, r.div_ceil(8) as u32, faces as u32);
-        let texel_range = |light: usize| {
-            let faces = self.uploaded.light_maps[light].face_range();
-            faces.start * per_face..faces.end * per_face
-        };
+        let r = self.params.map_resolution;
+        let groups = |faces: usize| (r.div_ceil(8), r.div_ceil(8), faces as u32);
         let face_buffers: Vec<(usize, wgpu::Buffer)> = lights
             .iter()
             .map(|&light| {
@@ -279,48 +264,13 @@ impl GpuMarch {
             let bind_group = self.bind_group_with_faces(gpu, faces);
             self.dispatch_with(gpu, &self.map_count_pipeline, &bind_group, groups(*count));
         }
-        let texels = self.uploaded.faces.len() * per_face;
-        let bytes = read_buffer(gpu, &self.buffers[7], texels as u64 * 4)?;
-        let counted: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
-        let old_offsets = offsets_of(&self.uploaded.layer_counts)?;
-        let mut counts = self.uploaded.layer_counts.clone();
-        for &light in lights {
-            let range = texel_range(light);
-            counts[range.clone()].copy_from_slice(&counted[range]);
-        }
-        let offsets = offsets_of(&counts)?;
-        gpu.queue
-            .write_buffer(&self.buffers[7], 0, bytemuck::cast_slice(&offsets));
-        let total = *offsets.last().unwrap_or(&0) as u64;
-        let layers = scratch(gpu, "layers", total * 16);
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        for light in (0..self.uploaded.light_maps.len()).filter(|l| !lights.contains(l)) {
-            let range = texel_range(light);
-            let (from, to) = (old_offsets[range.start], old_offsets[range.end]);
-            if to > from {
-                encoder.copy_buffer_to_buffer(
-                    &self.layers,
-                    from as u64 * 16,
-                    &layers,
-                    offsets[range.start] as u64 * 16,
-                    (to - from) as u64 * 16,
-                );
-            }
-        }
-        gpu.queue.submit([encoder.finish()]);
-        self.layers = layers;
-        self.bind_group = make_bind_group(
-            gpu,
-            &self.layout,
-            &self.params_buffer,
-            &self.buffers,
-            &self.layers,
-        );
+        let taken = self.read_layers_taken(gpu)?;
+        self.reserve_layers(gpu, taken, self.uploaded.layers.taken)?;
         for (count, faces) in &face_buffers {
             let bind_group = self.bind_group_with_faces(gpu, faces);
             self.dispatch_with(gpu, &self.map_layers_pipeline, &bind_group, groups(*count));
         }
-        self.uploaded.layer_counts = counts;
+        self.uploaded.layers.taken = taken;
         self.wait(gpu)
     }
 }

@@ -4,8 +4,11 @@
 // sun). A texel stores the distance to the first opaque surface, negated
 // when glass lies before it, and that glass as layers (depth, the light's
 // tint after crossing it); a lookup is percentage-closer filtered over
-// the four nearest texels. Built by two kernels: `map_count` (depths and
-// layer counts, which the host turns into offsets) and `map_layers`.
+// the four nearest texels. Built by two kernels: `map_count` (depths, and
+// each texel's span of the layer array, taken from a counter shared by
+// all texels) and `map_layers` (the layers, for texels that have some).
+// Where a texel's span lies depends on the order texels took theirs;
+// what a lookup reads from it does not.
 // Appended to march.wgsl, whose bindings and shape tests it uses.
 
 struct Face {
@@ -31,9 +34,12 @@ struct LightMap {
 @group(0) @binding(5) var<storage, read> faces: array<Face>;
 @group(0) @binding(6) var<storage, read> light_maps: array<LightMap>;
 @group(0) @binding(7) var<storage, read_write> map_depths: array<f32>;
-@group(0) @binding(8) var<storage, read_write> layer_offsets: array<u32>;
+// Per texel (first layer, layer count).
+@group(0) @binding(8) var<storage, read_write> layer_spans: array<vec2<u32>>;
 // (tint.rgb, depth)
 @group(0) @binding(9) var<storage, read_write> layers: array<vec4<f32>>;
+// Layers handed out so far (the host zeroes it before a full build).
+@group(0) @binding(13) var<storage, read_write> layers_taken: atomic<u32>;
 
 // tyndall::shadow_maps::LIGHT_CLEARANCE, BIAS_TEXELS, MAX_BIAS_SLOPE.
 const LIGHT_CLEARANCE: f32 = 1e-4;
@@ -125,7 +131,8 @@ fn texel_index(id: vec3<u32>) -> u32 {
     return faces[id.z].texel_base + id.y * r + id.x;
 }
 
-// Pass 1: each texel's opaque depth (negated with glass) and layer count.
+// Pass 1: each texel's opaque depth (negated with glass) and its span of
+// the layer array.
 @compute @workgroup_size(8, 8)
 fn map_count(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= params.map_resolution || id.y >= params.map_resolution {
@@ -134,24 +141,29 @@ fn map_count(@builtin(global_invocation_id) id: vec3<u32>) {
     let opaque = trace_texel(id.z, id.x, id.y);
     let i = texel_index(id);
     map_depths[i] = select(opaque, -opaque, texel_glass_count > 0u);
-    layer_offsets[i] = texel_glass_count;
+    var first = 0u;
+    if texel_glass_count > 0u {
+        first = atomicAdd(&layers_taken, texel_glass_count);
+    }
+    layer_spans[i] = vec2<u32>(first, texel_glass_count);
 }
 
-// Pass 2: the layers, at the offsets the host computed from the counts.
+// Pass 2: the layers, in the spans of pass 1 (the host has made the
+// layer array hold them all).
 @compute @workgroup_size(8, 8)
 fn map_layers(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= params.map_resolution || id.y >= params.map_resolution {
         return;
     }
-    let texel = texel_index(id);
-    let offset = layer_offsets[texel];
+    let span = layer_spans[texel_index(id)];
     // Most texels see no glass: nothing to write, no need to trace again.
-    if layer_offsets[texel + 1u] == offset {
+    if span.y == 0u {
         return;
     }
+    let offset = span.x;
     trace_texel(id.z, id.x, id.y);
     var tint = vec3<f32>(1.0);
-    for (var j = 0u; j < texel_glass_count; j++) {
+    for (var j = 0u; j < min(texel_glass_count, span.y); j++) {
         let g = materials[texel_glass_m[j]];
         tint = glass_tint_after(params.glass_model, tint, g.color.xyz, g.alpha);
         layers[offset + j] = vec4<f32>(tint, texel_glass_t[j]);
@@ -168,8 +180,9 @@ fn texel_answer(t: u32, depth: f32, bias: f32) -> vec3<f32> {
         return vec3<f32>(1.0);
     }
     // The last pane in front of the point sets the tint.
-    var j = layer_offsets[t + 1u];
-    let first = layer_offsets[t];
+    let span = layer_spans[t];
+    let first = span.x;
+    var j = span.x + span.y;
     while j > first {
         j--;
         let layer = layers[j];
