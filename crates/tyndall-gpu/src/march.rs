@@ -272,27 +272,6 @@ impl LayerUse {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::LayerUse;
-
-    #[test]
-    fn a_full_build_is_due_once_unused_layers_outnumber_used_ones() {
-        let full = |taken, at_full_build| {
-            LayerUse {
-                taken,
-                at_full_build,
-            }
-            .mostly_unused()
-        };
-        assert!(!full(1_000_000, 1_000_000), "just built");
-        assert!(!full(2_000_000, 1_000_000), "as many unused as used");
-        assert!(full(2_000_001, 1_000_000));
-        assert!(!full(60_000, 0), "below the slack");
-        assert!(full(70_000, 0));
-    }
-}
-
 /// A storage buffer holding `items`, or one zeroed item for an empty list
 /// (WGSL arrays cannot be empty; the counts in `Params` say what is used).
 fn storage<T: Pod + Default>(gpu: &Gpu, label: &str, items: &[T]) -> wgpu::Buffer {
@@ -710,4 +689,25 @@ fn make_bind_group(
         layout,
         entries: &entries,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::LayerUse;
+
+    #[test]
+    fn a_full_build_is_due_once_unused_layers_outnumber_used_ones() {
+        let full = |taken, at_full_build| {
+            LayerUse {
+                taken,
+                at_full_build,
+            }
+            .mostly_unused()
+        };
+        assert!(!full(1_000_000, 1_000_000), "just built");
+        assert!(!full(2_000_000, 1_000_000), "as many unused as used");
+        assert!(full(2_000_001, 1_000_000));
+        assert!(!full(60_000, 0), "below the slack");
+        assert!(full(70_000, 0));
+    }
 }
