@@ -115,7 +115,8 @@ struct Params {
     interleave: u32,
     seed: u32,
     frame: u32,
-    primitive_count: u32,
+    /// Nodes of the flattened BVH (`bvh.rs`).
+    node_count: u32,
     light_count: u32,
     glass_model: u32,
     opaque_to_camera: u32,
@@ -123,13 +124,15 @@ struct Params {
     step_budget: u32,
     use_maps: u32,
     map_resolution: u32,
-    /// `ESTIMATOR_MARCH` (0) or `ESTIMATOR_SINGLE` (1) of `march.wgsl`.
+    /// [`ESTIMATOR_MARCH`] or [`ESTIMATOR_SINGLE`].
     estimator: u32,
     volume_samples: u32,
-    /// Nodes of the flattened BVH (`bvh.rs`).
-    node_count: u32,
-    pad: u32,
+    pad: [u32; 2],
 }
+
+/// `Params::estimator` values, as `march.wgsl` names them.
+const ESTIMATOR_MARCH: u32 = 0;
+const ESTIMATOR_SINGLE: u32 = 1;
 
 impl Params {
     /// The uniforms for `scene` (flattened into `buffers`) under
@@ -149,14 +152,14 @@ impl Params {
             )));
         }
         let (estimator, volume_samples) = match settings.in_scattering {
-            InScattering::March => (0, 0),
+            InScattering::March => (ESTIMATOR_MARCH, 0),
             InScattering::Single { volume_samples } => {
                 if volume_samples == 0 {
                     return Err(GpuError::Unsupported(
                         "0 volume samples (single scattering needs at least 1)".into(),
                     ));
                 }
-                (1, volume_samples)
+                (ESTIMATOR_SINGLE, volume_samples)
             }
         };
         let (forward, right, up, half_extent) =
@@ -181,7 +184,6 @@ impl Params {
             step: settings.step,
             interleave: settings.interleave.max(1),
             seed: (settings.seed ^ (settings.seed >> 32)) as u32,
-            primitive_count: buffers.primitives.len() as u32,
             node_count: buffers.bvh_nodes.len() as u32,
             light_count: buffers.lights.len() as u32,
             glass_model: match glass.model {
@@ -575,7 +577,7 @@ impl GpuMarch {
     /// shown, whose only error is noise that keeps falling.
     pub fn display_filters(&self) -> bool {
         let strata = self.params.interleave * self.params.interleave;
-        self.params.estimator == 0 && strata > 1 && self.frames < strata * strata
+        self.params.estimator == ESTIMATOR_MARCH && strata > 1 && self.frames < strata * strata
     }
 
     /// Dispatches the discontinuity-buffer filter (`interleave_resolve`

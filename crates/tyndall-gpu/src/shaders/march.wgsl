@@ -74,7 +74,8 @@ struct Params {
     interleave: u32,
     seed: u32,
     frame: u32,
-    primitive_count: u32,
+    // nodes in bvh_nodes (0 without primitives)
+    node_count: u32,
     light_count: u32,
     glass_model: u32,
     opaque_to_camera: u32,
@@ -88,8 +89,7 @@ struct Params {
     estimator: u32,
     // equiangular samples per light and segment (ESTIMATOR_SINGLE)
     volume_samples: u32,
-    // nodes in bvh_nodes (0 without primitives)
-    node_count: u32,
+    pad0: u32,
     pad1: u32,
 }
 
@@ -548,75 +548,87 @@ fn scattered_radiance(i: u32, x: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
     return sigma_s * phase * light_arriving(i, x, false, vec3<f32>(0.0), inc);
 }
 
+// Orders *a ≤ *b.
+fn order_pair(a: ptr<function, f32>, b: ptr<function, f32>) {
+    let lo = min(*a, *b);
+    *b = max(*a, *b);
+    *a = lo;
+}
+
+// Adds the piece [lo, hi] of `ray` to the cone's reach `acc` (lo, hi, 1
+// if any) if its midpoint lies inside spot `light`'s cone.
+fn add_piece_in_cone(light: Light, ray: Ray, lo: f32, hi: f32, acc: vec3<f32>) -> vec3<f32> {
+    if hi <= lo {
+        return acc;
+    }
+    var mid = 0.5 * (lo + hi);
+    if hi >= INFINITE {
+        mid = lo + 1.0 + abs(lo);
+    }
+    let p = ray_at(ray, mid) - light.position.xyz;
+    if !(dot(p, light.direction.xyz) > length(p) * light.cos_cutoff) {
+        return acc;
+    }
+    if acc.z == 0.0 {
+        return vec3<f32>(lo, hi, 1.0);
+    }
+    return vec3<f32>(acc.x, hi, 1.0);
+}
+
 // The part of [t0, t1] along `ray` inside the cone of spot `light`
 // (tyndall::lights::SpotLight::clip_ray): the cone's quadric and apex
 // plane cut the segment; the pieces whose midpoint lies inside are
 // joined. Returns (lo, hi, 1), or (0, 0, 0) if the ray misses the cone.
+// The cuts live in five scalars (a cut that does not exist or falls
+// outside [t0, t1] becomes t0, an empty piece), sorted by a 9-comparator
+// network: no array indexed at run time, which a GPU would keep in slow
+// per-thread memory.
 fn spot_reach(light: Light, ray: Ray, t0: f32, t1: f32) -> vec3<f32> {
     let axis = light.direction.xyz;
     let v = ray.origin - light.position.xyz;
     let vd = dot(v, axis);
     let wd = dot(ray.direction, axis);
-    let c2 = light.cos_cutoff * light.cos_cutoff;
-    let a = wd * wd - c2;
-    let b = 2.0 * (vd * wd - c2 * dot(v, ray.direction));
-    let c = vd * vd - c2 * dot(v, v);
-    var cuts = array<f32, 5>(t0, t1, 0.0, 0.0, 0.0);
-    var valid = array<bool, 5>(true, true, false, false, false);
+    let cos2 = light.cos_cutoff * light.cos_cutoff;
+    let a = wd * wd - cos2;
+    let b = 2.0 * (vd * wd - cos2 * dot(v, ray.direction));
+    let c = vd * vd - cos2 * dot(v, v);
+    var root0 = t0;
+    var root1 = t0;
     if abs(a) > 1e-12 {
         let disc = b * b - 4.0 * a * c;
         if disc >= 0.0 {
             let q = -0.5 * (b + select(-1.0, 1.0, b >= 0.0) * sqrt(disc));
-            cuts[2] = q / a;
-            valid[2] = true;
+            root0 = q / a;
             if q != 0.0 {
-                cuts[3] = c / q;
-                valid[3] = true;
+                root1 = c / q;
             }
         }
     } else if b != 0.0 {
-        cuts[2] = -c / b;
-        valid[2] = true;
+        root0 = -c / b;
     }
+    var plane = t0;
     if wd != 0.0 {
-        cuts[4] = -vd / wd;
-        valid[4] = true;
+        plane = -vd / wd;
     }
-    // The valid cuts inside [t0, t1], sorted.
-    var ts: array<f32, 5>;
-    var n = 0u;
-    for (var i = 0u; i < 5u; i++) {
-        let t = cuts[i];
-        if valid[i] && t >= t0 && t <= t1 {
-            var j = n;
-            while j > 0u && ts[j - 1u] > t {
-                ts[j] = ts[j - 1u];
-                j--;
-            }
-            ts[j] = t;
-            n++;
-        }
-    }
+    var c0 = t0;
+    var c1 = t1;
+    var c2 = select(t0, root0, root0 >= t0 && root0 <= t1);
+    var c3 = select(t0, root1, root1 >= t0 && root1 <= t1);
+    var c4 = select(t0, plane, plane >= t0 && plane <= t1);
+    order_pair(&c0, &c3);
+    order_pair(&c1, &c4);
+    order_pair(&c0, &c2);
+    order_pair(&c1, &c3);
+    order_pair(&c0, &c1);
+    order_pair(&c2, &c4);
+    order_pair(&c1, &c2);
+    order_pair(&c3, &c4);
+    order_pair(&c2, &c3);
     var result = vec3<f32>(0.0);
-    for (var i = 1u; i < n; i++) {
-        let lo = ts[i - 1u];
-        let hi = ts[i];
-        if hi <= lo {
-            continue;
-        }
-        var mid = 0.5 * (lo + hi);
-        if hi >= INFINITE {
-            mid = lo + 1.0 + abs(lo);
-        }
-        let p = ray_at(ray, mid) - light.position.xyz;
-        if dot(p, axis) > length(p) * light.cos_cutoff {
-            if result.z == 0.0 {
-                result = vec3<f32>(lo, hi, 1.0);
-            } else {
-                result.y = hi;
-            }
-        }
-    }
+    result = add_piece_in_cone(light, ray, c0, c1, result);
+    result = add_piece_in_cone(light, ray, c1, c2, result);
+    result = add_piece_in_cone(light, ray, c2, c3, result);
+    result = add_piece_in_cone(light, ray, c3, c4, result);
     return result;
 }
 
