@@ -656,9 +656,11 @@ fn map_texels(gpu: &Gpu, face_count: usize, resolution: u32) -> Result<u64, GpuE
     let texels = face_count as u64 * resolution as u64 * resolution as u64;
     let limit = gpu.device.limits().max_storage_buffer_binding_size;
     // Also: the u32 counter of layers handed out must not wrap, though
-    // every texel took the most layers a ray keeps.
+    // every texel took the most layers a ray keeps and lights rendered
+    // again appended up to the bound of `LayerUse::mostly_unused` (under
+    // three full builds' worth and its slack: four covers both).
     let most_layers = texels * crate::scene_buffers::MAX_PANES as u64;
-    if texels * SPAN_BYTES > limit || most_layers > u32::MAX as u64 {
+    if texels * SPAN_BYTES > limit || 4 * most_layers > u32::MAX as u64 {
         return Err(GpuError::Unsupported(format!(
             "shadow maps of {face_count} faces of {resolution}² texels exceed this GPU's storage buffer size ({limit} bytes); lower the resolution"
         )));

@@ -5,7 +5,9 @@
 //! # Design
 //!
 //! - **A CPU framebuffer, not a GPU surface.** Each frame the GPU's
-//!   running mean is read back ([`tyndall_gpu::GpuMarch::image`]),
+//!   running mean is read back ([`tyndall_gpu::GpuMarch::display_image`]:
+//!   the march's in-scattered light filtered over its interleaving tile
+//!   while the image is young),
 //!   tone-mapped on the CPU exactly as the PNG writer does
 //!   (`2^exposure`, clamp, sRGB, 8 bits: [`framebuffer::tone_map`]) and
 //!   shown through softbuffer in a winit window. This works wherever a
@@ -54,9 +56,12 @@
 //!   view's integrator, 1, 2, 4, … spp) of the same view, computed on a
 //!   background thread ([`cpu_preview`]).
 //!
-//! The view starts with `march`, whatever integrator the scene names;
-//! `I` (or the panel) switches to the GPU's `single`, unbiased
-//! interleaved equiangular single scattering, for physical albedos.
+//! The view starts with `march`, whatever integrator the scene names, on
+//! a 4×4 interleaving tile unless the scene or `--interleave` sets one
+//! (on the GPU the tile shares out the march's lattice, 1/16 of it per
+//! pixel and frame: crates/tyndall-gpu/src/lib.rs); `I` (or the panel)
+//! switches to the GPU's `single`, unbiased interleaved equiangular
+//! single scattering, for physical albedos.
 
 pub mod accumulator;
 mod app;

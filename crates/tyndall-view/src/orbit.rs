@@ -52,7 +52,7 @@ pub struct Fly {
     pub up: f32,
 }
 
-/// Moves eye and target together by [`FLY_FRACTION`] of their distance.
+/// Moves eye and target together by `FLY_FRACTION` of their distance.
 pub fn fly(camera: &mut CameraSpec, step: Fly) {
     let offset = camera.look_at - camera.position;
     let distance = offset.length();
