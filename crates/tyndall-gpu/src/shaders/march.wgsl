@@ -955,14 +955,24 @@ fn radiance(first: Ray, stratum: u32, strata: u32) -> vec3<f32> {
     return result;
 }
 
+// Marks an invocation outside the image.
+const NO_PIXEL: u32 = 0xffffffffu;
+
+// The index of pixel id.xy in the image's arrays, or NO_PIXEL.
+fn pixel_index(id: vec3<u32>) -> u32 {
+    let width = u32(params.half_extent_resolution.z);
+    if id.x >= width || id.y >= u32(params.half_extent_resolution.w) {
+        return NO_PIXEL;
+    }
+    return id.y * width + id.x;
+}
+
 @compute @workgroup_size(8, 8)
 fn march_frame(@builtin(global_invocation_id) id: vec3<u32>) {
-    let width = u32(params.half_extent_resolution.z);
-    let height = u32(params.half_extent_resolution.w);
-    if id.x >= width || id.y >= height {
+    let index = pixel_index(id);
+    if index == NO_PIXEL {
         return;
     }
-    let index = id.y * width + id.x;
     rng_state = pcg(index ^ pcg(params.seed ^ pcg(params.frame)));
     let rotation = pcg(index ^ pcg(params.seed ^ 0x68e31da4u));
     leading = r3_point(vec3<u32>(rotation, pcg(rotation), pcg(pcg(rotation))), params.frame);
@@ -982,7 +992,7 @@ fn march_frame(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 
 // Two mean first-hit depths belong to one surface (the discontinuity
-// buffer's test, Keller & Heidrich 2001 §4): within DEPTH_TOLERANCE of
+// buffer's test, Keller & Heidrich 2001): within DEPTH_TOLERANCE of
 // each other, relatively.
 const DEPTH_TOLERANCE: f32 = 0.05;
 
@@ -995,12 +1005,12 @@ const DEPTH_TOLERANCE: f32 = 0.05;
 // the host only while the image is young (see GpuMarch::display_image).
 @compute @workgroup_size(8, 8)
 fn interleave_resolve(@builtin(global_invocation_id) id: vec3<u32>) {
-    let width = u32(params.half_extent_resolution.z);
-    let height = u32(params.half_extent_resolution.w);
-    if id.x >= width || id.y >= height {
+    let index = pixel_index(id);
+    if index == NO_PIXEL {
         return;
     }
-    let index = id.y * width + id.x;
+    let width = u32(params.half_extent_resolution.z);
+    let height = u32(params.half_extent_resolution.w);
     let total = accumulation[index];
     let own = fog_accumulation[index];
     if !(total.w > 0.0) {
