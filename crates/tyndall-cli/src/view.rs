@@ -29,11 +29,11 @@ pub struct ViewArgs {
     screenshot: Option<PathBuf>,
 }
 
-/// The interleaving tile of a view whose scene does not set one (and
-/// whose command line does not): on the GPU a 4×4 tile shares out the
-/// march's lattice, 1/16 of it per pixel and frame, and the view filters
-/// the tile's cells back together while the image is young
-/// (`GpuMarch::display_image`).
+/// The interleaving tile of a view whose scene has none (interleave 1,
+/// the default) and whose command line sets none: on the GPU a 4×4 tile
+/// shares out the march's lattice, 1/16 of it per pixel and frame, and
+/// the view filters the tile's cells back together while the image is
+/// young (`GpuMarch::display_image`).
 const VIEW_INTERLEAVE: u32 = 4;
 
 /// Opens the viewer on `args.scene`.

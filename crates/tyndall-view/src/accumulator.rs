@@ -1,7 +1,8 @@
 //! The GPU side of the viewer: the scene as the description now says,
 //! uploaded into a [`GpuMarch`], one frame added per displayed frame and
 //! the running mean read back (its in-scattered light filtered over the
-//! interleaving tile while the image is young: `GpuMarch::display_image`). Any change to the scene restarts it: the
+//! interleaving tile while the image is young:
+//! `GpuMarch::display_image`). Any change to the scene restarts it: the
 //! `GpuMarch` is updated in place (changed uniforms and arrays written,
 //! the maps of a moved light rendered again, the sum cleared), whose cost
 //! is measured and reported as the restart time.

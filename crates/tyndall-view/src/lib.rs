@@ -57,7 +57,7 @@
 //!   background thread ([`cpu_preview`]).
 //!
 //! The view starts with `march`, whatever integrator the scene names, on
-//! a 4×4 interleaving tile unless the scene or `--interleave` sets one
+//! a 4×4 interleaving tile unless the scene (interleave > 1) or `--interleave` sets one
 //! (on the GPU the tile shares out the march's lattice, 1/16 of it per
 //! pixel and frame: crates/tyndall-gpu/src/lib.rs); `I` (or the panel)
 //! switches to the GPU's `single`, unbiased interleaved equiangular

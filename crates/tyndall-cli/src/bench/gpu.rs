@@ -13,8 +13,8 @@
 //! march also the filter that the viewer runs on each young frame
 //! (`GpuMarch::submit_resolve`). Each point times `args.runs` frames after one untimed
 //! warm-up frame and reports the median; the time to build every light's
-//! maps (both passes and the offsets between them) is the median of as
-//! many rebuilds.
+//! maps (both passes and the 4-byte layer count read back between them)
+//! is the median of as many rebuilds.
 
 use super::BenchArgs;
 use anyhow::{Context, Result};
