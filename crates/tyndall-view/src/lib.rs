@@ -12,8 +12,9 @@
 //!   (`2^exposure`, clamp, sRGB, 8 bits: [`framebuffer::tone_map`]) and
 //!   shown through softbuffer in a winit window. This works wherever a
 //!   window can be opened — on lavapipe, under Xvfb in CI, over plain X11
-//!   forwarding — because it needs no Vulkan surface or present support,
-//!   which lavapipe under Xvfb lacks. The cost is the readback (16 bytes
+//!   forwarding — because it needs no Vulkan surface or present support
+//!   (lavapipe under Xvfb does offer a surface, it turns out: presenting
+//!   from the GPU is docs/viewer.md's next step). The cost is the readback (16 bytes
 //!   a pixel copied to the host and divided by the frame count) and the
 //!   display (tone map, copy, present), both measured every frame and
 //!   shown in the title. Measured on lavapipe (2 shared cores, fig. 7):

@@ -7,8 +7,8 @@
 //! first), so a slider and a key can never disagree on ranges or units.
 //!
 //! Drawing: the window presents through softbuffer after reading the
-//! image back (lavapipe under Xvfb has no Vulkan surface to present to),
-//! so [`Panel`] renders egui with egui-wgpu, on the march's own device,
+//! image back (it needs no Vulkan surface; see docs/viewer.md for the GPU
+//! present path that would replace this), so [`Panel`] renders egui with egui-wgpu, on the march's own device,
 //! into an offscreen RGBA texture cleared to transparent, reads it back
 //! and composites it over the tone-mapped framebuffer on the CPU
 //! ([`crate::framebuffer::composite_over`]). Compositing after readback,
