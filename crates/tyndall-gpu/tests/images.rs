@@ -277,3 +277,37 @@ fn fig07_one_interleaved_sample_and_a_sun_match_cpu_single() {
         IntegratorKind::Single,
     );
 }
+
+/// Fig. 7 with a grille of 144 small triangles between the spot and the
+/// sphere: a BVH several levels deep (the other scenes have a few dozen
+/// primitives at most), walked by camera rays, shadow rays and the
+/// spot's map texels, against the CPU's own BVH. The grille's shafts
+/// and the gaps between them are a few pixels wide here, so a node the
+/// walk skipped wrongly, or a leaf it entered without testing, shows.
+#[test]
+fn fig07_with_a_triangle_grille_matches_cpu_march() {
+    let mut desc = load("fig07-spot-sphere.toml");
+    let material = desc.add_material(
+        tyndall::materials::Material::Opaque(tyndall::materials::Surface::diffuse(Rgb::splat(0.5))),
+        Origin::Code,
+    );
+    const CELLS: usize = 12;
+    let cell = 2.0 / CELLS as f32;
+    let mut triangles = Vec::new();
+    for i in 0..CELLS {
+        for j in 0..CELLS {
+            let (x, z) = (-1.0 + i as f32 * cell, -1.0 + j as f32 * cell);
+            let corner = |dx: f32, dz: f32| Vec3::new(x + dx * cell, 3.0, z + dz * cell);
+            triangles.push(tyndall::shapes::Shape::Triangle(
+                tyndall::shapes::Triangle::new(
+                    corner(0.0, 0.0),
+                    corner(1.0, 0.0),
+                    corner(0.0, 1.0),
+                )
+                .expect("a proper triangle"),
+            ));
+        }
+    }
+    desc.add_shapes(triangles, material, Origin::Code);
+    gpu_matches_cpu("fig07 with a triangle grille", desc, IntegratorKind::March);
+}
