@@ -993,9 +993,11 @@ fn march_frame(@builtin(global_invocation_id) id: vec3<u32>) {
 
 // Two mean first-hit depths belong to one surface (the discontinuity
 // buffer's test, Keller & Heidrich 2001): within DEPTH_TOLERANCE of
-// each other, relatively. Depth alone suffices for in-scattered light,
-// which depends on the camera ray and how far it runs, not on the
-// surface's normal: it is continuous across a crease at equal depth.
+// each other, relatively. Depth alone suffices for the first segment's
+// in-scattered light, most of it, which depends on the camera ray and
+// how far it runs, not on the surface's normal: it is continuous across
+// a crease at equal depth. (What a glossy surface reflects of the fog
+// does depend on the normal; across a crease it is blurred.)
 const DEPTH_TOLERANCE: f32 = 0.05;
 
 // The image of the frames so far with the in-scattered light of each
