@@ -362,19 +362,57 @@ fn bind_group_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
         })
 }
 
+/// What `scene` under `settings` becomes on the GPU — its arrays, the
+/// uniforms at frame 0, the map faces and their texel count — made and
+/// checked before anything is written ([`GpuMarch::new`],
+/// [`GpuMarch::update`]).
+struct Prepared {
+    scene: SceneBuffers,
+    params: Params,
+    light_maps: Vec<maps::GpuLightMap>,
+    faces: Vec<maps::GpuFace>,
+    texels: u64,
+}
+
+impl Prepared {
+    /// Keeps `previous`'s BVH if the geometry is the same.
+    fn new(
+        gpu: &Gpu,
+        scene: &Scene,
+        settings: &MarchSettings,
+        previous: Option<&SceneBuffers>,
+    ) -> Result<Self, GpuError> {
+        let buffers = SceneBuffers::after(scene, previous)?;
+        let params = Params::new(scene, settings, &buffers)?;
+        let resolution = params.map_resolution;
+        let (light_maps, faces) = if resolution > 0 {
+            maps::faces(scene, resolution)
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        let texels = map_texels(gpu, faces.len(), resolution)?;
+        Ok(Self {
+            scene: buffers,
+            params,
+            light_maps,
+            faces,
+            texels,
+        })
+    }
+}
+
 impl GpuMarch {
     /// Uploads `scene`, renders its shadow maps if asked for, and prepares
     /// an empty accumulation of `settings.width × settings.height` pixels.
     pub fn new(gpu: &Gpu, scene: &Scene, settings: &MarchSettings) -> Result<Self, GpuError> {
-        let buffers = SceneBuffers::new(scene)?;
-        let params = Params::new(scene, settings, &buffers)?;
+        let Prepared {
+            scene: buffers,
+            params,
+            light_maps,
+            faces,
+            texels,
+        } = Prepared::new(gpu, scene, settings, None)?;
         let map_resolution = params.map_resolution;
-        let (light_maps, faces) = if map_resolution > 0 {
-            maps::faces(scene, map_resolution)
-        } else {
-            (Vec::new(), Vec::new())
-        };
-        let texels = map_texels(gpu, faces.len(), map_resolution)?;
         let layout = bind_group_layout(gpu);
         let pipeline_layout = gpu
             .device

@@ -83,6 +83,8 @@ pub struct SceneBuffers {
     /// In the order of the BVH's leaves.
     pub primitives: Vec<GpuPrimitive>,
     pub(crate) bvh_nodes: Vec<GpuBvhNode>,
+    /// `order[j]`: the scene's index of `primitives[j]`.
+    pub(crate) order: Vec<u32>,
     pub materials: Vec<GpuMaterial>,
     pub lights: Vec<GpuLight>,
 }
@@ -94,6 +96,13 @@ fn v4(v: Vec3, w: f32) -> [f32; 4] {
 impl SceneBuffers {
     /// Flattens `scene`, or says what in it the GPU march cannot render.
     pub fn new(scene: &Scene) -> Result<Self, GpuError> {
+        Self::after(scene, None)
+    }
+
+    /// As [`SceneBuffers::new`], keeping `previous`'s BVH when `scene`'s
+    /// geometry is the same (a live view's change of camera, fog or
+    /// lights): the tree is then not built again on the host.
+    pub(crate) fn after(scene: &Scene, previous: Option<&Self>) -> Result<Self, GpuError> {
         if !scene.volumes().is_empty() {
             return Err(GpuError::Unsupported(
                 "heterogeneous volumes (only the box fog is rendered on the GPU)".into(),
@@ -110,15 +119,32 @@ impl SceneBuffers {
         }
         check_panes(scene)?;
         let scene_primitives = scene.geometry().primitives();
-        let bvh = FlatBvh::new(scene_primitives);
-        let primitives = bvh
-            .order
+        let in_scene_order: Vec<GpuPrimitive> = scene_primitives
             .iter()
-            .map(|&i| {
-                let p = &scene_primitives[i as usize];
-                primitive(&p.shape, p.material)
-            })
+            .map(|p| primitive(&p.shape, p.material))
             .collect();
+        let in_order = |order: &[u32]| -> Vec<GpuPrimitive> {
+            order.iter().map(|&i| in_scene_order[i as usize]).collect()
+        };
+        let same_geometry = |previous: &Self| {
+            previous.order.len() == in_scene_order.len()
+                && bytemuck::cast_slice::<_, u8>(&in_order(&previous.order))
+                    == bytemuck::cast_slice::<_, u8>(&previous.primitives)
+        };
+        let (bvh, primitives) = match previous.filter(|p| same_geometry(p)) {
+            Some(previous) => (
+                FlatBvh {
+                    nodes: previous.bvh_nodes.clone(),
+                    order: previous.order.clone(),
+                },
+                previous.primitives.clone(),
+            ),
+            None => {
+                let bvh = FlatBvh::new(scene_primitives);
+                let primitives = in_order(&bvh.order);
+                (bvh, primitives)
+            }
+        };
         let materials = scene
             .materials()
             .iter()
@@ -128,6 +154,7 @@ impl SceneBuffers {
         Ok(Self {
             primitives,
             bvh_nodes: bvh.nodes,
+            order: bvh.order,
             materials,
             lights,
         })
@@ -278,7 +305,7 @@ fn light(l: &Light) -> Result<GpuLight, GpuError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tyndall::camera::{CameraSpec, FieldOfView};
+    use tyndall::camera::CameraSpec;
     use tyndall::color::Rgb;
     use tyndall::description::{Origin, SceneDesc, Sourced, SurfaceTexture};
     use tyndall::materials::Surface;
@@ -287,12 +314,7 @@ mod tests {
 
     /// A scene of one grey triangle, smooth-shaded or textured.
     fn triangle_scene(smooth: bool, textured: bool) -> Scene {
-        let camera = CameraSpec {
-            position: Vec3::new(0.0, 0.0, 5.0),
-            look_at: Vec3::ZERO,
-            up: Vec3::Y,
-            fov: FieldOfView::Vertical(40.0),
-        };
+        let camera = CameraSpec::looking_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 40.0);
         let mut desc = SceneDesc::new(Sourced::code(camera));
         let grey = desc.add_material(
             Material::Opaque(Surface::diffuse(Rgb::splat(0.5))),
@@ -313,6 +335,51 @@ mod tests {
         });
         desc.add_mesh(vec![triangle], normals, texture, grey, Origin::Code);
         Scene::build(&desc).unwrap()
+    }
+
+    /// Eight spheres in a row, the fourth at `x4`.
+    fn spheres(x4: f32) -> Scene {
+        let camera = CameraSpec::looking_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 40.0);
+        let mut desc = SceneDesc::new(Sourced::code(camera));
+        let grey = desc.add_material(
+            Material::Opaque(Surface::diffuse(Rgb::splat(0.5))),
+            Origin::Code,
+        );
+        let shapes = (0..8)
+            .map(|i| {
+                let x = if i == 4 { x4 } else { i as f32 };
+                Shape::Sphere(tyndall::shapes::Sphere {
+                    center: Vec3::new(x, 0.0, 0.0),
+                    radius: 0.4,
+                })
+            })
+            .collect();
+        desc.add_shapes(shapes, grey, Origin::Code);
+        Scene::build(&desc).unwrap()
+    }
+
+    fn bytes<T: Pod>(items: &[T]) -> &[u8] {
+        bytemuck::cast_slice(items)
+    }
+
+    /// A live update keeps the previous BVH only for the same geometry:
+    /// with a sphere moved, it gets what a fresh flattening gives.
+    #[test]
+    fn the_previous_bvh_is_kept_only_for_the_same_geometry() {
+        let before = SceneBuffers::new(&spheres(4.0)).unwrap();
+        let same = SceneBuffers::after(&spheres(4.0), Some(&before)).unwrap();
+        assert_eq!(bytes(&same.bvh_nodes), bytes(&before.bvh_nodes));
+        assert_eq!(bytes(&same.primitives), bytes(&before.primitives));
+        let moved = spheres(-20.0);
+        let after = SceneBuffers::after(&moved, Some(&before)).unwrap();
+        let fresh = SceneBuffers::new(&moved).unwrap();
+        assert_eq!(bytes(&after.bvh_nodes), bytes(&fresh.bvh_nodes));
+        assert_eq!(bytes(&after.primitives), bytes(&fresh.primitives));
+        assert_ne!(
+            bytes(&after.bvh_nodes),
+            bytes(&before.bvh_nodes),
+            "the moved sphere's box"
+        );
     }
 
     /// What the GPU march would shade differently from the CPU is refused,

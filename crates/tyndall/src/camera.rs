@@ -23,6 +23,17 @@ pub struct CameraSpec {
 }
 
 impl CameraSpec {
+    /// A camera at `position` looking at `look_at`, +Y up, with a full
+    /// vertical field of view of `fov_y_deg` degrees.
+    pub fn looking_at(position: Vec3, look_at: Vec3, fov_y_deg: f32) -> Self {
+        Self {
+            position,
+            look_at,
+            up: Vec3::Y,
+            fov: FieldOfView::Vertical(fov_y_deg),
+        }
+    }
+
     /// Checks that a camera can be built: distinct position and target, an
     /// up vector not parallel to the view direction.
     pub fn check(&self) -> Result<(), String> {

@@ -22,13 +22,12 @@
 //! so the frames that follow are the same.
 
 use super::{
-    ACCUMULATION, BVH_NODES, FOG_ACCUMULATION, GpuMarch, MarchSettings, Params, SPAN_BYTES,
-    Uploaded, make_bind_group, map_texels, pixel_buffers, scratch,
+    ACCUMULATION, BVH_NODES, FOG_ACCUMULATION, GpuMarch, MarchSettings, Prepared, SPAN_BYTES,
+    Uploaded, make_bind_group, pixel_buffers, scratch,
 };
 use super::{GpuError, storage};
 use crate::device::Gpu;
-use crate::maps::{self, GpuFace};
-use crate::scene_buffers::SceneBuffers;
+use crate::maps::GpuFace;
 use bytemuck::Pod;
 use tyndall::Scene;
 
@@ -78,15 +77,14 @@ impl GpuMarch {
         scene: &Scene,
         settings: &MarchSettings,
     ) -> Result<Update, GpuError> {
-        let scene_buffers = SceneBuffers::new(scene)?;
-        let mut params = Params::new(scene, settings, &scene_buffers)?;
+        let Prepared {
+            scene: scene_buffers,
+            mut params,
+            light_maps,
+            faces,
+            texels,
+        } = Prepared::new(gpu, scene, settings, Some(&self.uploaded.scene))?;
         let resolution = params.map_resolution;
-        let (light_maps, faces) = if resolution > 0 {
-            maps::faces(scene, resolution)
-        } else {
-            (Vec::new(), Vec::new())
-        };
-        let texels = map_texels(gpu, faces.len(), resolution)?;
 
         let old = &self.uploaded;
         params.frame = 0;

@@ -521,12 +521,7 @@ mod tests {
     /// A description made in code, as an API user or a new loader would:
     /// one diffuse sphere under a point light.
     fn scene() -> SceneDesc {
-        let camera = CameraSpec {
-            position: Vec3::new(0.0, 0.0, 5.0),
-            look_at: Vec3::ZERO,
-            up: Vec3::Y,
-            fov: FieldOfView::Vertical(40.0),
-        };
+        let camera = CameraSpec::looking_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 40.0);
         let mut desc = SceneDesc::new(Sourced::code(camera));
         let grey = desc.add_material(
             Material::Opaque(Surface::diffuse(Rgb::splat(0.5))),

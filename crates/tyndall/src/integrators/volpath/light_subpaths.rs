@@ -238,7 +238,7 @@ fn light_flight(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::camera::{CameraSpec, FieldOfView};
+    use crate::camera::CameraSpec;
     use crate::description::{Origin, SceneDesc, Sourced};
     use crate::materials::Material;
     use crate::phase::PhaseFunction;
@@ -248,12 +248,7 @@ mod tests {
 
     /// A downward-facing 1 × 1 quad light in fog filling all space.
     fn lamp_in_fog() -> Scene {
-        let camera = CameraSpec {
-            position: Vec3::new(0.0, 0.0, 5.0),
-            look_at: Vec3::ZERO,
-            up: Vec3::Y,
-            fov: FieldOfView::Vertical(40.0),
-        };
+        let camera = CameraSpec::looking_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 40.0);
         let mut desc = SceneDesc::new(Sourced::code(camera));
         let lamp = desc.add_material(
             Material::Emissive {
