@@ -31,6 +31,15 @@ pub enum Formula {
     /// input `[σt, a, b, u], [t, _, _, _]`; output `[sample(u),
     /// pdf(sample(u)), pdf(t), valid]` with valid 1 or 0.
     Exponential,
+    /// `uniform_cone` and `uniform_cone_pdf`: input `[axis.xyz,
+    /// cos θmax], [u.x, u.y, _, _]`; output `[direction.xyz, density]`.
+    UniformCone,
+    /// `spherical_rectangle_new` for the rectangle with its corner at the
+    /// origin and edges `width`·x̂, `height`·ŷ seen from `o`, then
+    /// `spherical_rectangle_sample`: input `[o.xyz, u.x], [u.y, width,
+    /// height, _]`; output `[sample.xyz, solid angle]`, all 0 when the
+    /// rectangle is invalid from `o`.
+    SphericalRectangle,
 }
 
 impl Formula {
@@ -42,6 +51,8 @@ impl Formula {
             Formula::Transmittance => "probe_transmittance",
             Formula::Equiangular => "probe_equiangular",
             Formula::Exponential => "probe_exponential",
+            Formula::UniformCone => "probe_uniform_cone",
+            Formula::SphericalRectangle => "probe_spherical_rectangle",
         }
     }
 }

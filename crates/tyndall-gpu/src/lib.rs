@@ -41,7 +41,7 @@
 //!   with the same `--visibility`.
 //! - **One formula, two languages.** `shaders/formulas.wgsl` holds the
 //!   physics (HG phase, spot profiles, glass tint under the filter and
-//!   blend models, Beer–Lambert transmittance) once in WGSL, each
+//!   blend models, Beer–Lambert transmittance, the samplers) once in WGSL, each
 //!   function naming the Rust function it transcribes;
 //!   [`formula_probe`] runs them on the GPU so tests compare both.
 //! - **Two estimators, one camera path.** [`InScattering`] picks how the
@@ -101,12 +101,22 @@
 //!   the CPU's is still ~10⁻⁷, where the Sobol sequence stratifies every
 //!   dimension.
 //!
-//! What a scene may hold: point, spot (all profiles) and directional
-//! lights; opaque (Lambert + reflective layer), emissive, lamp-face and
-//! thin-glass materials; homogeneous fog, everywhere or in a box; flat
-//! shading. Area lights, dielectrics, heterogeneous volumes, smooth-shaded
-//! (vertex-normal) meshes and textures are refused with
-//! [`GpuError::Unsupported`] naming them.
+//! - **Every light kind, sampled as on the CPU.** Point, spot (all
+//!   profiles) and directional lights, and the area lights: quads,
+//!   spheres and emissive meshes (every emissive shape). A march step or
+//!   equiangular sample connects to a point of an area light uniform by
+//!   area (a mesh picks its triangle from its cumulative area table by
+//!   binary search), surfaces to a point uniform in the solid angle of a
+//!   rectangle (Ureña, Fajardo & King 2013) or of the cone a sphere
+//!   subtends — the CPU's `Light::sample_point` and `sample_li`,
+//!   transcribed in `march.wgsl` and `formulas.wgsl`. Area lights have no
+//!   shadow map on either side: with maps on they keep shadow rays.
+//!
+//! What a scene may hold besides: opaque (Lambert + reflective layer),
+//! emissive, lamp-face and thin-glass materials; homogeneous fog,
+//! everywhere or in a box; flat shading. Dielectrics, heterogeneous
+//! volumes, smooth-shaded (vertex-normal) meshes and textures are refused
+//! with [`GpuError::Unsupported`] naming them.
 
 mod bvh;
 pub mod device;

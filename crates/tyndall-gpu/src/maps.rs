@@ -97,7 +97,8 @@ pub(crate) fn faces(scene: &Scene, resolution: u32) -> (Vec<GpuLightMap>, Vec<Gp
                     ..Default::default()
                 });
             }
-            // Area lights are refused before maps are made.
+            // Area lights have no map: they keep shadow rays, as on the
+            // CPU (`tyndall::shadow_maps`).
             LightOrigin::Surface => {}
         }
         maps.push(GpuLightMap {

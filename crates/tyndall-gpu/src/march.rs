@@ -302,10 +302,12 @@ fn scratch(gpu: &Gpu, label: &str, size: u64) -> wgpu::Buffer {
 /// Which bindings of the march's module are written by some kernel.
 const READ_WRITE_BINDINGS: [u32; 7] = [4, 7, 8, 9, 10, 11, 13];
 
-/// Index in [`GpuMarch::buffers`] of the BVH's nodes (binding 12) and of
-/// the counter of glass layers handed out (binding 13).
+/// Index in [`GpuMarch::buffers`] of the BVH's nodes (binding 12), of
+/// the counter of glass layers handed out (binding 13) and of the
+/// emissive meshes' triangles (binding 14).
 const BVH_NODES: usize = 10;
 const LAYERS_TAKEN: usize = 11;
+const LIGHT_TRIANGLES: usize = 12;
 
 /// Bytes of a map texel's (first layer, count) span.
 const SPAN_BYTES: u64 = 8;
@@ -333,7 +335,7 @@ fn pixel_buffers(gpu: &Gpu, width: u32, height: u32) -> [(usize, wgpu::Buffer); 
 }
 
 fn bind_group_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
-    let entries: Vec<_> = (0..14u32)
+    let entries: Vec<_> = (0..15u32)
         .map(|binding| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -462,6 +464,7 @@ impl GpuMarch {
             display,
             storage(gpu, "BVH nodes", &buffers.bvh_nodes),
             scratch(gpu, "layers taken", 4),
+            storage(gpu, "light triangles", &buffers.light_triangles),
         ];
         let layers = scratch(gpu, "layers", 16);
         let bind_group = make_bind_group(gpu, &layout, &params_buffer, &buffers, &layers);
@@ -707,7 +710,7 @@ fn map_texels(gpu: &Gpu, face_count: usize, resolution: u32) -> Result<u64, GpuE
 }
 
 /// The bind group of bindings 0 (`params`), 1–8 (`buffers[..8]`), 9
-/// (`layers`) and 10–13 (`buffers[8..]`).
+/// (`layers`) and 10–14 (`buffers[8..]`).
 fn make_bind_group(
     gpu: &Gpu,
     layout: &wgpu::BindGroupLayout,

@@ -11,6 +11,7 @@ use crate::device::GpuError;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use tyndall::Scene;
+use tyndall::color::Rgb;
 use tyndall::lights::{Light, SpotProfile};
 use tyndall::materials::Material;
 use tyndall::shapes::Shape;
@@ -30,6 +31,9 @@ const MATERIAL_GLASS: u32 = 3;
 const LIGHT_POINT: u32 = 0;
 const LIGHT_SPOT: u32 = 1;
 const LIGHT_DIRECTIONAL: u32 = 2;
+const LIGHT_QUAD: u32 = 3;
+const LIGHT_SPHERE: u32 = 4;
+const LIGHT_MESH: u32 = 5;
 
 /// One shape. Sphere: `a = (centre, radius)`. Quad: `a` origin, `b`
 /// edge u, `c` edge v, `d` unit normal, `e` = n/|n|² for the unnormalised
@@ -63,9 +67,20 @@ pub struct GpuMaterial {
     pub specular: [f32; 4],
 }
 
-/// One delta light: `position` (point, spot), unit `direction` (spot
-/// axis, or the direction a sun's light travels), `intensity` (W/sr, or
-/// a sun's irradiance W/m²).
+/// One light (`tyndall::lights::Light`), by kind:
+/// - point, spot: `position`; a spot's unit axis in `direction`, its
+///   profile and cone in `profile`, `cos_cutoff`, `cos_inner`;
+///   `intensity` in W/sr;
+/// - directional (a sun): the unit `direction` its light travels in,
+///   its irradiance (W/m²) in `intensity`;
+/// - area lights (quad, sphere, mesh): radiance (W·sr⁻¹·m⁻²) in
+///   `intensity.xyz` and the emitting area (m², one side) in
+///   `intensity.w`; `two_sided` 1 if both sides emit. A quad: corner
+///   `position`, edges `direction` (u) and `edge_v`, unit `normal`,
+///   `rectangle` 1 if its edges are orthogonal (then sampled in solid
+///   angle). A sphere: centre and radius in `position`. A mesh: its
+///   triangles `first_triangle..first_triangle + triangle_count` of
+///   [`SceneBuffers::light_triangles`].
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuLight {
@@ -76,6 +91,26 @@ pub struct GpuLight {
     pub position: [f32; 4],
     pub direction: [f32; 4],
     pub intensity: [f32; 4],
+    pub edge_v: [f32; 4],
+    pub normal: [f32; 4],
+    pub two_sided: u32,
+    pub rectangle: u32,
+    pub first_triangle: u32,
+    pub triangle_count: u32,
+}
+
+/// One triangle of an emissive mesh (`tyndall::lights::MeshLight`):
+/// corner `v0` and edges `e1`, `e2` as in `tyndall::shapes::Triangle`,
+/// unit `normal`; `v0.w` is the mesh's cumulative selection table at
+/// this triangle (`MeshLight::selection_cdf`, rounded to f32) and `e1.w`
+/// the triangle's area (m²).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuLightTriangle {
+    pub v0: [f32; 4],
+    pub e1: [f32; 4],
+    pub e2: [f32; 4],
+    pub normal: [f32; 4],
 }
 
 /// The scene's arrays, ready to upload.
@@ -87,6 +122,8 @@ pub struct SceneBuffers {
     pub(crate) order: Vec<u32>,
     pub materials: Vec<GpuMaterial>,
     pub lights: Vec<GpuLight>,
+    /// The triangles of every emissive mesh, mesh after mesh.
+    pub light_triangles: Vec<GpuLightTriangle>,
 }
 
 fn v4(v: Vec3, w: f32) -> [f32; 4] {
@@ -150,13 +187,19 @@ impl SceneBuffers {
             .iter()
             .map(material)
             .collect::<Result<_, _>>()?;
-        let lights = scene.lights().iter().map(light).collect::<Result<_, _>>()?;
+        let mut light_triangles = Vec::new();
+        let lights = scene
+            .lights()
+            .iter()
+            .map(|l| light(l, &mut light_triangles))
+            .collect();
         Ok(Self {
             primitives,
             bvh_nodes: bvh.nodes,
             order: bvh.order,
             materials,
             lights,
+            light_triangles,
         })
     }
 }
@@ -264,8 +307,15 @@ fn material(m: &Material) -> Result<GpuMaterial, GpuError> {
     })
 }
 
-fn light(l: &Light) -> Result<GpuLight, GpuError> {
-    Ok(match l {
+/// `l` as a [`GpuLight`]; a mesh light's triangles are appended to
+/// `triangles`.
+fn light(l: &Light, triangles: &mut Vec<GpuLightTriangle>) -> GpuLight {
+    let area_light = |radiance: Rgb, two_sided: bool| GpuLight {
+        intensity: v4(radiance, l.area()),
+        two_sided: two_sided as u32,
+        ..Default::default()
+    };
+    match l {
         Light::Point(p) => GpuLight {
             kind: LIGHT_POINT,
             position: v4(p.position, 0.0),
@@ -286,6 +336,7 @@ fn light(l: &Light) -> Result<GpuLight, GpuError> {
                 position: v4(s.position, 0.0),
                 direction: v4(s.direction, 0.0),
                 intensity: v4(s.intensity, 0.0),
+                ..Default::default()
             }
         }
         Light::Directional(d) => GpuLight {
@@ -294,19 +345,47 @@ fn light(l: &Light) -> Result<GpuLight, GpuError> {
             intensity: v4(d.irradiance, 0.0),
             ..Default::default()
         },
-        Light::Quad(_) | Light::Sphere(_) | Light::Mesh(_) => {
-            return Err(GpuError::Unsupported(
-                "area lights (emissive quads, spheres, meshes): the CPU march samples them exactly with shadow rays, which the GPU march does not implement".into(),
-            ));
+        Light::Quad(q) => GpuLight {
+            kind: LIGHT_QUAD,
+            position: v4(q.quad.origin, 0.0),
+            direction: v4(q.quad.edge_u, 0.0),
+            edge_v: v4(q.quad.edge_v, 0.0),
+            normal: v4(q.quad.normal, 0.0),
+            rectangle: q.is_rectangle() as u32,
+            ..area_light(q.radiance, q.two_sided)
+        },
+        Light::Sphere(s) => GpuLight {
+            kind: LIGHT_SPHERE,
+            position: v4(s.sphere.center, s.sphere.radius),
+            ..area_light(s.radiance, s.two_sided)
+        },
+        Light::Mesh(m) => {
+            let first_triangle = triangles.len() as u32;
+            triangles.extend(
+                m.triangles()
+                    .iter()
+                    .zip(m.selection_cdf())
+                    .map(|(t, &cdf)| GpuLightTriangle {
+                        v0: v4(t.v0, cdf as f32),
+                        e1: v4(t.e1, t.area()),
+                        e2: v4(t.e2, 0.0),
+                        normal: v4(t.normal, 0.0),
+                    }),
+            );
+            GpuLight {
+                kind: LIGHT_MESH,
+                first_triangle,
+                triangle_count: m.triangles().len() as u32,
+                ..area_light(m.radiance, m.two_sided)
+            }
         }
-    })
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use tyndall::camera::CameraSpec;
-    use tyndall::color::Rgb;
     use tyndall::description::{Origin, SceneDesc, Sourced, SurfaceTexture};
     use tyndall::materials::Surface;
     use tyndall::shapes::Triangle;
@@ -356,6 +435,69 @@ mod tests {
             .collect();
         desc.add_shapes(shapes, grey, Origin::Code);
         Scene::build(&desc).unwrap()
+    }
+
+    /// Two emissive meshes (of 1 and 3 triangles) after a point light:
+    /// each mesh light's range covers its own triangles, in order, and its
+    /// table climbs with the triangles' areas to 1.
+    #[test]
+    fn mesh_lights_index_their_own_triangles() {
+        let camera = CameraSpec::looking_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 40.0);
+        let mut desc = SceneDesc::new(Sourced::code(camera));
+        desc.add_light(
+            tyndall::description::LightDesc::Point(tyndall::lights::PointLight {
+                position: Vec3::Y,
+                intensity: Rgb::ONE,
+            }),
+            Origin::Code,
+        );
+        let glow = desc.add_material(
+            Material::Emissive {
+                radiance: Rgb::ONE,
+                two_sided: false,
+            },
+            Origin::Code,
+        );
+        // Triangle k of a mesh has legs k + 1 and 1: area (k + 1)/2.
+        let mesh = |z: f32, count: usize| -> Vec<Shape> {
+            (0..count)
+                .map(|k| {
+                    let o = Vec3::new(3.0 * k as f32, 0.0, z);
+                    let legs = Vec3::X * (k + 1) as f32;
+                    Shape::Triangle(Triangle::new(o, o + legs, o + Vec3::Y).unwrap())
+                })
+                .collect()
+        };
+        desc.add_shapes(mesh(0.0, 1), glow, Origin::Code);
+        desc.add_shapes(mesh(-1.0, 3), glow, Origin::Code);
+        let buffers = SceneBuffers::new(&Scene::build(&desc).unwrap()).unwrap();
+        let meshes: Vec<&GpuLight> = buffers
+            .lights
+            .iter()
+            .filter(|l| l.kind == LIGHT_MESH)
+            .collect();
+        assert_eq!(meshes.len(), 2);
+        assert_eq!(buffers.light_triangles.len(), 4);
+        let mut covered = Vec::new();
+        for light in meshes {
+            let range = light.first_triangle as usize
+                ..(light.first_triangle + light.triangle_count) as usize;
+            let triangles = &buffers.light_triangles[range.clone()];
+            covered.extend(range);
+            let total: f32 = triangles.iter().map(|t| t.e1[3]).sum();
+            assert_eq!(light.intensity[3], total, "the light's area");
+            let mut sum = 0.0;
+            for t in triangles {
+                sum += t.e1[3];
+                assert!((t.v0[3] - sum / total).abs() <= 1e-6, "the table");
+            }
+            assert_eq!(triangles.last().unwrap().v0[3], 1.0);
+            let z = triangles[0].v0[2];
+            assert!(triangles.iter().all(|t| t.v0[2] == z), "one mesh's triangles");
+            assert_eq!(triangles.len(), if z == 0.0 { 1 } else { 3 });
+        }
+        covered.sort();
+        assert_eq!(covered, vec![0, 1, 2, 3]);
     }
 
     fn bytes<T: Pod>(items: &[T]) -> &[u8] {

@@ -9,13 +9,15 @@
 
 mod support;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
+use tyndall::color::Rgb;
 use tyndall::glass::{Glass, GlassModel};
-use tyndall::lights::{SpotLight, SpotProfile};
+use tyndall::lights::{QuadLight, SpotLight, SpotProfile};
 use tyndall::media::transmittance;
 use tyndall::phase::PhaseFunction;
 use tyndall::ray::Ray;
-use tyndall::sampling::{EquiangularSampler, ExponentialSampler};
+use tyndall::sampling::{EquiangularSampler, ExponentialSampler, uniform_cone, uniform_cone_pdf};
+use tyndall::shapes::Quad;
 use tyndall_gpu::formula_probe::{Formula, evaluate};
 
 const EPS: f32 = f32::EPSILON;
@@ -376,4 +378,138 @@ fn exponential_sampler_matches_rust() {
             o[0]
         );
     }
+}
+
+#[test]
+fn uniform_cone_matches_rust() {
+    let Some(gpu) = support::gpu_or_skip("uniform_cone_matches_rust") else {
+        return;
+    };
+    let mut items = Vec::new();
+    for i in 0..4000 {
+        let axis = uniform_cone(Vec3::Z, -1.0, Vec2::new(spread(4 * i), spread(4 * i + 1)));
+        let cos_max = -1.0 + 1.999 * spread(4 * i + 2);
+        // φ = 2π·u.y within [0, π], where WGSL bounds sin and cos.
+        let u = Vec2::new(spread(4 * i + 3), 0.5 * spread(5 * i));
+        items.push([[axis.x, axis.y, axis.z, cos_max], [u.x, u.y, 0.0, 0.0]]);
+    }
+    let out = evaluate(&gpu, Formula::UniformCone, &items).expect("GPU evaluation");
+    for (item, o) in items.iter().zip(&out) {
+        let axis = Vec3::new(item[0][0], item[0][1], item[0][2]);
+        let cos_max = item[0][3];
+        let u = Vec2::new(item[1][0], item[1][1]);
+        let rust = uniform_cone(axis, cos_max, u);
+        let gpu_direction = Vec3::new(o[0], o[1], o[2]);
+        // sin θ·cos φ and sin θ·sin φ each within 2⁻¹¹ (WGSL's sin and
+        // cos) plus a few roundings; the frame (Duff et al.) and cos θ
+        // are the same roundings a side, about 8ε per component; the sum
+        // of three terms and the normalisation (the length off 1 by as
+        // much) at most double it.
+        let tolerance = 2.0 * (2.0 * SIN_COS_ABSOLUTE + 16.0 * EPS);
+        assert!(
+            (gpu_direction - rust).abs().max_element() <= tolerance,
+            "axis {axis}, cos θmax {cos_max}, u {u}: GPU {gpu_direction} vs Rust {rust}"
+        );
+        // 1/(2π(1 − cos θmax)): the same three roundings a side and
+        // WGSL's division (2.5 ULP).
+        let pdf = uniform_cone_pdf(cos_max);
+        assert!(
+            (o[3] - pdf).abs() <= 8.0 * EPS * pdf,
+            "cos θmax {cos_max}: GPU density {} vs Rust {pdf}",
+            o[3]
+        );
+    }
+}
+
+/// The spherical rectangle's solid angle against the Rust one (through
+/// `QuadLight::sample_incident`, whose density is its inverse), and its
+/// samples on the rectangle. Where in the rectangle a sample lands, for
+/// each u, is checked through the images (tests/images.rs,
+/// `every_area_light_matches_cpu_march`, which a sampler drawing v
+/// quadratically, or a solid angle 10 % off, fails).
+#[test]
+fn spherical_rectangle_matches_rust() {
+    let Some(gpu) = support::gpu_or_skip("spherical_rectangle_matches_rust") else {
+        return;
+    };
+    let mut items = Vec::new();
+    for i in 0..4000 {
+        let (width, height) = (0.5 + 1.5 * spread(7 * i), 0.3 + 1.2 * spread(7 * i + 1));
+        let side = if i % 2 == 0 { 1.0 } else { -1.0 };
+        let o = Vec3::new(
+            -1.0 + (width + 2.0) * spread(7 * i + 2),
+            -1.0 + (height + 2.0) * spread(7 * i + 3),
+            side * (0.2 + 1.8 * spread(7 * i + 4)),
+        );
+        let u = Vec2::new(spread(7 * i + 5), spread(7 * i + 6));
+        items.push([[o.x, o.y, o.z, u.x], [u.y, width, height, 0.0]]);
+    }
+    let out = evaluate(&gpu, Formula::SphericalRectangle, &items).expect("GPU evaluation");
+    let mut checked = 0;
+    for (item, o) in items.iter().zip(&out) {
+        let origin = Vec3::new(item[0][0], item[0][1], item[0][2]);
+        let u = Vec2::new(item[0][3], item[1][0]);
+        let (width, height) = (item[1][1], item[1][2]);
+        let quad = Quad::new(
+            Vec3::ZERO,
+            Vec3::new(width, 0.0, 0.0),
+            Vec3::new(0.0, height, 0.0),
+            false,
+        )
+        .expect("a rectangle");
+        let light = QuadLight::new(quad, Rgb::ONE, true);
+        assert!(light.is_rectangle());
+        let (_, pdf) = light.sample_incident(origin, u).expect("a sample");
+        let rust_solid_angle = 1.0 / pdf;
+        assert!(o[3] > 0.0, "o {origin}: GPU rectangle invalid");
+        // Far from a small rectangle the angles below near π and the
+        // bound loosens as 1/sin: keep solid angles of 0.05 sr and up.
+        if rust_solid_angle < 0.05 {
+            continue;
+        }
+        checked += 1;
+        // Ω = Σ gᵢ − 2π over the four angles between the great circles
+        // through the edges, each an arc cosine of −nᵢ·nᵢ₊₁: the
+        // argument (normalised cross products and a dot) within 8ε a side,
+        // which acos's slope turns into 8ε/sin g; WGSL's acos inherits
+        // atan2's 4096 ULP (≤ 4096ε·g), Rust's Abramowitz & Stegun
+        // 2·10⁻⁸; then five sums of terms up to 2π. The angles come from
+        // the geometry here, in f64.
+        let corners = [
+            Vec3::ZERO,
+            Vec3::new(width, 0.0, 0.0),
+            Vec3::new(width, height, 0.0),
+            Vec3::new(0.0, height, 0.0),
+        ]
+        .map(|c| (c - origin).as_dvec3());
+        let normal = |k: usize| corners[k].cross(corners[(k + 1) % 4]).normalize();
+        let tolerance: f64 = (0..4)
+            .map(|k| {
+                let g = (-normal(k).dot(normal((k + 1) % 4)))
+                    .clamp(-1.0, 1.0)
+                    .acos();
+                ATAN_ULP as f64 * EPS as f64 * g + 2.0 * 8.0 * EPS as f64 / g.sin() + 2e-8
+            })
+            .sum::<f64>()
+            + 5.0 * EPS as f64 * std::f64::consts::TAU;
+        assert!(
+            ((o[3] - rust_solid_angle) as f64).abs() <= tolerance,
+            "o {origin}, {width} × {height}: GPU solid angle {} vs Rust {rust_solid_angle} (tolerance {tolerance:.2e})",
+            o[3]
+        );
+        // On the rectangle: the sample is o + x·xu + y·yv − o_z·ẑ with xu,
+        // yv clamped to the edges' offsets from o, one rounding a
+        // coordinate.
+        let slack = |a: f32, b: f32| 2.0 * EPS * (a.abs() + b);
+        let sample = Vec3::new(o[0], o[1], o[2]);
+        assert!(
+            sample.x >= -slack(origin.x, width)
+                && sample.x <= width + slack(origin.x, width)
+                && sample.y >= -slack(origin.y, height)
+                && sample.y <= height + slack(origin.y, height)
+                && sample.z.abs() <= 2.0 * EPS * origin.z.abs(),
+            "o {origin}, {width} × {height}, u {u}: GPU sample {sample} off the rectangle"
+        );
+    }
+    assert!(checked > 2000, "only {checked} solid angles checked");
 }

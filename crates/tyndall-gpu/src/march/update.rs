@@ -1,7 +1,7 @@
 //! Updating a [`GpuMarch`] in place for a changed scene or view (the live
 //! viewer's sliders and keys): only what changed is written — the
-//! uniforms (camera, fog, step, glass model), the light, material and
-//! primitive arrays — the accumulated sum is cleared, and shadow maps are
+//! uniforms (camera, fog, step, glass model), the light (with emissive
+//! meshes' triangles), material and primitive arrays — the accumulated sum is cleared, and shadow maps are
 //! rendered again only where they depend on the change. Pipelines and
 //! the bind group layout are kept; a buffer whose size changes is
 //! allocated anew (and the bind group with it).
@@ -22,8 +22,8 @@
 //! so the frames that follow are the same.
 
 use super::{
-    ACCUMULATION, BVH_NODES, FOG_ACCUMULATION, GpuMarch, MarchSettings, Prepared, SPAN_BYTES,
-    Uploaded, make_bind_group, pixel_buffers, scratch,
+    ACCUMULATION, BVH_NODES, FOG_ACCUMULATION, GpuMarch, LIGHT_TRIANGLES, MarchSettings, Prepared,
+    SPAN_BYTES, Uploaded, make_bind_group, pixel_buffers, scratch,
 };
 use super::{GpuError, storage};
 use crate::device::Gpu;
@@ -49,6 +49,7 @@ pub struct Update {
     pub params: bool,
     pub primitives: bool,
     pub materials: bool,
+    /// The lights, or an emissive mesh's triangles.
     pub lights: bool,
     /// The image size changed: the accumulation buffer was allocated anew.
     pub resized: bool,
@@ -94,7 +95,8 @@ impl GpuMarch {
             params: bytemuck::bytes_of(&params) != bytemuck::bytes_of(&old_params),
             primitives: differ(&old.scene.primitives, &scene_buffers.primitives),
             materials: differ(&old.scene.materials, &scene_buffers.materials),
-            lights: differ(&old.scene.lights, &scene_buffers.lights),
+            lights: differ(&old.scene.lights, &scene_buffers.lights)
+                || differ(&old.scene.light_triangles, &scene_buffers.light_triangles),
             resized: params.half_extent_resolution[2..] != self.params.half_extent_resolution[2..],
             maps: MapsRebuilt::None,
         };
@@ -133,6 +135,12 @@ impl GpuMarch {
         }
         if update.lights {
             rebind |= self.rewrite(gpu, 2, "lights", &scene_buffers.lights);
+            rebind |= self.rewrite(
+                gpu,
+                LIGHT_TRIANGLES,
+                "light triangles",
+                &scene_buffers.light_triangles,
+            );
         }
         if update.resized {
             for (index, buffer) in pixel_buffers(gpu, settings.width, settings.height) {

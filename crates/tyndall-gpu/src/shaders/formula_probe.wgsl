@@ -71,3 +71,31 @@ fn probe_exponential(@builtin(global_invocation_id) id: vec3<u32>) {
     let t = exponential_sample(s, a.w);
     outputs[i] = vec4<f32>(t, exponential_pdf(s, t), exponential_pdf(s, b.x), select(0.0, 1.0, s.valid));
 }
+
+// in0 = (axis.xyz, cos θmax), in1 = (u.x, u.y) → out = (direction,
+// density)
+@compute @workgroup_size(64)
+fn probe_uniform_cone(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= item_count() { return; }
+    let a = inputs[2u * i];
+    let b = inputs[2u * i + 1u];
+    outputs[i] = vec4<f32>(uniform_cone(a.xyz, a.w, b.xy), uniform_cone_pdf(a.w));
+}
+
+// in0 = (o.xyz, u.x), in1 = (u.y, width, height) for the rectangle with
+// its corner at the origin and edges along +x and +y → out = (the
+// sample, solid angle), or 0 without one
+@compute @workgroup_size(64)
+fn probe_spherical_rectangle(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= item_count() { return; }
+    let a = inputs[2u * i];
+    let b = inputs[2u * i + 1u];
+    let s = spherical_rectangle_new(vec3<f32>(0.0), vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), b.y, b.z, a.xyz);
+    if !s.valid {
+        outputs[i] = vec4<f32>(0.0);
+        return;
+    }
+    outputs[i] = vec4<f32>(spherical_rectangle_sample(s, vec2<f32>(a.w, b.x)), s.solid_angle);
+}

@@ -3,6 +3,7 @@
 // in its comment (crates/tyndall/src). tests/formulas.rs evaluates every
 // function here on the GPU and compares it with the Rust one.
 
+const PI: f32 = 3.14159265358979;
 const INV_FOUR_PI: f32 = 0.07957747154594767;
 
 // Spot profiles (tyndall::lights::SpotProfile).
@@ -177,4 +178,123 @@ fn exponential_pdf(s: Exponential, t: f32) -> f32 {
         return 0.0;
     }
     return s.sigma_t * exp(-s.sigma_t * (t - s.a)) / s.mass;
+}
+
+// A unit vector perpendicular to unit `n` and a third completing the
+// frame (Duff et al. 2017, "Building an orthonormal basis, revisited";
+// glam's Vec3::any_orthonormal_pair).
+fn orthonormal_pair(n: vec3<f32>) -> array<vec3<f32>, 2> {
+    let s = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (s + n.z);
+    let b = n.x * n.y * a;
+    return array<vec3<f32>, 2>(
+        vec3<f32>(1.0 + s * n.x * n.x * a, s * b, -s * n.x),
+        vec3<f32>(b, s + n.y * n.y * a, -n.y),
+    );
+}
+
+// A unit direction uniform in solid angle within the cone of half-angle
+// θmax (cosine `cos_max`) around unit `axis`, for u ∈ [0, 1)²
+// (tyndall::sampling::uniform_cone); cos_max = −1 gives the whole sphere.
+fn uniform_cone(axis: vec3<f32>, cos_max: f32, u: vec2<f32>) -> vec3<f32> {
+    let cos_t = 1.0 - u.x * (1.0 - cos_max);
+    let sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
+    let phi = 2.0 * PI * u.y;
+    let frame = orthonormal_pair(axis);
+    return normalize(frame[0] * (sin_t * cos(phi)) + frame[1] * (sin_t * sin(phi)) + axis * cos_t);
+}
+
+// The density of uniform_cone: 1 / (2π(1 − cos θmax)).
+fn uniform_cone_pdf(cos_max: f32) -> f32 {
+    return 1.0 / (2.0 * PI * (1.0 - cos_max));
+}
+
+// A rectangle (corner, orthonormal edge directions x and y, lengths
+// width and height) seen from `o`, for sampling directions uniformly in
+// its solid angle (Ureña, Fajardo & King 2013, "An Area-Preserving
+// Parametrization for Spherical Rectangles";
+// tyndall::lights::SphericalRectangle). `valid` is false when `o` lies in
+// the rectangle's plane or it subtends no solid angle.
+struct SphericalRectangle {
+    origin: vec3<f32>,
+    x: vec3<f32>,
+    y: vec3<f32>,
+    z: vec3<f32>,
+    z0: f32,
+    x0: f32,
+    x1: f32,
+    y0: f32,
+    y1: f32,
+    b0: f32,
+    b1: f32,
+    k: f32,
+    // sr
+    solid_angle: f32,
+    valid: bool,
+}
+
+fn spherical_rectangle_new(corner: vec3<f32>, x: vec3<f32>, y: vec3<f32>, width: f32, height: f32, o: vec3<f32>) -> SphericalRectangle {
+    var z = cross(x, y);
+    let d = corner - o;
+    var z0 = dot(d, z);
+    if z0 > 0.0 {
+        z = -z;
+        z0 = -z0;
+    }
+    let x0 = dot(d, x);
+    let y0 = dot(d, y);
+    let x1 = x0 + width;
+    let y1 = y0 + height;
+    var s = SphericalRectangle(o, x, y, z, z0, x0, x1, y0, y1, 0.0, 0.0, 0.0, 0.0, false);
+    if z0 > -1e-7 * (1.0 + length(d)) {
+        return s;
+    }
+    // Normals of the four great-circle edges, in the local frame.
+    let n0 = normalize(vec3<f32>(0.0, z0, -y0));
+    let n1 = normalize(vec3<f32>(-z0, 0.0, x1));
+    let n2 = normalize(vec3<f32>(0.0, -z0, y1));
+    let n3 = normalize(vec3<f32>(z0, 0.0, -x0));
+    let g0 = acos(clamp(-dot(n0, n1), -1.0, 1.0));
+    let g1 = acos(clamp(-dot(n1, n2), -1.0, 1.0));
+    let g2 = acos(clamp(-dot(n2, n3), -1.0, 1.0));
+    let g3 = acos(clamp(-dot(n3, n0), -1.0, 1.0));
+    s.k = 2.0 * PI - g2 - g3;
+    s.solid_angle = g0 + g1 - s.k;
+    s.b0 = n0.z;
+    s.b1 = n2.z;
+    // Positive and finite (a NaN fails both comparisons; no rectangle
+    // subtends 4π).
+    s.valid = s.solid_angle > 0.0 && s.solid_angle < 4.0 * PI;
+    return s;
+}
+
+// A point of the rectangle uniform in solid angle from its origin, for
+// u ∈ [0, 1)² (SphericalRectangle::sample).
+fn spherical_rectangle_sample(s: SphericalRectangle, u: vec2<f32>) -> vec3<f32> {
+    let au = u.x * s.solid_angle + s.k;
+    let fu = (cos(au) * s.b0 - s.b1) / sin(au);
+    let cu = clamp(sign_of(fu) / sqrt(fu * fu + s.b0 * s.b0), -1.0, 1.0);
+    let xu = clamp(-(cu * s.z0) / sqrt(max(1.0 - cu * cu, 1e-12)), s.x0, s.x1);
+    let d = sqrt(xu * xu + s.z0 * s.z0);
+    let h0 = s.y0 / sqrt(d * d + s.y0 * s.y0);
+    let h1 = s.y1 / sqrt(d * d + s.y1 * s.y1);
+    let hv = h0 + u.y * (h1 - h0);
+    let hv2 = hv * hv;
+    var yv = s.y1;
+    if hv2 < 1.0 - 1e-6 {
+        yv = hv * d / sqrt(1.0 - hv2);
+    }
+    return s.origin + s.x * xu + s.y * clamp(yv, s.y0, s.y1) + s.z * s.z0;
+}
+
+// 1 with the sign of `v` (−1 for −0.0), as Rust's 1.0f32.copysign(v).
+fn sign_of(v: f32) -> f32 {
+    return select(1.0, -1.0, (bitcast<u32>(v) >> 31u) != 0u);
+}
+
+// A point of the triangle v0, v0 + e1, v0 + e2 uniform by area for
+// u ∈ [0, 1)² (tyndall::shapes::Triangle::point).
+fn triangle_point(v0: vec3<f32>, e1: vec3<f32>, e2: vec3<f32>, u: vec2<f32>) -> vec3<f32> {
+    let s = sqrt(u.x);
+    return v0 + e1 * (s * (1.0 - u.y)) + e2 * (s * u.y);
 }

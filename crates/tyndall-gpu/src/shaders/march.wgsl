@@ -32,6 +32,8 @@ struct Material {
     specular: vec4<f32>,
 }
 
+// scene_buffers.rs's GpuLight, whose comment says which fields each
+// kind of light uses.
 struct Light {
     kind: u32,
     profile: u32,
@@ -40,6 +42,21 @@ struct Light {
     position: vec4<f32>,
     direction: vec4<f32>,
     intensity: vec4<f32>,
+    edge_v: vec4<f32>,
+    normal: vec4<f32>,
+    two_sided: u32,
+    rectangle: u32,
+    first_triangle: u32,
+    triangle_count: u32,
+}
+
+// A triangle of an emissive mesh (scene_buffers.rs's GpuLightTriangle):
+// v0.w the mesh's cumulative selection table here, e1.w the area.
+struct LightTriangle {
+    v0: vec4<f32>,
+    e1: vec4<f32>,
+    e2: vec4<f32>,
+    normal: vec4<f32>,
 }
 
 // A node of the threaded BVH (bvh.rs): its box, the node after its
@@ -104,6 +121,7 @@ struct Params {
 // The resolved image (mean radiance, 1) that `interleave_resolve` writes.
 @group(0) @binding(11) var<storage, read_write> display: array<vec4<f32>>;
 @group(0) @binding(12) var<storage, read> bvh_nodes: array<BvhNode>;
+@group(0) @binding(14) var<storage, read> light_triangles: array<LightTriangle>;
 
 const SHAPE_SPHERE: u32 = 0u;
 const SHAPE_QUAD: u32 = 1u;
@@ -113,9 +131,12 @@ const MATERIAL_LAMP_FACE: u32 = 2u;
 const MATERIAL_GLASS: u32 = 3u;
 const LIGHT_POINT: u32 = 0u;
 const LIGHT_SPOT: u32 = 1u;
+const LIGHT_DIRECTIONAL: u32 = 2u;
+const LIGHT_QUAD: u32 = 3u;
+const LIGHT_SPHERE: u32 = 4u;
+const LIGHT_MESH: u32 = 5u;
 const ESTIMATOR_MARCH: u32 = 0u;
 const ESTIMATOR_SINGLE: u32 = 1u;
-const PI: f32 = 3.14159265358979;
 // A distance standing for ∞ (a sun's): exp(−σt·INFINITE) is 0 for σt > 0.
 const INFINITE: f32 = 3.0e38;
 // tyndall::integrators::march::MAX_OPTICAL_DEPTH.
@@ -477,7 +498,7 @@ fn fog_transmittance_along(x: vec3<f32>, direction: vec3<f32>, distance: f32) ->
     return transmittance(sigma_t(), span.y - span.x);
 }
 
-// ---- lights (tyndall::lights::Light::incident) ----
+// ---- lights (tyndall::lights::Light) ----
 
 struct Incident {
     direction: vec3<f32>,
@@ -486,33 +507,184 @@ struct Incident {
     valid: bool,
 }
 
-// Light from light `i` arriving at `x` before occlusion, glass and fog:
-// I(dir)/d² for point and spot lights (0 outside the cone), E for a sun.
-fn incident(i: u32, x: vec3<f32>) -> Incident {
+const NO_INCIDENT: Incident = Incident(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false);
+
+// The point of a light a receiver connects to (Light::sample_point): a
+// point or spot light's position, or a point of an area light's surface
+// with its unit `normal` there and the density per unit area (m⁻²) with
+// which it was chosen. A sun has none (`valid` false).
+struct LightPoint {
+    position: vec3<f32>,
+    normal: vec3<f32>,
+    area_density: f32,
+    valid: bool,
+}
+
+fn is_area_light(light: Light) -> bool {
+    return light.kind == LIGHT_QUAD || light.kind == LIGHT_SPHERE || light.kind == LIGHT_MESH;
+}
+
+// Light `i`'s point for u ∈ [0, 1)² (Light::sample_point): an area
+// light's uniform by area, over the whole surface — a quad by its edges,
+// a sphere by uniform_cone over all directions, a mesh by its triangle
+// table (mesh_point).
+fn light_point_at(i: u32, u: vec2<f32>) -> LightPoint {
     let light = lights[i];
-    if light.kind == LIGHT_POINT || light.kind == LIGHT_SPOT {
-        let to_light = light.position.xyz - x;
-        let d2 = dot(to_light, to_light);
-        if !(d2 > 0.0) {
-            return Incident(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false);
-        }
-        let direction = to_light / sqrt(d2);
-        var falloff = 1.0;
-        if light.kind == LIGHT_SPOT {
-            falloff = spot_falloff(light.profile, light.cos_cutoff, light.cos_inner,
-                -dot(direction, light.direction.xyz));
-            if !(falloff > 0.0) {
-                return Incident(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false);
-            }
-        }
-        return Incident(direction, sqrt(d2), light.intensity.xyz * (falloff / d2), true);
+    if light.kind == LIGHT_QUAD {
+        let y = light.position.xyz + light.direction.xyz * u.x + light.edge_v.xyz * u.y;
+        return LightPoint(y, light.normal.xyz, 1.0 / light.intensity.w, true);
     }
-    return Incident(-light.direction.xyz, INFINITE, light.intensity.xyz, true);
+    if light.kind == LIGHT_SPHERE {
+        let n = uniform_cone(vec3<f32>(0.0, 0.0, 1.0), -1.0, u);
+        return LightPoint(light.position.xyz + light.position.w * n, n, 1.0 / light.intensity.w, true);
+    }
+    if light.kind == LIGHT_MESH {
+        return mesh_point(light, u);
+    }
+    return LightPoint(light.position.xyz, vec3<f32>(0.0), 0.0, light.kind != LIGHT_DIRECTIONAL);
+}
+
+// Light `i`'s point for a receiver (the CPU's light_point): two random
+// numbers for an area light, none for a delta light.
+fn light_point(i: u32) -> LightPoint {
+    var u = vec2<f32>(0.0);
+    if is_area_light(lights[i]) {
+        u = vec2<f32>(next_1d(), next_1d());
+    }
+    return light_point_at(i, u);
+}
+
+// A point of a mesh light (MeshLight::sample_point): u.x picks triangle
+// k by binary search of the cumulative table c (the first entry above
+// u.x), and, rescaled within k's share c_k − c_{k−1}, places the point
+// on it with u.y. The density per unit area is that share over k's area
+// A_k, taken from the f32 table itself, so the estimate is exact for the
+// table as uploaded (the CPU's f64 table gives 1/A).
+fn mesh_point(light: Light, u: vec2<f32>) -> LightPoint {
+    var lo = 0u;
+    var hi = light.triangle_count;
+    while lo < hi {
+        let mid = (lo + hi) / 2u;
+        if light_triangles[light.first_triangle + mid].v0.w <= u.x {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    let k = min(lo, light.triangle_count - 1u);
+    let t = light_triangles[light.first_triangle + k];
+    var low = 0.0;
+    if k > 0u {
+        low = light_triangles[light.first_triangle + k - 1u].v0.w;
+    }
+    let share = t.v0.w - low;
+    var within = 0.5;
+    if share > 0.0 {
+        within = clamp((u.x - low) / share, 0.0, 0.99999994);
+    }
+    let y = triangle_point(t.v0.xyz, t.e1.xyz, t.e2.xyz, vec2<f32>(within, u.y));
+    return LightPoint(y, t.normal.xyz, share / t.e1.w, true);
+}
+
+// Light from light `i` arriving at `x` from its point `y`, before
+// occlusion, glass and fog (Light::incident): I(dir)/d² for point and
+// spot lights (none outside the cone), E for a sun, and for an area
+// light L·cos θ_y/(d²·p_A(y)) — its radiance over the point's density in
+// solid angle — none behind a one-sided emitter.
+fn incident(i: u32, x: vec3<f32>, y: LightPoint) -> Incident {
+    let light = lights[i];
+    if light.kind == LIGHT_DIRECTIONAL {
+        return Incident(-light.direction.xyz, INFINITE, light.intensity.xyz, true);
+    }
+    if !y.valid {
+        return NO_INCIDENT;
+    }
+    let to_light = y.position - x;
+    let d2 = dot(to_light, to_light);
+    if !(d2 > 0.0) {
+        return NO_INCIDENT;
+    }
+    let direction = to_light / sqrt(d2);
+    if is_area_light(light) {
+        var cos_y = -dot(direction, y.normal);
+        if light.two_sided != 0u {
+            cos_y = abs(cos_y);
+        }
+        if !(cos_y > 0.0) {
+            return NO_INCIDENT;
+        }
+        return Incident(direction, sqrt(d2), light.intensity.xyz * (cos_y / (d2 * y.area_density)), true);
+    }
+    var falloff = 1.0;
+    if light.kind == LIGHT_SPOT {
+        falloff = spot_falloff(light.profile, light.cos_cutoff, light.cos_inner,
+            -dot(direction, light.direction.xyz));
+        if !(falloff > 0.0) {
+            return NO_INCIDENT;
+        }
+    }
+    return Incident(direction, sqrt(d2), light.intensity.xyz * (falloff / d2), true);
+}
+
+// Light from a point of light `i` chosen for the surface point `x`, over
+// the point's density (Light::sample_li, as the CPU march's direct
+// lighting draws it): a rectangle's point uniform in its solid angle
+// seen from x (QuadLight::sample_incident), a sphere's uniform in the
+// cone it subtends from outside (SphereLight::sample_incident); else the
+// point of light_point_at, uniform by area.
+fn sample_incident(i: u32, x: vec3<f32>) -> Incident {
+    let light = lights[i];
+    if !is_area_light(light) {
+        return incident(i, x, light_point_at(i, vec2<f32>(0.0)));
+    }
+    let u = vec2<f32>(next_1d(), next_1d());
+    if light.kind == LIGHT_QUAD && light.rectangle != 0u {
+        let width = length(light.direction.xyz);
+        let height = length(light.edge_v.xyz);
+        let rect = spherical_rectangle_new(light.position.xyz, light.direction.xyz / width,
+            light.edge_v.xyz / height, width, height, x);
+        if rect.valid {
+            let to_light = spherical_rectangle_sample(rect, u) - x;
+            let d2 = dot(to_light, to_light);
+            if !(d2 > 0.0) {
+                return NO_INCIDENT;
+            }
+            let direction = to_light / sqrt(d2);
+            var cos_y = -dot(direction, light.normal.xyz);
+            if light.two_sided != 0u {
+                cos_y = abs(cos_y);
+            }
+            if !(cos_y > 0.0) {
+                return NO_INCIDENT;
+            }
+            return Incident(direction, sqrt(d2), light.intensity.xyz * rect.solid_angle, true);
+        }
+    }
+    if light.kind == LIGHT_SPHERE {
+        let to_center = light.position.xyz - x;
+        let d2 = dot(to_center, to_center);
+        let r = light.position.w;
+        if d2 > r * r * (1.0 + 1e-4) {
+            let cos_max = sqrt(max(1.0 - r * r / d2, 0.0));
+            let d = sqrt(d2);
+            let axis = to_center / d;
+            let direction = uniform_cone(axis, cos_max, u);
+            // The nearer intersection, from the triangle x, centre,
+            // point (as the CPU: a ray test misses at the silhouette).
+            let c = min(dot(direction, axis), 1.0);
+            let sin2 = max(1.0 - c * c, 0.0);
+            let distance = d * c - sqrt(max(r * r - d2 * sin2, 0.0));
+            return Incident(direction, distance, light.intensity.xyz / uniform_cone_pdf(cos_max), true);
+        }
+    }
+    return incident(i, x, light_point_at(i, u));
 }
 
 // E·V·Tr_glass·T_fog: light `i` arriving at `x` as `inc`, from a point in
 // fog (`on_surface` false) or on a surface with unit normal `normal`
-// (the shadow ray then starts just off it).
+// (the shadow ray then starts just off it). Visibility comes from the
+// light's shadow map when maps are on and it has one; area lights have
+// none and keep shadow rays, as on the CPU.
 fn light_arriving(i: u32, x: vec3<f32>, on_surface: bool, normal: vec3<f32>, inc: Incident) -> vec3<f32> {
     var origin = x;
     if on_surface {
@@ -523,7 +695,7 @@ fn light_arriving(i: u32, x: vec3<f32>, on_surface: bool, normal: vec3<f32>, inc
         distance = inc.distance - dot(origin - x, inc.direction);
     }
     var glass: vec3<f32>;
-    if params.use_maps != 0u {
+    if params.use_maps != 0u && light_maps[i].face_count > 0u {
         glass = map_transmittance(i, origin, on_surface, normal, inc.direction);
     } else {
         glass = shadow_transmittance(origin, inc.direction, distance);
@@ -535,11 +707,12 @@ fn light_arriving(i: u32, x: vec3<f32>, on_surface: bool, normal: vec3<f32>, inc
 }
 
 // Radiance scattered at fog point `x` towards the camera (against unit
-// `view`) from light `i`, per unit length: the paper's eq. 1,
-// σs·p(θ)·E·V·Tr_glass·T_fog (tyndall::integrators::scattered_radiance);
-// 0 outside a spot's cone, without a visibility query.
-fn scattered_radiance(i: u32, x: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
-    let inc = incident(i, x);
+// `view`) from light `i` via its point `y`, per unit length: the paper's
+// eq. 1, σs·p(θ)·E·V·Tr_glass·T_fog
+// (tyndall::integrators::scattered_radiance); 0 outside a spot's cone
+// or behind a one-sided emitter, without a visibility query.
+fn scattered_radiance(i: u32, y: LightPoint, x: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
+    let inc = incident(i, x, y);
     if !inc.valid {
         return vec3<f32>(0.0);
     }
@@ -720,7 +893,7 @@ fn in_scattered(ray: Ray, t_hit: f32, stratum: u32, strata: u32) -> vec3<f32> {
         let x = ray_at(ray, t);
         let camera_t = transmittance(sigma_t(), t - a);
         for (var i = 0u; i < params.light_count; i++) {
-            sum += camera_t * scattered_radiance(i, x, ray.direction);
+            sum += camera_t * scattered_radiance(i, light_point(i), x, ray.direction);
         }
     }
     return sum * (h * f32(strata));
@@ -756,8 +929,10 @@ fn interleaved_offset(stratum: u32, strata: u32, i: u32) -> f32 {
 
 // In-scattered radiance along `ray` over (0, t_hit), relative to the
 // radiance at its origin, as tyndall::integrators::single::in_scattered:
-// per light, n equiangular samples t_k at offsets (k + u)/n of its reach
-// (the spot's cone; none for a sun, which has no emitting point) and the
+// per light, one emitting point y (light_point: an area light's drawn
+// anew on each segment), n equiangular samples about y at offsets
+// (k + u)/n of the light's reach (the spot's cone; none for a sun,
+// which has no emitting point) and the
 // ray's one distance sample t_d, shared by the lights, combined by the
 // multi-sample balance heuristic (Veach 1997):
 // Σ_k f(t_k)/(n·p_e(t_k) + p_d(t_k)) + f(t_d)/(n·p_e(t_d) + p_d(t_d)),
@@ -782,26 +957,26 @@ fn single_in_scattered(ray: Ray, t_hit: f32, stratum: u32, strata: u32) -> vec3<
     let n = f32(params.volume_samples);
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < params.light_count; i++) {
+        let y = light_point(i);
         let u_equiangular = interleaved_offset(stratum, strata, i);
         var equiangular = Equiangular(0.0, 1.0, 0.0, 0.0, a, b, false);
-        let light = lights[i];
-        if light.kind == LIGHT_POINT || light.kind == LIGHT_SPOT {
+        if y.valid {
             let r = reach(i, ray, a, b);
             if r.z != 0.0 {
-                equiangular = equiangular_new(ray.origin, ray.direction, light.position.xyz, r.x, r.y);
+                equiangular = equiangular_new(ray.origin, ray.direction, y.position, r.x, r.y);
             }
         }
         if equiangular.valid {
             for (var k = 0u; k < params.volume_samples; k++) {
                 let t = equiangular_sample(equiangular, (f32(k) + u_equiangular) / n);
-                let f = scattered_radiance(i, ray_at(ray, t), ray.direction);
+                let f = scattered_radiance(i, y, ray_at(ray, t), ray.direction);
                 if any(f != vec3<f32>(0.0)) {
                     let weight = n * equiangular_pdf(equiangular, t) + exponential_pdf(distance, t);
                     sum += f * (transmittance(sigma_t(), t - a) / weight);
                 }
             }
         }
-        let f = scattered_radiance(i, x_d, ray.direction);
+        let f = scattered_radiance(i, y, x_d, ray.direction);
         if any(f != vec3<f32>(0.0)) {
             let weight = pdf_d + n * equiangular_pdf(equiangular, t_d);
             sum += f * (transmittance(sigma_t(), t_d - a) / weight);
@@ -818,14 +993,15 @@ fn fog_in_scattered(ray: Ray, t_hit: f32, stratum: u32, strata: u32) -> vec3<f32
     return in_scattered(ray, t_hit, stratum, strata);
 }
 
-// Direct light on a Lambertian surface: Σ ρ/π·E·cos θ·V·Tr_glass·T_fog.
+// Direct light on a Lambertian surface: Σ ρ/π·E·cos θ·V·Tr_glass·T_fog,
+// one sample_incident per light (the CPU march's lambert_direct_lighting).
 fn direct_lighting(diffuse: vec3<f32>, x: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
     if all(diffuse == vec3<f32>(0.0)) {
         return vec3<f32>(0.0);
     }
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < params.light_count; i++) {
-        let inc = incident(i, x);
+        let inc = sample_incident(i, x);
         if !inc.valid {
             continue;
         }
@@ -836,18 +1012,6 @@ fn direct_lighting(diffuse: vec3<f32>, x: vec3<f32>, normal: vec3<f32>) -> vec3<
         sum += light_arriving(i, x, true, normal, inc) * cos_theta;
     }
     return sum * diffuse / PI;
-}
-
-// A unit vector perpendicular to unit `n` and a third completing the
-// frame (Duff et al. 2017).
-fn orthonormal_pair(n: vec3<f32>) -> array<vec3<f32>, 2> {
-    let s = select(-1.0, 1.0, n.z >= 0.0);
-    let a = -1.0 / (s + n.z);
-    let b = n.x * n.y * a;
-    return array<vec3<f32>, 2>(
-        vec3<f32>(1.0 + s * n.x * n.x * a, s * b, -s * n.x),
-        vec3<f32>(b, s + n.y * n.y * a, -n.y),
-    );
 }
 
 // The reflective layer's direction (tyndall::materials::Surface::reflect):

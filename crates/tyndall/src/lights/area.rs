@@ -290,6 +290,13 @@ impl QuadLight {
         }
     }
 
+    /// Whether the quad is a rectangle, which next event estimation
+    /// samples uniformly in solid angle ([`QuadLight::sample_incident`]);
+    /// other parallelograms are sampled uniformly by area.
+    pub fn is_rectangle(&self) -> bool {
+        self.rectangle.is_some()
+    }
+
     /// Light reaching `x` from the point `y` of the quad: `L·cos θ_y·A/d²`,
     /// the radiance over the point's density when chosen uniformly by
     /// area; `None` behind a one-sided quad.

@@ -66,6 +66,13 @@ impl MeshLight {
         &self.triangles
     }
 
+    /// The cumulative selection table: entry `k` is the summed areas of
+    /// triangles `0..=k` over the total (the last is 1), so triangle `k`
+    /// is picked with probability `cdf[k] − cdf[k−1]`.
+    pub fn selection_cdf(&self) -> &[f64] {
+        &self.cdf
+    }
+
     /// A point uniform over the mesh's surface (density `1/A`) from
     /// `u ∈ [0,1)²`: `u.x` picks the triangle through the cumulative
     /// table and, rescaled within the triangle's share, places the point
