@@ -586,6 +586,17 @@ fn mesh_point(light: Light, u: vec2<f32>) -> LightPoint {
     return LightPoint(y, t.normal.xyz, share / t.e1.w, true);
 }
 
+// cos θ_y of the light leaving area light `light` against the unit
+// `direction` from the receiver, at a point of unit normal `normal`:
+// ≤ 0 where a one-sided emitter shows its back.
+fn emitting_cosine(light: Light, direction: vec3<f32>, normal: vec3<f32>) -> f32 {
+    let cos_y = -dot(direction, normal);
+    if light.two_sided != 0u {
+        return abs(cos_y);
+    }
+    return cos_y;
+}
+
 // Light from light `i` arriving at `x` from its point `y`, before
 // occlusion, glass and fog (Light::incident): I(dir)/d² for point and
 // spot lights (none outside the cone), E for a sun, and for an area
@@ -606,10 +617,7 @@ fn incident(i: u32, x: vec3<f32>, y: LightPoint) -> Incident {
     }
     let direction = to_light / sqrt(d2);
     if is_area_light(light) {
-        var cos_y = -dot(direction, y.normal);
-        if light.two_sided != 0u {
-            cos_y = abs(cos_y);
-        }
+        let cos_y = emitting_cosine(light, direction, y.normal);
         if !(cos_y > 0.0) {
             return NO_INCIDENT;
         }
@@ -650,11 +658,7 @@ fn sample_incident(i: u32, x: vec3<f32>) -> Incident {
                 return NO_INCIDENT;
             }
             let direction = to_light / sqrt(d2);
-            var cos_y = -dot(direction, light.normal.xyz);
-            if light.two_sided != 0u {
-                cos_y = abs(cos_y);
-            }
-            if !(cos_y > 0.0) {
+            if !(emitting_cosine(light, direction, light.normal.xyz) > 0.0) {
                 return NO_INCIDENT;
             }
             return Incident(direction, sqrt(d2), light.intensity.xyz * rect.solid_angle, true);
