@@ -493,7 +493,10 @@ mod tests {
             }
             assert_eq!(triangles.last().unwrap().v0[3], 1.0);
             let z = triangles[0].v0[2];
-            assert!(triangles.iter().all(|t| t.v0[2] == z), "one mesh's triangles");
+            assert!(
+                triangles.iter().all(|t| t.v0[2] == z),
+                "one mesh's triangles"
+            );
             assert_eq!(triangles.len(), if z == 0.0 { 1 } else { 3 });
         }
         covered.sort();

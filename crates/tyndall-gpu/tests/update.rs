@@ -2,7 +2,8 @@
 //! `GpuMarch::new` of the same scene: after each change of a sequence —
 //! a turned spot, fog and camera and an intensity, the glass model, a
 //! spot widened past 60° (one map face to a cube), a new image size, a
-//! moved point light — the updated march's frames must equal a new
+//! moved point light, an emissive mesh added (a new light, its triangles
+//! in a buffer of their own) — the updated march's frames must equal a new
 //! march's frames of the final state exactly.
 //!
 //! Why exact, not within a tolerance: an update is meant to leave every
@@ -94,7 +95,7 @@ fn updates_equal_a_fresh_march_of_the_final_state() {
     let before = frames(&gpu, &mut march);
 
     type Change = fn(&mut SceneDesc);
-    let steps: [(&str, Change, MapsRebuilt); 7] = [
+    let steps: [(&str, Change, MapsRebuilt); 8] = [
         (
             "spot turned",
             |d| {
@@ -137,6 +138,30 @@ fn updates_equal_a_fresh_march_of_the_final_state() {
             "point light moved",
             |d| point(d).position += Vec3::new(-0.3, 0.0, 0.2),
             MapsRebuilt::Lights(vec![1]),
+        ),
+        (
+            // A new light, with its triangles in a buffer that had none.
+            "an emissive mesh added",
+            |d| {
+                use tyndall::description::Origin;
+                use tyndall::materials::Material;
+                use tyndall::shapes::{Shape, Triangle};
+                let glow = d.add_material(
+                    Material::Emissive {
+                        radiance: tyndall::Rgb::new(3.0, 2.0, 1.0),
+                        two_sided: true,
+                    },
+                    Origin::Code,
+                );
+                let corner = |x: f32, y: f32| Vec3::new(x, y, -1.0);
+                let triangles = [
+                    Triangle::new(corner(-1.0, 1.0), corner(-0.5, 1.0), corner(-0.75, 1.5)),
+                    Triangle::new(corner(0.5, 1.0), corner(0.7, 1.0), corner(0.6, 1.2)),
+                ]
+                .map(|t| Shape::Triangle(t.expect("a proper triangle")));
+                d.add_shapes(triangles.to_vec(), glow, Origin::Code);
+            },
+            MapsRebuilt::All,
         ),
         (
             "single scattering instead of the march",
