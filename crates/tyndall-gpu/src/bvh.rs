@@ -15,18 +15,9 @@
 //! run the same under lavapipe.
 
 use bytemuck::{Pod, Zeroable};
-use obvhs::BvhBuildParams;
 use obvhs::bvh2::Bvh2;
-use tyndall::accel::Primitive;
+use tyndall::accel::{Primitive, builds_tree, tree_build_params};
 use tyndall::shapes::Bounds;
-
-/// Below this many primitives the tree is one leaf holding them all (a
-/// linear scan), as the CPU's `tyndall::accel` does.
-const MIN_TREE_PRIMITIVES: usize = 4;
-
-/// Widest geometry obvhs is asked to build for (as `tyndall::accel`:
-/// beyond it, one leaf).
-const MAX_TREE_EXTENT: f32 = 4.0 * tyndall::limits::MAX_COORDINATE;
 
 /// One node (`BvhNode` in `march.wgsl`): its box, grown by a relative
 /// margin so that flat shapes and rounding cannot make a ray miss it;
@@ -69,8 +60,8 @@ impl FlatBvh {
                 order: Vec::new(),
             };
         }
-        let tree_safe = bounds.extent().max_element() <= MAX_TREE_EXTENT;
-        if primitives.len() < MIN_TREE_PRIMITIVES || !tree_safe {
+        // Where the CPU scans linearly, one leaf holds every primitive.
+        if !builds_tree(primitives.len(), bounds) {
             let (min, max) = padded(bounds);
             return Self {
                 nodes: vec![GpuBvhNode {
@@ -85,10 +76,8 @@ impl FlatBvh {
             };
         }
         let mut build_time = std::time::Duration::default();
-        let mut params = BvhBuildParams::medium_build();
-        // Each primitive in exactly one leaf.
-        params.pre_split = false;
-        let bvh = obvhs::bvh2::builder::build_bvh2(primitives, params, &mut build_time);
+        let bvh =
+            obvhs::bvh2::builder::build_bvh2(primitives, tree_build_params(), &mut build_time);
         let mut flat = Self {
             nodes: Vec::with_capacity(bvh.nodes.len()),
             order: Vec::with_capacity(primitives.len()),

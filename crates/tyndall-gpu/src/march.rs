@@ -226,7 +226,7 @@ fn v4(v: Vec3, w: f32) -> [f32; 4] {
 pub struct GpuMarch {
     params: Params,
     params_buffer: wgpu::Buffer,
-    /// Bindings 1–8 and 10–13 of `march.wgsl`/`maps.wgsl`, in order;
+    /// Bindings 1–8 and 10–14 of `march.wgsl`/`maps.wgsl`, in order;
     /// binding 9 (the layers) is added when the bind group is made.
     buffers: Vec<wgpu::Buffer>,
     layers: wgpu::Buffer,
@@ -236,7 +236,6 @@ pub struct GpuMarch {
     map_layers_pipeline: wgpu::ComputePipeline,
     resolve_pipeline: wgpu::ComputePipeline,
     bind_group: wgpu::BindGroup,
-    face_count: u32,
     frames: u32,
     /// What the buffers now hold, to tell what an [`GpuMarch::update`]
     /// changes.
@@ -479,7 +478,6 @@ impl GpuMarch {
             map_layers_pipeline,
             resolve_pipeline,
             bind_group,
-            face_count: faces.len() as u32,
             frames: 0,
             uploaded: Uploaded {
                 scene: buffers_on_host,
@@ -501,10 +499,11 @@ impl GpuMarch {
     /// the layers. Waits for the GPU.
     pub fn build_maps(&mut self, gpu: &Gpu) -> Result<(), GpuError> {
         let r = self.params.map_resolution;
-        if r == 0 || self.face_count == 0 {
+        let faces = self.uploaded.faces.len() as u32;
+        if r == 0 || faces == 0 {
             return Ok(());
         }
-        let groups = (r.div_ceil(8), r.div_ceil(8), self.face_count);
+        let groups = (r.div_ceil(8), r.div_ceil(8), faces);
         gpu.queue
             .write_buffer(&self.buffers[LAYERS_TAKEN], 0, &0u32.to_ne_bytes());
         self.dispatch(gpu, &self.map_count_pipeline, groups);

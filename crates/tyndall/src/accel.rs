@@ -28,6 +28,24 @@ const MIN_BVH_PRIMITIVES: usize = 4;
 /// coordinates on either side (4 × [`crate::limits::MAX_COORDINATE`]).
 const MAX_BVH_EXTENT: f32 = 4.0 * crate::limits::MAX_COORDINATE;
 
+/// Whether `count` primitives within `bounds` get a tree; otherwise a
+/// linear scan (too few to gain, or too wide for obvhs). One rule for the
+/// CPU's tree here and the GPU's (crate `tyndall-gpu`, `bvh.rs`).
+pub fn builds_tree(count: usize, bounds: Bounds) -> bool {
+    let tree_safe = bounds.is_empty() || bounds.extent().max_element() <= MAX_BVH_EXTENT;
+    count >= MIN_BVH_PRIMITIVES && tree_safe
+}
+
+/// obvhs's build parameters for every Tyndall tree: its medium build
+/// (PLOC with reinsertion) without spatial pre-splits, so that every
+/// primitive is referenced by exactly one leaf, which the any-hit glass
+/// traversal (and the GPU's, which counts panes) relies on.
+pub fn tree_build_params() -> BvhBuildParams {
+    let mut params = BvhBuildParams::medium_build();
+    params.pre_split = false;
+    params
+}
+
 /// A shape with its material.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Primitive {
@@ -69,14 +87,9 @@ impl Geometry {
         // the loaders refuse coordinates beyond `MAX_COORDINATE`, and
         // geometry built past that by other means gets a linear scan:
         // slow, but correct.
-        let tree_safe = bounds.is_empty() || bounds.extent().max_element() <= MAX_BVH_EXTENT;
-        let bvh = (primitives.len() >= MIN_BVH_PRIMITIVES && tree_safe).then(|| {
+        let bvh = builds_tree(primitives.len(), bounds).then(|| {
             let mut build_time = Duration::default();
-            // No spatial pre-splits: every primitive is then referenced by
-            // exactly one leaf, which the any-hit glass traversal relies on.
-            let mut params = BvhBuildParams::medium_build();
-            params.pre_split = false;
-            obvhs::cwbvh::builder::build_cwbvh(&primitives, params, &mut build_time)
+            obvhs::cwbvh::builder::build_cwbvh(&primitives, tree_build_params(), &mut build_time)
         });
         Self {
             bvh,

@@ -53,18 +53,24 @@ pub use scene::Scene;
 pub use settings::{IntegratorKind, RenderSettings};
 pub use visibility::RayCounts;
 
-/// What the integration tests (crate `tyndall-tests`) need beyond the
-/// library's API: one radiance estimate along a chosen ray, the light
-/// tracer on its own, the shadow maps against shadow rays, the samplers.
-/// Not for applications: these are the renderer's internals and may
-/// change at any time.
-#[doc(hidden)]
 /// How the CPU's shadow maps choose and orient their faces, for
 /// renderers that build the same maps (the GPU path).
 pub mod shadow_map_layout {
     pub use crate::shadow_maps::{CUBE_FACES, is_narrow};
 }
 
+/// The ray march's constants, for renderers and benchmarks that march
+/// the same way (the GPU path).
+pub mod ray_march {
+    pub use crate::integrators::march::MAX_OPTICAL_DEPTH;
+}
+
+/// What the integration tests (crate `tyndall-tests`) need beyond the
+/// library's API: one radiance estimate along a chosen ray, the light
+/// tracer on its own, the shadow maps against shadow rays, the samplers.
+/// Not for applications: these are the renderer's internals and may
+/// change at any time.
+#[doc(hidden)]
 pub mod testing {
     pub use crate::integrators::light_tracer::{self, LightPaths, has_caustics};
     pub use crate::integrators::march::interleaved_stratum;

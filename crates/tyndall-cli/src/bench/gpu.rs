@@ -21,6 +21,7 @@ use super::BenchArgs;
 use anyhow::{Context, Result};
 use std::time::{Duration, Instant};
 use tyndall::camera::Camera;
+use tyndall::ray_march::MAX_OPTICAL_DEPTH;
 use tyndall::settings::{DEFAULT_MAP_RESOLUTION, DEFAULT_VOLUME_SAMPLES};
 use tyndall::{Scene, SceneDesc};
 use tyndall_gpu::{Gpu, GpuMarch, GpuVisibility, InScattering, MarchSettings};
@@ -37,7 +38,7 @@ fn central_fog_length(scene: &Scene) -> Option<f32> {
         .map_or(f32::INFINITY, |h| h.t);
     let fog = scene.fog()?;
     let (a, b) = fog.interval(&ray, 0.0, t_hit)?;
-    let b = b.min(a + 9.21 / fog.sigma_t.max(1e-6));
+    let b = b.min(a + MAX_OPTICAL_DEPTH / fog.sigma_t.max(1e-6));
     Some(b - a)
 }
 

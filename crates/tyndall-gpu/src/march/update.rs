@@ -176,7 +176,6 @@ impl GpuMarch {
         encoder.clear_buffer(&self.buffers[FOG_ACCUMULATION], 0, None);
         gpu.queue.submit([encoder.finish()]);
         self.frames = 0;
-        self.face_count = faces.len() as u32;
         self.uploaded = Uploaded {
             scene: scene_buffers,
             light_maps,
