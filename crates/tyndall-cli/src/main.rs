@@ -334,6 +334,14 @@ fn render(args: RenderArgs) -> Result<()> {
         .unwrap_or_else(|| PathBuf::from("tyndall.png"));
     // Fail on a bad output name before spending time on the render.
     let format = ImageFormat::from_path(&output)?;
+    if let Some(checkpoint) = &args.checkpoint
+        && same_file(checkpoint, &output)
+    {
+        bail!(
+            "{}: --checkpoint names the output file; the checkpoint is removed when the render completes, so give it a name of its own",
+            checkpoint.display()
+        );
+    }
     let is_part = args.tile.is_some() || args.samples.is_some();
     if is_part && format != ImageFormat::Exr {
         bail!(
@@ -350,13 +358,6 @@ fn render(args: RenderArgs) -> Result<()> {
     // The description moves into the scene: its grids are not held twice.
     let scene = Scene::from_desc(desc).map_err(SceneError::from)?;
     settings.validate(&scene)?;
-    // Fail on a bad output name or an unwritable destination before
-    // spending time on the render: the temporary file beside the target
-    // is created now and renamed onto it once the image is complete.
-    let output_file = tyndall_image::OutputFile::create(&output)?;
-    for w in loader_warnings.into_iter().chain(settings.warnings(&scene)) {
-        eprintln!("warning: {w}");
-    }
     let rect = match args.tile {
         Some((i, n)) => PixelRect::tile(i, n, settings.width, settings.height)?,
         None => PixelRect::full(settings.width, settings.height),
@@ -364,6 +365,13 @@ fn render(args: RenderArgs) -> Result<()> {
     let samples = args.samples.map_or(0..settings.spp, |(a, b)| a..b);
     let region = RenderRegion { rect, samples };
     region.check(settings.width, settings.height)?;
+    // Fail on a bad output name or an unwritable destination before
+    // spending time on the render: the temporary file beside the target
+    // is created now and renamed onto it once the image is complete.
+    let output_file = tyndall_image::OutputFile::create(&output)?;
+    for w in loader_warnings.into_iter().chain(settings.warnings(&scene)) {
+        eprintln!("warning: {w}");
+    }
     let identity = PartIdentity::new(&scene, &settings);
     let resume = match &args.checkpoint {
         Some(path) if path.exists() => {
@@ -480,6 +488,22 @@ fn render(args: RenderArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Whether `a` and `b` name the same file, whether or not it exists yet:
+/// the canonical form of each one's folder, with its file name.
+fn same_file(a: &Path, b: &Path) -> bool {
+    let canonical = |p: &Path| {
+        let folder = match p.parent() {
+            Some(f) if !f.as_os_str().is_empty() => f,
+            _ => Path::new("."),
+        };
+        Some(std::fs::canonicalize(folder).ok()?.join(p.file_name()?))
+    };
+    match (canonical(a), canonical(b)) {
+        (Some(a), Some(b)) => a == b,
+        _ => a == b,
+    }
 }
 
 #[cfg(feature = "gpu")]

@@ -211,6 +211,16 @@ fn bad_splits_fail_without_writing_anything() {
         (vec!["--tile", "x", "-o", s(&out)], "expected I/N"),
         (vec!["--samples", "4..4", "-o", s(&out)], "empty"),
         (vec!["--samples", "4-8", "-o", s(&out)], "expected A..B"),
+        // Issue 28: ran until killed, leaving a 0-byte temporary file.
+        (
+            vec!["--samples", "0..4294967295", "-o", s(&out)],
+            "reaches past sample index 1048576",
+        ),
+        // Issue 28: failed after rendering, leaving out.exr behind.
+        (
+            vec!["--checkpoint", s(&out), "-o", s(&out)],
+            "--checkpoint names the output file",
+        ),
         (vec!["--tile", "0/2", "-o", s(&png)], "must be an .exr"),
         (vec!["--tile", "0/100", "-o", s(&out)], "at most 24 tiles"),
         (
@@ -222,6 +232,12 @@ fn bad_splits_fail_without_writing_anything() {
         assert!(!o.status.success(), "{extra:?} succeeded");
         assert!(stderr(&o).contains(expected), "{extra:?}: {}", stderr(&o));
         assert!(!out.exists() && !png.exists(), "{extra:?} wrote a file");
+        let left: Vec<_> = std::fs::read_dir(out.parent().expect("folder"))
+            .expect("scratch folder")
+            .filter_map(|e| e.ok())
+            .filter(|e| e.file_name().to_string_lossy().starts_with(".bad"))
+            .collect();
+        assert!(left.is_empty(), "{extra:?} left a temporary file");
     }
     // Merging a plain image, or tiles that leave a gap.
     let plain = temp("plain.exr");
@@ -298,4 +314,35 @@ fn help_explains_the_splitting_flags_and_merge() {
     let o = tyndall(&["merge", "--help"]);
     assert!(o.status.success());
     assert!(String::from_utf8_lossy(&o.stdout).contains("--output"));
+}
+
+/// Issue 28: a part with four flipped bits in its pixel data was merged
+/// into 11 NaN, 14 infinite and 19 negative pixels, exit 0. Its checksum
+/// now refuses it, naming the file, and nothing is written.
+#[test]
+fn a_damaged_part_is_refused_by_merge() {
+    let parts: Vec<PathBuf> = (0..2).map(|i| temp(&format!("damaged{i}.exr"))).collect();
+    for (i, p) in parts.iter().enumerate() {
+        let o = run(&focus_args(&["--tile", &format!("{i}/2"), "-o", s(p)]));
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let mut bytes = std::fs::read(&parts[1]).expect("part");
+    // Bits in the last bytes of the file: the pixel data of its last block.
+    let n = bytes.len();
+    for (at, bit) in [
+        (n - 9, 0x40),
+        (n - 21, 0x08),
+        (n - 40, 0x80),
+        (n - 77, 0x01),
+    ] {
+        bytes[at] ^= bit;
+    }
+    std::fs::write(&parts[1], &bytes).expect("damage");
+    let out = temp("damaged-merged.exr");
+    let o = tyndall(&["merge", s(&parts[0]), s(&parts[1]), "-o", s(&out)]);
+    assert!(!o.status.success(), "merged a damaged part");
+    let e = stderr(&o);
+    assert!(e.contains("damaged1.exr"), "{e}");
+    assert!(!e.contains("panicked"), "{e}");
+    assert!(!out.exists());
 }

@@ -16,7 +16,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use obvhs::bvh2::Bvh2;
-use tyndall::accel::{Primitive, builds_tree, tree_build_params};
+use tyndall::accel::{Primitive, build_boxes, builds_tree, tree_build_params};
 use tyndall::shapes::Bounds;
 
 /// One node (`BvhNode` in `march.wgsl`): its box, grown by a relative
@@ -76,8 +76,8 @@ impl FlatBvh {
             };
         }
         let mut build_time = std::time::Duration::default();
-        let bvh =
-            obvhs::bvh2::builder::build_bvh2(primitives, tree_build_params(), &mut build_time);
+        let boxes = build_boxes(primitives, bounds);
+        let bvh = obvhs::bvh2::builder::build_bvh2(&boxes, tree_build_params(), &mut build_time);
         let mut flat = Self {
             nodes: Vec::with_capacity(bvh.nodes.len()),
             order: Vec::with_capacity(primitives.len()),

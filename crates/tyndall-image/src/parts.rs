@@ -14,7 +14,12 @@
 //!   `key value` per line: `tyndall-part 1` (the format), `scene-hash`
 //!   (see [`tyndall::parts::scene_hash`]), `image W H`, `rect x0 y0 x1 y1`
 //!   (pixels `[x0, x1) × [y0, y1)`), `samples A B` (sample indices
-//!   `A..B`), `seed`, `light-paths 0|1`;
+//!   `A..B`), `seed`, `light-paths 0|1`, and last `checksum`, the
+//!   64-bit FNV-1a hash ([`tyndall::parts::Fnv1a`]) of the lines before
+//!   it and of every sum of both layers (see [`checksum`]): a part or
+//!   checkpoint with a flipped bit in its header or its sums is refused
+//!   instead of being merged or resumed into NaN, infinite or negative
+//!   pixels;
 //! - `light`, only for renders that trace light paths: the whole image,
 //!   `sum.light.{R,G,B}.{0,1,2,3}` (u32), the exact fixed-point sums
 //!   ([`ExactRgb`]) of the splats of the part's share of the light paths,
@@ -29,7 +34,7 @@ use glam::DVec3;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use tyndall::exact_sum::ExactRgb;
-use tyndall::parts::{Part, PartIdentity};
+use tyndall::parts::{Fnv1a, Part, PartIdentity};
 use tyndall::region::{PixelRect, RenderRegion};
 use tyndall::render::Accumulation;
 use tyndall::settings::MAX_IMAGE_SIDE;
@@ -41,7 +46,10 @@ const LIGHT_LAYER: &str = "light";
 /// Name of the header attribute that records what a part holds.
 const ATTRIBUTE: &str = "tyndall";
 /// First line of the attribute: the format and its version.
-const FORMAT: &str = "tyndall-part 1";
+/// (Format 2 added the checksum; a format-1 part is refused by name.)
+const FORMAT: &str = "tyndall-part 2";
+/// The key of the header's last line.
+const CHECKSUM: &str = "checksum";
 
 /// Why a part file could not be written or read.
 #[derive(Debug, thiserror::Error)]
@@ -99,7 +107,9 @@ pub fn write_part(
         layer_position: Vec2(rect.x0 as i32, rect.y0 as i32),
         ..LayerAttributes::named(PART_LAYER)
     };
-    let text = describe(part);
+    let mut text = describe(part);
+    let sum = checksum(&text, a);
+    text.push_str(&format!("{CHECKSUM} {sum:016x}\n"));
     attributes.other.insert(
         Text::from(ATTRIBUTE),
         AttributeValue::Text(Text::new_or_none(&text).expect("ASCII")),
@@ -161,7 +171,27 @@ fn describe(part: &Part) -> String {
     )
 }
 
-/// Reads a part written by [`write_part`].
+/// The checksum of a part: FNV-1a over the header lines `description`
+/// (everything before the `checksum` line, as stored) and then each
+/// camera sum's f64 bit pattern and each light sum's i128, little-endian,
+/// in storage order.
+fn checksum(description: &str, a: &Accumulation) -> u64 {
+    let mut h = Fnv1a::new();
+    h.update(description.as_bytes());
+    for s in &a.camera {
+        for c in 0..3 {
+            h.update(&s[c].to_bits().to_le_bytes());
+        }
+    }
+    for s in a.light.iter().flatten() {
+        for c in s.0 {
+            h.update(&c.to_le_bytes());
+        }
+    }
+    h.finish()
+}
+
+/// Reads a part written by [`write_part`], checking its checksum.
 pub fn read_part(path: &Path) -> std::result::Result<Part, PartFileError> {
     use exr::prelude::*;
     let format = |message: String| PartFileError::Format {
@@ -245,21 +275,33 @@ pub fn read_part(path: &Path) -> std::result::Result<Part, PartFileError> {
     } else {
         None
     };
+    let accumulation = Accumulation {
+        width: header.width,
+        height: header.height,
+        region: RenderRegion {
+            rect,
+            samples: header.samples,
+        },
+        camera,
+        light,
+    };
+    // The checksum covers the header as stored, up to its own line.
+    let described = text
+        .find(&format!("\n{CHECKSUM} "))
+        .map_or(text.as_str(), |end| &text[..=end]);
+    let computed = checksum(described, &accumulation);
+    if computed != header.checksum {
+        return Err(format(format!(
+            "its checksum is {:016x} but its header and sums hash to {computed:016x}: the file was changed or damaged after it was written",
+            header.checksum
+        )));
+    }
     Ok(Part {
         identity: PartIdentity {
             scene_hash: header.scene_hash,
             seed: header.seed,
         },
-        accumulation: Accumulation {
-            width: header.width,
-            height: header.height,
-            region: RenderRegion {
-                rect,
-                samples: header.samples,
-            },
-            camera,
-            light,
-        },
+        accumulation,
     })
 }
 
@@ -272,6 +314,7 @@ struct Description {
     samples: std::ops::Range<u32>,
     seed: u64,
     light: bool,
+    checksum: u64,
 }
 
 fn parse_description(text: &str) -> Result<Description, String> {
@@ -281,7 +324,13 @@ fn parse_description(text: &str) -> Result<Description, String> {
         let key = words.next().unwrap_or_default();
         fields.insert(key, words.collect());
     }
-    if fields.get("tyndall-part").map(Vec::as_slice) != Some(&["1"]) {
+    if fields.get("tyndall-part").map(Vec::as_slice) == Some(&["1"]) {
+        return Err(
+            "it is a format-1 part, written before parts carried a checksum: render it again"
+                .into(),
+        );
+    }
+    if fields.get("tyndall-part").map(Vec::as_slice) != Some(&["2"]) {
         return Err(format!(
             "the `{ATTRIBUTE}` attribute does not start with `{FORMAT}`"
         ));
@@ -315,6 +364,7 @@ fn parse_description(text: &str) -> Result<Description, String> {
     let samples: Vec<u32> = numbers(&fields, "samples", 2, false)?;
     let seed: Vec<u64> = numbers(&fields, "seed", 1, false)?;
     let light: Vec<u8> = numbers(&fields, "light-paths", 1, false)?;
+    let checksum: Vec<u64> = numbers(&fields, CHECKSUM, 1, true)?;
     Ok(Description {
         scene_hash: hash[0],
         width: image[0],
@@ -328,6 +378,7 @@ fn parse_description(text: &str) -> Result<Description, String> {
         samples: samples[0]..samples[1],
         seed: seed[0],
         light: light[0] != 0,
+        checksum: checksum[0],
     })
 }
 
@@ -363,7 +414,7 @@ pub fn write_atomically(
 mod tests {
     use super::*;
 
-    const GOOD: &str = "tyndall-part 1\nscene-hash 00ff\nimage 8 6\nrect 0 2 8 4\nsamples 3 5\nseed 7\nlight-paths 1\n";
+    const GOOD: &str = "tyndall-part 2\nscene-hash 00ff\nimage 8 6\nrect 0 2 8 4\nsamples 3 5\nseed 7\nlight-paths 1\nchecksum 0123456789abcdef\n";
 
     #[test]
     fn descriptions_parse_and_bad_ones_say_what_is_wrong() {
@@ -381,8 +432,16 @@ mod tests {
         assert_eq!((d.samples, d.light), (3..5, true));
         for (bad, says) in [
             (
-                GOOD.replace("tyndall-part 1", "tyndall-part 2"),
+                GOOD.replace("tyndall-part 2", "tyndall-part 3"),
                 "does not start",
+            ),
+            (
+                GOOD.replace("tyndall-part 2", "tyndall-part 1"),
+                "format-1 part",
+            ),
+            (
+                GOOD.replace("checksum 0123456789abcdef\n", ""),
+                "`checksum`",
             ),
             (GOOD.replace("image 8 6", "image 8"), "`image` with 2"),
             (GOOD.replace("seed 7", "seed -7"), "`seed`: `-7`"),

@@ -713,10 +713,13 @@ fn perspective_camera(p: &mut Parser, tok: Token) -> Result<CameraSpec, SceneErr
             Some("angle") => {
                 let at = p.peek();
                 let a = p.number("`angle`")?;
-                if !(a > 0.0 && a < 180.0) {
+                if !FieldOfView::in_range(a) {
                     return Err(p.error(
                         at,
-                        format!("camera `angle` must be in (0, 180) degrees, got {a}"),
+                        format!(
+                            "camera `angle` must be {}, got {a}",
+                            FieldOfView::RANGE_WORDS
+                        ),
                     ));
                 }
                 angle = Some(a);

@@ -13,6 +13,27 @@ pub enum FieldOfView {
     ShorterSide(f32),
 }
 
+impl FieldOfView {
+    /// Smallest and largest field of view accepted, in degrees (either
+    /// way it is given): below 10⁻³° the image plane's spacing underflows
+    /// against the view distance; at 180° the image plane is infinite.
+    pub const RANGE_DEG: (f32, f32) = (1e-3, 179.0);
+
+    /// The accepted range in words, for error messages.
+    pub const RANGE_WORDS: &str = "an angle from 0.001° to 179°";
+
+    /// The angle in degrees, whichever side it spans.
+    pub fn degrees(self) -> f32 {
+        let (Self::Vertical(a) | Self::ShorterSide(a)) = self;
+        a
+    }
+
+    /// Whether `degrees` lies in [`Self::RANGE_DEG`] (NaN does not).
+    pub fn in_range(degrees: f32) -> bool {
+        (Self::RANGE_DEG.0..=Self::RANGE_DEG.1).contains(&degrees)
+    }
+}
+
 /// Where the camera is and how it looks, independent of image size.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CameraSpec {

@@ -56,7 +56,7 @@ pub struct Part {
 /// change any sample. The scene is hashed through its `Debug` form
 /// (shortest round-trip floats), streamed, never held as a string.
 pub fn scene_hash(scene: &Scene, settings: &RenderSettings) -> u64 {
-    let mut h = Fnv1a(0xcbf2_9ce4_8422_2325);
+    let mut h = Fnv1a::new();
     let camera: &CameraSpec = &scene.camera;
     let s = settings;
     // Writing into a hasher cannot fail.
@@ -86,17 +86,43 @@ pub fn scene_hash(scene: &Scene, settings: &RenderSettings) -> u64 {
         s.max_bounces,
         s.max_depth
     );
-    h.0
+    h.finish()
 }
 
-/// FNV-1a, 64-bit, fed by `fmt::Write`.
-struct Fnv1a(u64);
+/// FNV-1a, 64-bit (Fowler, Noll & Vo; the parameters of IETF draft
+/// `draft-eastlake-fnv`): fed bytes by [`Fnv1a::update`] or text by
+/// `fmt::Write`. Scene hashes and the checksums of part files use it; it
+/// detects accidental change (every flipped bit changes the hash), not
+/// tampering.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Fnv1a(u64);
+
+impl Fnv1a {
+    /// The FNV-1a offset basis.
+    pub const fn new() -> Self {
+        Self(0xcbf2_9ce4_8422_2325)
+    }
+
+    pub fn update(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0 ^ b as u64).wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+
+    pub fn finish(self) -> u64 {
+        self.0
+    }
+}
+
+impl Default for Fnv1a {
+    fn default() -> Self {
+        Self::new()
+    }
+}
 
 impl std::fmt::Write for Fnv1a {
     fn write_str(&mut self, s: &str) -> std::fmt::Result {
-        for b in s.bytes() {
-            self.0 = (self.0 ^ b as u64).wrapping_mul(0x0100_0000_01b3);
-        }
+        self.update(s.as_bytes());
         Ok(())
     }
 }

@@ -7,6 +7,7 @@
 //! [`crate::render`](mod@crate::render)), so any part computes exactly the samples the whole
 //! render would compute for its pixels and indices.
 
+use crate::settings::MAX_SPP;
 use std::ops::Range;
 
 /// The pixels `[x0, x1) × [y0, y1)` of an image, in full-image
@@ -28,6 +29,10 @@ pub enum RegionError {
     TooManyTiles { count: u32, height: u32 },
     #[error("sample range {start}..{end} is empty: the end must be above the start")]
     EmptySamples { start: u32, end: u32 },
+    #[error(
+        "sample range {start}..{end} reaches past sample index {max}: sample indices are bounded as `spp` is (at most {max} per pixel)"
+    )]
+    SamplesBeyondLimit { start: u32, end: u32, max: u32 },
     #[error("pixel rectangle {0} is empty or outside the {1}×{2} image")]
     Rect(PixelRect, u32, u32),
     #[error(
@@ -131,12 +136,23 @@ impl RenderRegion {
         }
     }
 
-    /// Checks the region against a `width`×`height` image.
+    /// Checks the region against a `width`×`height` image, and its
+    /// sample indices against [`MAX_SPP`]: a range may start anywhere
+    /// below it (parts of one render, or samples added to it later) but
+    /// never reaches past it, so a part's work is bounded as a whole
+    /// render's is (`--samples 0..4294967295` ran until killed).
     pub fn check(&self, width: u32, height: u32) -> Result<(), RegionError> {
         if self.samples.start >= self.samples.end {
             return Err(RegionError::EmptySamples {
                 start: self.samples.start,
                 end: self.samples.end,
+            });
+        }
+        if self.samples.end > MAX_SPP {
+            return Err(RegionError::SamplesBeyondLimit {
+                start: self.samples.start,
+                end: self.samples.end,
+                max: MAX_SPP,
             });
         }
         self.rect.check(width, height)

@@ -137,7 +137,15 @@ pub fn uniform_cone(axis: Vec3, cos_max: f32, u: glam::Vec2) -> Vec3 {
 /// The density of [`uniform_cone`]: one over the cone's solid angle
 /// `2π(1 − cos θmax)`.
 pub fn uniform_cone_pdf(cos_max: f32) -> f32 {
-    1.0 / (std::f32::consts::TAU * (1.0 - cos_max))
+    uniform_cone_pdf_from_gap(1.0 - cos_max)
+}
+
+/// [`uniform_cone_pdf`] from `1 − cos θmax` given directly, for cones too
+/// narrow for `cos θmax` to differ from 1 in f32 (a sphere of radius `r`
+/// at distance `d ≫ r` has `1 − cos θmax = (r/d)²/(1 + cos θmax)`, below
+/// f32's ε = 2⁻²³ once `d > 2900 r`).
+pub fn uniform_cone_pdf_from_gap(one_minus_cos_max: f32) -> f32 {
+    1.0 / (std::f32::consts::TAU * one_minus_cos_max)
 }
 
 #[cfg(test)]

@@ -21,9 +21,6 @@ use crate::phase::PhaseFunction;
 use crate::shapes::{Bounds, Shape};
 use glam::Vec3;
 
-/// Smallest and largest vertical field of view, degrees.
-const FOV_DEG: (f32, f32) = (1e-3, 179.0);
-
 /// Largest |g| of a Henyey–Greenstein phase function.
 const MAX_ASYMMETRY: f32 = 0.999;
 
@@ -210,8 +207,12 @@ impl SceneDesc {
         };
         item.point("position", camera.position)?;
         item.point("look_at", camera.look_at)?;
-        let (FieldOfView::Vertical(fov) | FieldOfView::ShorterSide(fov)) = camera.fov;
-        item.number("fov_y_deg", fov, FOV_DEG, "an angle in (0°, 179°]")?;
+        item.number(
+            "fov_y_deg",
+            camera.fov.degrees(),
+            FieldOfView::RANGE_DEG,
+            FieldOfView::RANGE_WORDS,
+        )?;
         camera.check().or_else(|m| item.fail("look_at", m))
     }
 

@@ -4,7 +4,7 @@
 
 use super::{Incident, towards};
 use crate::color::Rgb;
-use crate::sampling::{uniform_cone, uniform_cone_pdf};
+use crate::sampling::{uniform_cone, uniform_cone_pdf_from_gap};
 use crate::shapes::{Quad, Sphere};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
@@ -103,12 +103,21 @@ impl SphereLight {
         })
     }
 
-    /// `cos θmax` of the cone the sphere subtends from `x`, if `x` is
-    /// outside it.
-    fn cone(&self, x: Vec3) -> Option<f32> {
+    /// The cone the sphere subtends from `x`, if `x` is outside it:
+    /// `cos θmax = √(1 − sin²θmax)` with `sin θmax = r/d`, and the density
+    /// of uniform directions in it. The density takes
+    /// `1 − cos θmax = sin²θmax/(1 + cos θmax)`, exact where `cos θmax`
+    /// rounds to 1: a sphere 10⁴ radii away gave an infinite density, and
+    /// volpath's MIS weights ∞/∞ = NaN for every sample.
+    fn cone(&self, x: Vec3) -> Option<(f32, f32)> {
         let d2 = (self.sphere.center - x).length_squared();
         let r2 = self.sphere.radius * self.sphere.radius;
-        (d2 > r2 * (1.0 + 1e-4)).then(|| (1.0 - r2 / d2).max(0.0).sqrt())
+        (d2 > r2 * (1.0 + 1e-4)).then(|| {
+            let sin2_max = r2 / d2;
+            let cos_max = (1.0 - sin2_max).max(0.0).sqrt();
+            let pdf = uniform_cone_pdf_from_gap(sin2_max / (1.0 + cos_max));
+            (cos_max, pdf.min(f32::MAX))
+        })
     }
 
     /// Light from a point of the sphere chosen for the receiver `x`
@@ -116,7 +125,7 @@ impl SphereLight {
     /// inside), divided by the point's density, and that density per unit
     /// solid angle seen from `x`.
     pub fn sample_incident(&self, x: Vec3, u: Vec2) -> Option<(Incident, f32)> {
-        let Some(cos_max) = self.cone(x) else {
+        let Some((cos_max, pdf)) = self.cone(x) else {
             let y = self.point(u);
             let incident = self.incident(x, y)?;
             let pdf = self.pdf(x, y, incident.direction);
@@ -133,7 +142,6 @@ impl SphereLight {
         let sin2 = (1.0 - cos * cos).max(0.0);
         let r = self.sphere.radius;
         let distance = d * cos - (r * r - d * d * sin2).max(0.0).sqrt();
-        let pdf = uniform_cone_pdf(cos_max);
         Some((
             Incident {
                 direction,
@@ -149,8 +157,8 @@ impl SphereLight {
     /// [`SphereLight::sample_incident`] picks the point `y` in direction
     /// `direction` (unit, from `x`).
     pub fn pdf(&self, x: Vec3, y: Vec3, direction: Vec3) -> f32 {
-        if let Some(cos_max) = self.cone(x) {
-            return uniform_cone_pdf(cos_max);
+        if let Some((_, pdf)) = self.cone(x) {
+            return pdf;
         }
         let cos = self.normal(y).dot(direction).abs();
         let d2 = (y - x).length_squared();
@@ -433,6 +441,50 @@ mod tests {
                         && p.dot(quad.normal).abs() < 1e-4
                 );
             }
+        }
+    }
+
+    /// A sphere far away (issue 28: 10⁴ radii, where `cos θmax` rounds to
+    /// 1 in f32 and the cone's density was infinite, so every volpath
+    /// sample was NaN) has a finite density, and its sampled irradiance
+    /// `L·Ω` matches the closed form `Ω = 2π(1 − √(1 − (r/d)²))`,
+    /// evaluated in f64, to f32 rounding.
+    #[test]
+    fn far_spheres_have_finite_cone_densities() {
+        use super::SphereLight;
+        use crate::color::Rgb;
+        use crate::shapes::Sphere;
+        use glam::{Vec2, Vec3};
+        for d in [10.0f32, 1e3, 1e4, 1e5, 3e6] {
+            let light = SphereLight {
+                sphere: Sphere {
+                    center: Vec3::new(0.0, 0.0, -d),
+                    radius: 1.0,
+                },
+                radiance: Rgb::splat(2.0),
+                two_sided: false,
+            };
+            let (incident, pdf) = light
+                .sample_incident(Vec3::ZERO, Vec2::new(0.3, 0.7))
+                .expect("outside the sphere");
+            let d = d as f64;
+            let omega =
+                std::f64::consts::TAU * (1.0 / (d * d)) / (1.0 + (1.0 - 1.0 / (d * d)).sqrt());
+            assert!(pdf.is_finite() && pdf > 0.0, "d {d}: pdf {pdf}");
+            let relative = |x: f64, want: f64| ((x - want) / want).abs();
+            assert!(
+                relative(1.0 / pdf as f64, omega) < 1e-5,
+                "d {d}: Ω {} vs {omega}",
+                1.0 / pdf
+            );
+            assert!(
+                relative(incident.irradiance.x as f64, 2.0 * omega) < 1e-5,
+                "d {d}: {:?}",
+                incident.irradiance
+            );
+            assert!(incident.distance.is_finite() && incident.direction.is_finite());
+            let y = Vec3::ZERO + incident.direction * incident.distance;
+            assert_eq!(light.pdf(Vec3::ZERO, y, incident.direction), pdf);
         }
     }
 }

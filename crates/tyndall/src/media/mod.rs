@@ -44,6 +44,14 @@ impl Fog {
         self.albedo * self.sigma_t
     }
 
+    /// Whether the fog fills all space and scatters some channel without
+    /// absorbing it (albedo 1): a path's throughput in that channel never
+    /// falls, so Russian roulette never ends the path, which wanders on
+    /// through the endless fog.
+    pub fn is_endless_and_lossless(&self) -> bool {
+        self.bounds.is_none() && self.sigma_t > 0.0 && self.albedo.max_element() >= 1.0
+    }
+
     /// The part of `[t0, t1]` along `ray` that lies in the fog (one
     /// interval: a box is convex).
     #[inline]
