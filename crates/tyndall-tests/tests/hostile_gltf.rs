@@ -429,9 +429,55 @@ impl Rng {
     }
 }
 
-/// Byte ranges of the JSON numbers in `text` (outside strings).
-fn numbers(text: &[u8]) -> Vec<(usize, usize)> {
+const HOSTILE_NUMBERS: [&str; 7] = [
+    "-1",
+    "4294967295",
+    "1e30",
+    "0",
+    "18446744073709551616",
+    "3",
+    "-0.0",
+];
+
+const HOSTILE_STRINGS: [&str; 30] = [
+    "orthographic",
+    "perspective",
+    "spot",
+    "directional",
+    "image/png",
+    "image/jpeg",
+    "",
+    "data:;base64,AAAA",
+    "data:application/octet-stream;base64,",
+    "/dev/zero",
+    "..",
+    "%zz",
+    "file:///dev/zero",
+    "http://example.com/a.bin",
+    "VEC2",
+    "MAT4",
+    "SCALAR",
+    "uri",
+    "bufferView",
+    "sparse",
+    "mimeType",
+    "TEXCOORD_0",
+    "TEXCOORD_1",
+    "NORMAL",
+    "POSITION",
+    "indices",
+    "children",
+    "KHR_lights_punctual",
+    "KHR_materials_transmission",
+    "baseColorTexture",
+];
+
+/// Byte ranges of the JSON numbers in `text` and of its strings
+/// (without their quotes).
+fn tokens(text: &[u8]) -> (Vec<(usize, usize)>, Vec<(usize, usize)>) {
     let mut spans = Vec::new();
+    let mut strings = Vec::new();
+    let mut string_start = 0;
     let (mut i, mut in_string) = (0, false);
     while i < text.len() {
         let c = text[i];
@@ -440,11 +486,13 @@ fn numbers(text: &[u8]) -> Vec<(usize, usize)> {
                 i += 1;
             } else if c == b'"' {
                 in_string = false;
+                strings.push((string_start, i));
             }
             i += 1;
         } else if c == b'"' {
             in_string = true;
             i += 1;
+            string_start = i;
         } else if c == b'-' || c.is_ascii_digit() {
             let start = i;
             while i < text.len()
@@ -457,11 +505,11 @@ fn numbers(text: &[u8]) -> Vec<(usize, usize)> {
             i += 1;
         }
     }
-    spans
+    (spans, strings)
 }
 
 /// One deterministic corruption of `seed`: byte flips, a truncation, or
-/// (in JSON) a number replaced by a hostile one.
+/// (in its JSON) a number or string replaced by a hostile one.
 fn mutate(seed: &[u8], glb: bool, rng: &mut Rng) -> Vec<u8> {
     let mut bytes = seed.to_vec();
     match rng.below(4) {
@@ -480,25 +528,27 @@ fn mutate(seed: &[u8], glb: bool, rng: &mut Rng) -> Vec<u8> {
             // A number of the JSON (inside the seed, which may be a glb
             // holding it) replaced.
             let (offset, text) = if glb {
-                let len = u32::from_le_bytes([seed[12], seed[13], seed[14], seed[15]]) as usize;
-                (20, &seed[20..20 + len])
+                let len = seed
+                    .get(12..16)
+                    .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize);
+                match seed.get(20..20usize.saturating_add(len)) {
+                    Some(text) if seed.len() >= 16 => (20, text),
+                    _ => return bytes,
+                }
             } else {
                 (0, seed)
             };
-            let spans = numbers(text);
+            let (numbers, strings) = tokens(text);
+            // A number, or a string's contents (keys included).
+            let (spans, hostile): (_, &[&str]) = if rng.below(3) > 0 {
+                (numbers, &HOSTILE_NUMBERS)
+            } else {
+                (strings, &HOSTILE_STRINGS)
+            };
             if spans.is_empty() {
                 return bytes;
             }
             let (start, end) = spans[rng.below(spans.len())];
-            let hostile = [
-                "-1",
-                "4294967295",
-                "1e30",
-                "0",
-                "18446744073709551616",
-                "3",
-                "-0.0",
-            ];
             let with = hostile[rng.below(hostile.len())].as_bytes();
             let mut out = seed[..offset + start].to_vec();
             out.extend_from_slice(with);
@@ -582,7 +632,11 @@ fn mutated_files_never_panic() {
         tyndall_load::gltf::load_bytes(Path::new(name), seed, Some(dir))
             .unwrap_or_else(|e| panic!("{name}: the seed does not load: {e}"));
         for i in 0..per_seed {
-            let bytes = mutate(seed, *glb, &mut rng);
+            let mut bytes = mutate(seed, *glb, &mut rng);
+            // A quarter get a second mutation on top.
+            if rng.below(4) == 0 && !bytes.is_empty() {
+                bytes = mutate(&bytes, *glb, &mut rng);
+            }
             let result = std::panic::catch_unwind(|| {
                 tyndall_load::gltf::load_bytes(Path::new(name), &bytes, Some(dir)).map(|_| ())
             });
