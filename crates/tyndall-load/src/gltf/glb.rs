@@ -29,6 +29,7 @@ const CHUNK_JSON: u32 = 0x4E4F_534A;
 const CHUNK_BIN: u32 = 0x004E_4942;
 
 /// The two chunks of a `.glb` file, borrowed from its bytes.
+#[derive(Debug)]
 pub(super) struct Glb<'a> {
     pub json: &'a [u8],
     pub bin: Option<&'a [u8]>,
@@ -102,4 +103,44 @@ pub(super) fn parse(bytes: &[u8]) -> Result<Glb<'_>, String> {
     }
     let json = json.ok_or("the binary glTF file has no JSON chunk")?;
     Ok(Glb { json, bin })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn written_files_parse_back() {
+        let glb = glb_bytes(b"{}", &[1, 2, 3]);
+        let parsed = parse(&glb).unwrap();
+        assert_eq!(parsed.json, b"{}  ");
+        assert_eq!(parsed.bin, Some(&[1, 2, 3, 0][..]));
+    }
+
+    #[test]
+    fn lengths_are_not_trusted() {
+        let glb = glb_bytes(b"{}", &[1, 2, 3]);
+        assert!(parse(&glb[..8]).unwrap_err().contains("12 bytes"));
+        let mut long = glb.clone();
+        long[8..12].copy_from_slice(&u32::MAX.to_le_bytes());
+        assert!(
+            parse(&long)
+                .unwrap_err()
+                .contains("claims 4294967295 bytes")
+        );
+        let mut chunk = glb.clone();
+        chunk[12..16].copy_from_slice(&u32::MAX.to_le_bytes());
+        assert!(parse(&chunk).unwrap_err().contains("chunk 0 claims"));
+        let mut version = glb.clone();
+        version[4] = 1;
+        assert!(parse(&version).unwrap_err().contains("version 1"));
+        let mut order = glb.clone();
+        order[16..20].copy_from_slice(b"BIN\0");
+        assert!(parse(&order).unwrap_err().contains("first chunk"));
+        // A header cut inside the second chunk's header.
+        let mut cut = glb[..glb.len() - 8].to_vec();
+        let len = cut.len() as u32;
+        cut[8..12].copy_from_slice(&len.to_le_bytes());
+        assert!(parse(&cut).is_err());
+    }
 }

@@ -72,8 +72,7 @@ fn multiplicity(kind: &str) -> Option<u64> {
     }
 }
 
-/// The document's view of one array property and the checks on its
-/// entries.
+/// The document being checked.
 struct Doc<'a> {
     root: &'a Map<String, Value>,
     /// The GLB BIN chunk's length, when the document came in a `.glb`.
@@ -690,12 +689,16 @@ pub(super) fn check(root: &Value, bin_len: Option<u64>) -> Checked<Outline> {
 }
 
 /// Checks every textureInfo under `value` (an object under a key ending
-/// in `Texture`, §5.22) names an existing texture.
+/// in `Texture`, §5.22) names an existing texture; `extras` are skipped.
 fn texture_refs(value: &Value, element: &str, n_textures: usize) -> Checked {
     match value {
         Value::Object(map) => {
             for (key, v) in map {
                 let at = format!("{element}.{key}");
+                if key == "extras" {
+                    // Application data (§3.12), not read.
+                    continue;
+                }
                 if key.ends_with("Texture") {
                     let info = object(v, &at)?;
                     index_of(info, "index", &at, "texture", n_textures)?
