@@ -472,9 +472,12 @@ const HOSTILE_STRINGS: [&str; 30] = [
     "baseColorTexture",
 ];
 
+/// Byte ranges, start to end.
+type Spans = Vec<(usize, usize)>;
+
 /// Byte ranges of the JSON numbers in `text` and of its strings
 /// (without their quotes).
-fn tokens(text: &[u8]) -> (Vec<(usize, usize)>, Vec<(usize, usize)>) {
+fn tokens(text: &[u8]) -> (Spans, Spans) {
     let mut spans = Vec::new();
     let mut strings = Vec::new();
     let mut string_start = 0;
