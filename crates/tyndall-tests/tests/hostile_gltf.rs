@@ -74,6 +74,7 @@ fn refused(path: &Path, expected: &[&str]) -> String {
         Ok(_) => panic!("{}: a hostile file loaded", path.display()),
         Err(e) => e.to_string(),
     };
+    println!("{message}");
     let file = path.file_name().and_then(|f| f.to_str()).unwrap_or("?");
     assert!(message.contains(file), "names the file: {message}");
     for e in expected {
@@ -267,6 +268,30 @@ fn mesh_instances_past_the_triangle_cap_are_refused_before_generation() {
         doc["scenes"] = json!([{"nodes": roots}]);
     });
     refused(&path, &["more than 16777216 triangles"]);
+    // 64 instances of a mesh of three triangles over 2²⁰ vertices (a
+    // sparse POSITION): 2²⁶ vertices to read.
+    let path = write_edited("vertex-cap", false, |doc| {
+        doc["accessors"][0] = json!({"componentType": 5126, "count": 1 << 20, "type": "VEC3",
+            "min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 0.0],
+            "sparse": {"count": 3, "indices": {"bufferView": 1, "componentType": 5125},
+                       "values": {"bufferView": 0}}});
+        let mut nodes = vec![json!({"camera": 0})];
+        nodes.extend((0..64).map(|_| json!({"mesh": 0})));
+        let roots: Vec<usize> = (0..nodes.len()).collect();
+        doc["nodes"] = Value::Array(nodes);
+        doc["scenes"] = json!([{"nodes": roots}]);
+    });
+    refused(&path, &["nodes[33]", "more than 33554432 vertices"]);
+    // One instance is within the limits: the sparse accessor reads as
+    // zeros but for its three vertices, one triangle.
+    let path = write_edited("sparse-one", false, |doc| {
+        doc["accessors"][0] = json!({"componentType": 5126, "count": 1 << 20, "type": "VEC3",
+            "min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 0.0],
+            "sparse": {"count": 3, "indices": {"bufferView": 1, "componentType": 5125},
+                       "values": {"bufferView": 0}}});
+    });
+    let desc = tyndall_load::gltf::load(&path).expect("a sparse POSITION loads");
+    assert_eq!(triangles(&desc), 1);
 }
 
 #[test]

@@ -340,11 +340,18 @@ fn check_expansion(
             let (v, t) = outline.mesh_cost[mesh];
             vertices = vertices.saturating_add(v);
             triangles = triangles.saturating_add(t);
-            if triangles > MAX_TRIANGLES || vertices > MAX_VERTICES {
+            let over = if triangles > MAX_TRIANGLES {
+                Some(format!("{MAX_TRIANGLES} triangles"))
+            } else if vertices > MAX_VERTICES {
+                Some(format!("{MAX_VERTICES} vertices"))
+            } else {
+                None
+            };
+            if let Some(over) = over {
                 return Err(error(
                     name,
                     format!(
-                        "nodes[{node}]: the scene's mesh instances (meshes[{mesh}] here) add up to more than {MAX_TRIANGLES} triangles or {MAX_VERTICES} vertices"
+                        "nodes[{node}]: the scene's mesh instances (meshes[{mesh}] here) add up to more than {over}"
                     ),
                 ));
             }
