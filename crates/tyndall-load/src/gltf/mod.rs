@@ -62,7 +62,7 @@ pub const HANDLED_EXTENSIONS: &[&str] = &[
 
 /// Most node instances the default scene's hierarchy may expand to: a
 /// node reached along several paths (a node listed as the child of two
-/// parents, which glTF 2.0 §3.5.3 forbids but files contain) is an
+/// parents, which glTF 2.0 §3.5.2 forbids but files contain) is an
 /// instance per path. A 26-level hierarchy of two children each is 2²⁶
 /// instances from 2.5 KB; it is refused before the walk starts.
 pub const MAX_NODE_INSTANCES: u64 = 1 << 20;
@@ -129,7 +129,7 @@ pub fn load(path: &Path) -> Result<SceneDesc, SceneError> {
 /// [`load`] of a document held in memory: `bytes` are the `.gltf` JSON or
 /// the `.glb` container (told apart by the GLB magic `glTF`, glTF 2.0
 /// §4.4.2), `name` the file name errors give, and `base_dir` the
-/// directory relative `uri`s resolve in (§3.3.2); with `None` only
+/// directory relative `uri`s resolve in (§2.8); with `None` only
 /// `data:` URIs and the GLB BIN chunk can be read, and a file `uri` is an
 /// error. For fuzzers: nothing but the document's own references is read
 /// from disk.
@@ -279,7 +279,7 @@ fn import(name: &Path, bytes: &[u8], base: Option<&Path>) -> Result<Imported, Sc
 /// explicit stack, so a chain of any depth takes no native stack. `visit`
 /// gets a node and its parent's state and returns the node's, which its
 /// children get. A node met again among its own ancestors is a cycle,
-/// refused (glTF 2.0 §3.5.3: the hierarchy is a set of disjoint trees).
+/// refused (glTF 2.0 §3.5.2: the hierarchy is a set of disjoint trees).
 fn traverse<S: Copy>(
     name: &Path,
     roots: &[usize],

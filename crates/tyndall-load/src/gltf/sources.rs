@@ -1,13 +1,13 @@
 //! The bytes a glTF document refers to — buffers (glTF 2.0 §3.6.1) and
 //! images (§3.8.3) — read with bounds: a `uri` must name a regular file
 //! (not `/dev/zero`, a pipe or a directory), its size is checked before
-//! it is read and no more than is needed is read; `data:` URIs (§3.3.2,
+//! it is read and no more than is needed is read; `data:` URIs (§2.8,
 //! base64 only) are decoded here, their size bounded by the document's.
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
-/// Where a `uri` points (§3.3.2: relative paths are percent-encoded and
+/// Where a `uri` points (§2.8: relative paths are percent-encoded and
 /// resolved against the document's directory).
 enum Uri {
     /// The bytes of a base64 `data:` URI, still encoded.

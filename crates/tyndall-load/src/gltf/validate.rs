@@ -36,7 +36,7 @@ type Checked<T = ()> = Result<T, Problem>;
 /// What the node walk needs to know before it starts, from a checked
 /// document.
 pub(super) struct Outline {
-    /// Each node's children (§3.5.3).
+    /// Each node's children (§3.5.2).
     pub children: Vec<Vec<usize>>,
     /// Each node's mesh, if any.
     pub node_mesh: Vec<Option<usize>>,
@@ -206,7 +206,7 @@ impl Doc<'_> {
         Ok(lengths)
     }
 
-    /// Buffer views (§3.6.2.4, §5.11): inside their buffer, with a
+    /// Buffer views (§3.6.2.4): inside their buffer, with a
     /// `byteStride` of 4 to 252 if any. Returns (length, stride) of each.
     fn views(&self, buffers: &[u64]) -> Checked<Vec<(u64, Option<u64>)>> {
         let mut views = Vec::new();
@@ -248,7 +248,7 @@ impl Doc<'_> {
         Ok(views)
     }
 
-    /// Accessors (§3.6.2, §5.1): a known type, `count` ≥ 1, and every
+    /// Accessors (§3.6.2): a known type, `count` ≥ 1, and every
     /// element inside its view: `byteOffset + stride·(count − 1) + size ≤
     /// byteLength` with the view's stride no shorter than an element;
     /// sparse indices and values likewise (§3.6.2.3). Returns each
@@ -408,7 +408,7 @@ pub(super) fn check(root: &Value, bin_len: Option<u64>) -> Checked<Outline> {
     let n_meshes = doc.len("meshes");
     let n_textures = doc.len("textures");
 
-    // Images (§3.8.3, §5.18): a uri or a bufferView with a mimeType.
+    // Images (§3.8.3): a uri or a bufferView with a mimeType.
     for (i, image) in doc.items("images")?.iter().enumerate() {
         let element = format!("images[{i}]");
         let image = object(image, &element)?;
@@ -438,7 +438,7 @@ pub(super) fn check(root: &Value, bin_len: Option<u64>) -> Checked<Outline> {
         }
     }
 
-    // Textures (§3.8.4, §5.29) and samplers.
+    // Textures (§3.8.4) and samplers.
     let n_images = doc.len("images");
     let n_samplers = doc.len("samplers");
     for (i, texture) in doc.items("textures")?.iter().enumerate() {
@@ -449,14 +449,14 @@ pub(super) fn check(root: &Value, bin_len: Option<u64>) -> Checked<Outline> {
         index_of(texture, "sampler", &element, "sampler", n_samplers)?;
     }
 
-    // Materials (§3.9, §5.19): every textureInfo's index, in the core
+    // Materials (§3.9): every textureInfo's index, in the core
     // properties and in extensions alike (any object under a key ending
     // in "Texture").
     for (i, material) in doc.items("materials")?.iter().enumerate() {
         texture_refs(material, &format!("materials[{i}]"), n_textures)?;
     }
 
-    // Cameras (§3.10, §5.12): the object its type names.
+    // Cameras (§3.10): the object its type names.
     for (i, camera) in doc.items("cameras")?.iter().enumerate() {
         let element = format!("cameras[{i}]");
         let camera = object(camera, &element)?;
@@ -502,7 +502,7 @@ pub(super) fn check(root: &Value, bin_len: Option<u64>) -> Checked<Outline> {
         }
     }
 
-    // Meshes (§3.7.2, §5.23–5.24).
+    // Meshes (§3.7.2).
     let n_materials = doc.len("materials");
     let mut mesh_cost = Vec::new();
     for (m, mesh) in doc.items("meshes")?.iter().enumerate() {
@@ -587,7 +587,7 @@ pub(super) fn check(root: &Value, bin_len: Option<u64>) -> Checked<Outline> {
         mesh_cost.push((vertices, triangles));
     }
 
-    // Skins (§3.7.3, §5.28) and animations (§3.11, §5.2).
+    // Skins (§3.7.3) and animations (§3.11).
     for (i, skin) in doc.items("skins")?.iter().enumerate() {
         let element = format!("skins[{i}]");
         let skin = object(skin, &element)?;
@@ -624,7 +624,7 @@ pub(super) fn check(root: &Value, bin_len: Option<u64>) -> Checked<Outline> {
         }
     }
 
-    // Nodes (§3.5, §5.25).
+    // Nodes (§3.5).
     let n_cameras = doc.len("cameras");
     let n_skins = doc.len("skins");
     let mut children = Vec::new();
@@ -659,7 +659,7 @@ pub(super) fn check(root: &Value, bin_len: Option<u64>) -> Checked<Outline> {
         }
     }
 
-    // Scenes (§3.5.1, §5.26).
+    // Scenes (§3.5.1).
     let scenes = doc.items("scenes")?;
     let mut scene_roots = Vec::new();
     for (i, scene) in scenes.iter().enumerate() {
@@ -689,14 +689,14 @@ pub(super) fn check(root: &Value, bin_len: Option<u64>) -> Checked<Outline> {
 }
 
 /// Checks every textureInfo under `value` (an object under a key ending
-/// in `Texture`, §5.22) names an existing texture; `extras` are skipped.
+/// in `Texture`) names an existing texture; `extras` are skipped.
 fn texture_refs(value: &Value, element: &str, n_textures: usize) -> Checked {
     match value {
         Value::Object(map) => {
             for (key, v) in map {
                 let at = format!("{element}.{key}");
                 if key == "extras" {
-                    // Application data (§3.12), not read.
+                    // Application-specific data, not read.
                     continue;
                 }
                 if key.ends_with("Texture") {
