@@ -14,8 +14,14 @@ use tyndall::materials::{Material, MaterialId, Surface};
 use tyndall::texture::{Texture, TextureId, Wrap};
 
 /// Most texels a texture may have (a 16384² image): larger ones are
-/// refused rather than decoded.
-const MAX_TEXELS: u64 = 1 << 28;
+/// refused rather than decoded (the size is read from the image's header
+/// first).
+pub const MAX_TEXELS: u64 = 1 << 28;
+
+/// Most texels decoded from one glTF file's images altogether (an image
+/// used with two samplers counts twice), so that many textures naming one
+/// large image cannot multiply it.
+pub const MAX_DECODED_TEXELS: u64 = 1 << 28;
 
 /// The base colour texture of an opaque material: the scene's texture
 /// that multiplies its diffuse reflectance, and which TEXCOORD set its
@@ -246,10 +252,7 @@ impl GltfLoader<'_> {
         if let Some(&id) = self.textures.get(&key) {
             return Ok((id, scene.textures[id as usize].value.mean()));
         }
-        let image = self
-            .images
-            .get(index)
-            .ok_or_else(|| self.err(element, format!("images[{index}] was not loaded")))?;
+        let image = &self.decode_image(element, &texture.source())?;
         let (channels, bytes) = match image.format {
             Format::R8 => (1, 1),
             Format::R8G8 => (2, 1),
@@ -268,16 +271,15 @@ impl GltfLoader<'_> {
                 ));
             }
         };
-        if u64::from(image.width) * u64::from(image.height) > MAX_TEXELS {
+        let stride = channels * bytes;
+        if image.pixels.len() as u64
+            != u64::from(image.width) * u64::from(image.height) * stride as u64
+        {
             return Err(self.err(
                 element,
-                format!(
-                    "images[{index}] is {}×{}: at most {MAX_TEXELS} texels are supported",
-                    image.width, image.height
-                ),
+                format!("images[{index}]: the decoded image has the wrong size"),
             ));
         }
-        let stride = channels * bytes;
         let texels = image
             .pixels
             .chunks_exact(stride)
@@ -316,5 +318,105 @@ impl GltfLoader<'_> {
         let id = scene.add_texture(Arc::new(made), self.origin(format!("images[{index}]")));
         self.textures.insert(key, id);
         Ok((id, mean))
+    }
+}
+
+impl GltfLoader<'_> {
+    /// Decodes image `image` (glTF 2.0 §3.8.3: PNG or JPEG, from a buffer
+    /// view or a `uri`), refusing one over [`MAX_TEXELS`] texels, or past
+    /// [`MAX_DECODED_TEXELS`] with those decoded before, from its header
+    /// before any pixel is decoded.
+    fn decode_image(
+        &mut self,
+        element: &str,
+        image: &::gltf::Image,
+    ) -> Result<::gltf::image::Data, SceneError> {
+        use ::gltf::image::Source;
+        use image::{DynamicImage, ImageFormat, ImageReader};
+        use std::borrow::Cow;
+        let at = format!("images[{}]", image.index());
+        let fail = |m: String| self.err(element, format!("{at}: {m}"));
+        let (bytes, mime, file): (Cow<[u8]>, Option<&str>, Option<String>) = match image.source() {
+            Source::View { view, mime_type } => {
+                let data = self
+                    .buffers
+                    .get(view.buffer().index())
+                    .and_then(|d| {
+                        d.0.get(view.offset()..view.offset().checked_add(view.length())?)
+                    })
+                    .ok_or_else(|| fail("its bufferView lies outside its buffer".into()))?;
+                (Cow::Borrowed(data), Some(mime_type), None)
+            }
+            Source::Uri { uri, mime_type } => {
+                let (bytes, file) =
+                    super::sources::read_image(uri, self.base, super::MAX_IMAGE_FILE_BYTES)
+                        .map_err(fail)?;
+                (Cow::Owned(bytes), mime_type, file)
+            }
+        };
+        let extension = file
+            .as_deref()
+            .and_then(|f| f.rsplit('.').next())
+            .map(str::to_ascii_lowercase);
+        let format = match (mime, extension.as_deref()) {
+            (Some("image/png"), _) | (None, Some("png")) => ImageFormat::Png,
+            (Some("image/jpeg"), _) | (None, Some("jpg" | "jpeg")) => ImageFormat::Jpeg,
+            _ => match image::guess_format(&bytes) {
+                Ok(f @ (ImageFormat::Png | ImageFormat::Jpeg)) => f,
+                _ => {
+                    return Err(fail(format!(
+                        "the image is not PNG or JPEG (mimeType {})",
+                        mime.unwrap_or("not given")
+                    )));
+                }
+            },
+        };
+        let reader = || ImageReader::with_format(std::io::Cursor::new(&bytes[..]), format);
+        let (width, height) = reader()
+            .into_dimensions()
+            .map_err(|e| fail(format!("cannot read the image: {e}")))?;
+        let texels = u64::from(width) * u64::from(height);
+        if texels > MAX_TEXELS {
+            return Err(fail(format!(
+                "the image is {width}×{height}: at most {MAX_TEXELS} texels are supported"
+            )));
+        }
+        if self.decoded_texels + texels > MAX_DECODED_TEXELS {
+            return Err(fail(format!(
+                "the file's images add up to more than {MAX_DECODED_TEXELS} texels"
+            )));
+        }
+        let mut decoder = reader();
+        let mut limits = image::Limits::default();
+        // 16-bit RGBA and the decoder's own buffers.
+        limits.max_alloc = Some(texels * 8 + (64 << 20));
+        decoder.limits(limits);
+        let decoded = decoder
+            .decode()
+            .map_err(|e| fail(format!("cannot decode the image: {e}")))?;
+        drop(bytes);
+        let format = match &decoded {
+            DynamicImage::ImageLuma8(_) => Format::R8,
+            DynamicImage::ImageLumaA8(_) => Format::R8G8,
+            DynamicImage::ImageRgb8(_) => Format::R8G8B8,
+            DynamicImage::ImageRgba8(_) => Format::R8G8B8A8,
+            DynamicImage::ImageLuma16(_) => Format::R16,
+            DynamicImage::ImageLumaA16(_) => Format::R16G16,
+            DynamicImage::ImageRgb16(_) => Format::R16G16B16,
+            DynamicImage::ImageRgba16(_) => Format::R16G16B16A16,
+            _ => {
+                return Err(self.err(
+                    element,
+                    format!("{at}: the image's pixel format is not supported for a base colour"),
+                ));
+            }
+        };
+        self.decoded_texels += texels;
+        Ok(::gltf::image::Data {
+            width: decoded.width(),
+            height: decoded.height(),
+            pixels: decoded.into_bytes(),
+            format,
+        })
     }
 }

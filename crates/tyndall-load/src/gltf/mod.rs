@@ -9,9 +9,22 @@
 //! by [`crate::photometry`]) and materials map to Tyndall's closed set
 //! (`materials.rs`). Errors name the file and the
 //! element (`meshes[2].primitives[0]`, `nodes[3]`, `materials[1]`).
+//!
+//! No file may crash, hang or exhaust memory: a `.glb` container is
+//! parsed with its lengths checked (`glb.rs`), the JSON is checked before
+//! the `gltf` crate indexes it (`validate.rs`: every index, every buffer
+//! view and accessor inside what it refers to), buffers and images are
+//! read with bounds (`sources.rs`: regular files only, no more than
+//! `byteLength`), the node walk is iterative with a cycle check, and what
+//! the hierarchy expands to is bounded ([`MAX_NODE_INSTANCES`],
+//! [`MAX_TRIANGLES`], [`MAX_VERTICES`]) before any triangle is made.
+//! [`load_bytes`] and [`add_bytes_to_scene`] read a document from memory
+//! (for fuzzers).
 
 mod glb;
 mod materials;
+mod sources;
+mod validate;
 
 pub use glb::glb_bytes;
 
@@ -24,7 +37,7 @@ use ::gltf::mesh::Mode;
 use ::gltf::{Accessor, Semantic};
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use std::collections::HashMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use tyndall::camera::{CameraSpec, FieldOfView};
 use tyndall::color::Rgb;
@@ -47,6 +60,28 @@ pub const HANDLED_EXTENSIONS: &[&str] = &[
     "KHR_materials_specular",
 ];
 
+/// Most node instances the default scene's hierarchy may expand to: a
+/// node reached along several paths (a node listed as the child of two
+/// parents, which glTF 2.0 §3.5.2 forbids but files contain) is an
+/// instance per path. A 26-level hierarchy of two children each is 2²⁶
+/// instances from 2.5 KB; it is refused before the walk starts.
+pub const MAX_NODE_INSTANCES: u64 = 1 << 20;
+
+/// Most triangles the node walk may make, over all mesh instances
+/// (each primitive's index count, or vertex count, over 3, times the
+/// mesh's instances), checked before any is made.
+pub const MAX_TRIANGLES: u64 = 1 << 24;
+
+/// Most vertices the node walk may read, over all mesh instances (each
+/// primitive's `POSITION` count times the mesh's instances).
+pub const MAX_VERTICES: u64 = 1 << 25;
+
+/// Largest `.gltf` or `.glb` file read, and largest buffer `byteLength`.
+pub const MAX_FILE_BYTES: u64 = 1 << 30;
+
+/// Largest image file (`images[i].uri`) read.
+pub const MAX_IMAGE_FILE_BYTES: u64 = 256 << 20;
+
 /// Index of refraction glTF assumes without KHR_materials_ior.
 const DEFAULT_IOR: f32 = 1.5;
 
@@ -67,6 +102,10 @@ pub struct GltfCamera {
     pub spec: CameraSpec,
     /// Width over height, when the camera gives one.
     pub aspect: Option<f32>,
+    /// Its index in `cameras`.
+    pub index: usize,
+    /// The node that placed it.
+    pub node: usize,
 }
 
 /// What a glTF file added to a [`SceneDesc`].
@@ -83,6 +122,23 @@ pub struct GltfContent {
 /// bounds), geometry, materials and lights, with default render settings
 /// (the image height follows the camera's aspect ratio) and no fog.
 pub fn load(path: &Path) -> Result<SceneDesc, SceneError> {
+    let bytes = read_document(path)?;
+    load_bytes(path, &bytes, Some(&base_dir(path)))
+}
+
+/// [`load`] of a document held in memory: `bytes` are the `.gltf` JSON or
+/// the `.glb` container (told apart by the GLB magic `glTF`, glTF 2.0
+/// §4.4.2), `name` the file name errors give, and `base_dir` the
+/// directory relative `uri`s resolve in (§2.8); with `None` only
+/// `data:` URIs and the GLB BIN chunk can be read, and a file `uri` is an
+/// error. For fuzzers: nothing but the document's own references is read
+/// from disk.
+pub fn load_bytes(
+    name: &Path,
+    bytes: &[u8],
+    base_dir: Option<&Path>,
+) -> Result<SceneDesc, SceneError> {
+    let path = name;
     let placeholder = CameraSpec {
         position: Vec3::Z,
         look_at: Vec3::ZERO,
@@ -90,33 +146,37 @@ pub fn load(path: &Path) -> Result<SceneDesc, SceneError> {
         fov: FieldOfView::Vertical(DEFAULT_FOV_Y_DEG),
     };
     let mut desc = SceneDesc::new(Sourced::code(placeholder));
-    let mut content = add_to_scene(path, Mat4::IDENTITY, &mut desc)?;
+    let mut content = add_bytes_to_scene(path, bytes, base_dir, Mat4::IDENTITY, &mut desc)?;
     let settings = &mut desc.settings;
-    let camera = match content.camera {
+    let (camera, camera_element) = match content.camera {
         Some(camera) => {
             if let Some(aspect) = camera.aspect {
                 let height = (settings.width as f32 / aspect).round();
                 settings.height = height.clamp(1.0, MAX_IMAGE_SIDE as f32) as u32;
             }
-            camera.spec
+            (
+                camera.spec,
+                format!("cameras[{}] (at nodes[{}])", camera.index, camera.node),
+            )
         }
         None => {
             content.warnings.push(
                 "the file has no camera: using a view of the whole scene from +z".to_string(),
             );
-            view_of(content.bounds).ok_or_else(|| {
+            let view = view_of(content.bounds).ok_or_else(|| {
                 error(
                     path,
                     "the file has no camera and no triangles: there is nothing to look at",
                 )
-            })?
+            })?;
+            (view, "the default view (the file has no camera)".into())
         }
     };
     desc.camera = Sourced::new(
         camera,
         Origin::Element {
             file: Arc::from(path),
-            path: "cameras".into(),
+            path: camera_element,
         },
     );
     if desc.lights.is_empty() {
@@ -142,12 +202,189 @@ pub fn add_to_scene(
     placement: Mat4,
     scene: &mut SceneDesc,
 ) -> Result<GltfContent, SceneError> {
-    let (document, buffers, images) =
-        ::gltf::import(path).map_err(|e| error(path, describe_import_error(&e)))?;
+    let bytes = read_document(path)?;
+    add_bytes_to_scene(path, &bytes, Some(&base_dir(path)), placement, scene)
+}
+
+/// The directory a file's relative `uri`s resolve in.
+fn base_dir(path: &Path) -> PathBuf {
+    path.parent().map(Path::to_owned).unwrap_or_default()
+}
+
+/// The bytes of a `.gltf` or `.glb` file, at most [`MAX_FILE_BYTES`].
+fn read_document(path: &Path) -> Result<Vec<u8>, SceneError> {
+    crate::files::read_capped(path, MAX_FILE_BYTES)
+        .map_err(|m| error(path, format!("cannot read the file: {m}")))
+}
+
+/// A document checked and its buffers read.
+struct Imported {
+    document: ::gltf::Document,
+    buffers: Vec<::gltf::buffer::Data>,
+    outline: validate::Outline,
+}
+
+/// Parses and checks a document and reads its buffers: the GLB container
+/// (`glb::parse`), our checks of the JSON (`validate::check`), the `gltf`
+/// crate's own validation, then each buffer (§3.6.1) — the BIN chunk or a
+/// bounded read of its `uri`.
+fn import(name: &Path, bytes: &[u8], base: Option<&Path>) -> Result<Imported, SceneError> {
+    let (json, bin) = if bytes.starts_with(b"glTF") {
+        let glb = glb::parse(bytes).map_err(|m| error(name, m))?;
+        (glb.json, glb.bin)
+    } else {
+        (bytes, None)
+    };
+    let value: serde_json::Value = serde_json::from_slice(json)
+        .map_err(|e| error(name, format!("the glTF JSON is malformed: {e}")))?;
+    let outline = validate::check(&value, bin.map(|b| b.len() as u64))
+        .map_err(|p| error(name, format!("{}: {}", p.element, p.message)))?;
+    drop(value);
+    let root = ::gltf::json::Root::from_slice(json)
+        .map_err(|e| error(name, format!("invalid glTF: {e}")))?;
+    let document =
+        ::gltf::Document::from_json(root).map_err(|e| error(name, describe_import_error(&e)))?;
+    let mut buffers = Vec::new();
+    for buffer in document.buffers() {
+        let element = format!("buffers[{}]", buffer.index());
+        let length = buffer.length() as u64;
+        if length > MAX_FILE_BYTES {
+            return Err(error(
+                name,
+                format!(
+                    "{element}: byteLength {length} is more than the {MAX_FILE_BYTES} bytes a buffer may have"
+                ),
+            ));
+        }
+        let mut data = match buffer.source() {
+            ::gltf::buffer::Source::Bin => bin
+                .map(<[u8]>::to_vec)
+                .ok_or_else(|| error(name, format!("{element}: the file has no GLB BIN chunk")))?,
+            ::gltf::buffer::Source::Uri(uri) => sources::read_buffer(uri, base, length)
+                .map_err(|m| error(name, format!("{element}: {m}")))?,
+        };
+        // As the gltf crate pads them (its readers assume it).
+        data.resize(data.len().div_ceil(4) * 4, 0);
+        buffers.push(::gltf::buffer::Data(data));
+    }
+    Ok(Imported {
+        document,
+        buffers,
+        outline,
+    })
+}
+
+/// Visits the nodes under `roots` depth first, in order (a node before
+/// its children, children in `children` order), without recursion: an
+/// explicit stack, so a chain of any depth takes no native stack. `visit`
+/// gets a node and its parent's state and returns the node's, which its
+/// children get. A node met again among its own ancestors is a cycle,
+/// refused (glTF 2.0 §3.5.2: the hierarchy is a set of disjoint trees).
+fn traverse<S: Copy>(
+    name: &Path,
+    roots: &[usize],
+    children: &[Vec<usize>],
+    root_state: S,
+    mut visit: impl FnMut(usize, S) -> Result<S, SceneError>,
+) -> Result<(), SceneError> {
+    enum Step<S> {
+        Enter(usize, S),
+        Leave(usize),
+    }
+    let mut on_path = vec![false; children.len()];
+    let mut stack: Vec<Step<S>> = roots
+        .iter()
+        .rev()
+        .map(|&n| Step::Enter(n, root_state))
+        .collect();
+    while let Some(step) = stack.pop() {
+        match step {
+            Step::Enter(node, parent) => {
+                if on_path.get(node).copied().unwrap_or(true) {
+                    return Err(error(
+                        name,
+                        format!("nodes[{node}]: the node is its own ancestor (a cycle)"),
+                    ));
+                }
+                let state = visit(node, parent)?;
+                on_path[node] = true;
+                stack.push(Step::Leave(node));
+                stack.extend(children[node].iter().rev().map(|&c| Step::Enter(c, state)));
+            }
+            Step::Leave(node) => on_path[node] = false,
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a hierarchy that expands past [`MAX_NODE_INSTANCES`],
+/// [`MAX_TRIANGLES`] or [`MAX_VERTICES`], before anything is made: the
+/// walk is counted first, stopping at the first limit passed.
+fn check_expansion(
+    name: &Path,
+    outline: &validate::Outline,
+    roots: &[usize],
+) -> Result<(), SceneError> {
+    let (mut instances, mut vertices, mut triangles) = (0u64, 0u64, 0u64);
+    traverse(name, roots, &outline.children, (), |node, ()| {
+        instances += 1;
+        if instances > MAX_NODE_INSTANCES {
+            return Err(error(
+                name,
+                format!(
+                    "nodes[{node}]: the scene's node hierarchy expands to more than {MAX_NODE_INSTANCES} node instances (nodes reached along many paths)"
+                ),
+            ));
+        }
+        if let Some(mesh) = outline.node_mesh[node] {
+            let (v, t) = outline.mesh_cost[mesh];
+            vertices = vertices.saturating_add(v);
+            triangles = triangles.saturating_add(t);
+            let over = if triangles > MAX_TRIANGLES {
+                Some(format!("{MAX_TRIANGLES} triangles"))
+            } else if vertices > MAX_VERTICES {
+                Some(format!("{MAX_VERTICES} vertices"))
+            } else {
+                None
+            };
+            if let Some(over) = over {
+                return Err(error(
+                    name,
+                    format!(
+                        "nodes[{node}]: the scene's mesh instances (meshes[{mesh}] here) add up to more than {over}"
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    })
+}
+
+/// [`add_to_scene`] of a document held in memory; `name`, `bytes` and
+/// `base_dir` as for [`load_bytes`].
+pub fn add_bytes_to_scene(
+    name: &Path,
+    bytes: &[u8],
+    base_dir: Option<&Path>,
+    placement: Mat4,
+    scene: &mut SceneDesc,
+) -> Result<GltfContent, SceneError> {
+    let path = name;
+    let Imported {
+        document,
+        buffers,
+        outline,
+    } = import(name, bytes, base_dir)?;
+    let roots = outline
+        .roots
+        .clone()
+        .ok_or_else(|| error(path, "the file has no scenes"))?;
+    check_expansion(path, &outline, &roots)?;
     let mut loader = GltfLoader {
         path,
+        base: base_dir,
         buffers,
-        images,
+        decoded_texels: 0,
         materials: HashMap::new(),
         textures: HashMap::new(),
         warnings: Vec::new(),
@@ -163,14 +400,10 @@ pub fn add_to_scene(
             ));
         }
     }
-    let gltf_scene = document
-        .default_scene()
-        .or_else(|| document.scenes().next())
-        .ok_or_else(|| error(path, "the file has no scenes"))?;
-    let mut ancestors = Vec::new();
-    for node in gltf_scene.nodes() {
-        loader.node(&node, placement, &mut ancestors, scene)?;
-    }
+    let nodes: Vec<::gltf::Node> = document.nodes().collect();
+    traverse(path, &roots, &outline.children, placement, |n, parent| {
+        loader.node(&nodes[n], parent, scene)
+    })?;
     if loader.skipped_degenerate > 0 {
         loader.warnings.push(format!(
             "{}: skipped {} degenerate triangles",
@@ -229,8 +462,12 @@ fn view_of(bounds: Bounds) -> Option<CameraSpec> {
 
 struct GltfLoader<'a> {
     path: &'a Path,
+    /// Where relative image `uri`s resolve.
+    base: Option<&'a Path>,
     buffers: Vec<::gltf::buffer::Data>,
-    images: Vec<::gltf::image::Data>,
+    /// Texels of the images decoded so far (bounded by
+    /// `materials::MAX_DECODED_TEXELS`).
+    decoded_texels: u64,
     /// Tyndall material of each glTF material (`None`: the default one),
     /// with the base colour texture that multiplies its diffuse
     /// reflectance, if any.
@@ -261,17 +498,15 @@ impl GltfLoader<'_> {
             .push(format!("{}: {element}: {message}", self.path.display()));
     }
 
+    /// One node of the walk ([`traverse`]): its mesh, camera and light,
+    /// placed by `parent · local` (§3.5.2); returns its world matrix.
     fn node(
         &mut self,
         node: &::gltf::Node,
         parent: Mat4,
-        ancestors: &mut Vec<usize>,
         scene: &mut SceneDesc,
-    ) -> Result<(), SceneError> {
+    ) -> Result<Mat4, SceneError> {
         let element = format!("nodes[{}]", node.index());
-        if ancestors.contains(&node.index()) {
-            return Err(self.err(&element, "the node is its own ancestor (a cycle)"));
-        }
         let local = Mat4::from_cols_array_2d(&node.transform().matrix());
         if !local.is_finite() {
             return Err(self.err(&element, "the transform must be finite numbers"));
@@ -283,28 +518,24 @@ impl GltfLoader<'_> {
         if let Some(camera) = node.camera()
             && self.camera.is_none()
         {
-            self.camera = Some(self.camera(&element, &camera, world)?);
+            self.camera = Some(self.camera(node.index(), &camera, world)?);
         }
         if let Some(light) = node.light() {
             let origin = self.origin(format!("{element}.light"));
             let light = self.light(&light, world)?;
             scene.add_light(light, origin);
         }
-        ancestors.push(node.index());
-        for child in node.children() {
-            self.node(&child, world, ancestors, scene)?;
-        }
-        ancestors.pop();
-        Ok(())
+        Ok(world)
     }
 
     /// glTF cameras look along their node's −z with +y up (glTF §3.10).
     fn camera(
         &self,
-        node: &str,
+        node_index: usize,
         camera: &::gltf::Camera,
         world: Mat4,
     ) -> Result<GltfCamera, SceneError> {
+        let node = &format!("nodes[{node_index}]");
         let element = format!("cameras[{}]", camera.index());
         let perspective = match camera.projection() {
             ::gltf::camera::Projection::Perspective(p) => p,
@@ -348,6 +579,8 @@ impl GltfLoader<'_> {
                 fov: FieldOfView::Vertical(fov_deg),
             },
             aspect,
+            index: camera.index(),
+            node: node_index,
         })
     }
 
