@@ -1,115 +1,41 @@
 //! `tyndall-fuzz`: a mutation fuzzer for Tyndall's loaders, on stable
 //! Rust and without dependencies beyond the library.
 //!
-//! Seeds are every file under `scenes/`. Each iteration picks a target,
-//! a seed, and mutates it (bit flips, byte and range edits, splices with
-//! other seeds, numbers replaced by hostile values such as `1e38`, `NaN`
-//! or `2147483648`). Targets:
+//! First it replays the regression corpus (`crates/tyndall-fuzz/corpus/`,
+//! one folder per target): every input that once crashed, hung or
+//! exhausted memory, each of which must now be refused or read within
+//! the time limit. Then it fuzzes: seeds are every file under `scenes/`
+//! and the corpus; each iteration picks a target, a seed, and mutates it
+//! (bit flips, byte and range edits, splices with other seeds, numbers
+//! replaced by hostile values such as `1e38`, `NaN` or `2147483648`,
+//! hostile little-endian words). The targets ([`targets::Target`]):
+//! `native`, `legacy`, `grid`, `mesh`, `gltf`, `glb`, `vdb` (each loader
+//! on bytes in memory) and `render` (8×8, 1 spp renders of accepted
+//! scenes with each integrator).
 //!
-//! * `native`: the TOML scene parser ([`native::parse`]);
-//! * `legacy`: the paper's .obj scene parser ([`legacy::parse`]);
-//! * `grid`: the `.tgrid` reader ([`tgrid::from_bytes`]);
-//! * `mesh`: the .obj mesh reader ([`mesh::parse_obj_mesh`]);
-//! * `render`: scenes the native or legacy parser accepted, rendered at
-//!   8×8 pixels, 1 spp, with each integrator whose settings validate.
-//!
-//! A panic, or an input that takes longer than `--limit` seconds (a
-//! watchdog thread), is saved under `--findings` and counted; the run
-//! exits non-zero if it found anything. The same `--seed` gives the same
-//! inputs.
+//! A panic, or an input that takes longer than `--limit` seconds of CPU
+//! time (a watchdog thread), is saved under `--findings` and counted; the
+//! run exits non-zero if it found anything. An allocation the reader
+//! should have refused aborts the process, which fails the run too. The
+//! same `--seed` gives the same inputs.
 //!
 //! ```text
 //! cargo run --release -p tyndall-fuzz -- --seconds 60 --seed 1
 //! ```
 
+mod mutate;
+mod targets;
+
+use mutate::{Rng, mutate};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
-use tyndall::settings::VisibilityMode;
-use tyndall::{IntegratorKind, RenderSettings, Scene, SceneDesc};
-use tyndall_load::legacy::{self, LegacyOptions};
-use tyndall_load::mesh::{self, MeshTransform};
-use tyndall_load::{SourceText, native, tgrid};
+use targets::{Outcome, Target};
 
 /// With every target running, one input in this many is a render.
 const RENDER_SHARE: usize = 16;
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Target {
-    Native,
-    Legacy,
-    Grid,
-    Mesh,
-    Render,
-}
-
-impl Target {
-    const ALL: [Target; 5] = [
-        Target::Native,
-        Target::Legacy,
-        Target::Grid,
-        Target::Mesh,
-        Target::Render,
-    ];
-
-    fn name(self) -> &'static str {
-        match self {
-            Target::Native => "native",
-            Target::Legacy => "legacy",
-            Target::Grid => "grid",
-            Target::Mesh => "mesh",
-            Target::Render => "render",
-        }
-    }
-}
-
-/// Parses a scene as native TOML or legacy .obj (by `legacy`); the path
-/// sits in `scenes/` so relative mesh and grid files resolve.
-fn parse_scene(scenes: &Path, bytes: &[u8], legacy_format: bool) -> Option<SceneDesc> {
-    let text = String::from_utf8_lossy(bytes).into_owned();
-    if legacy_format {
-        let source = SourceText::new(scenes.join("fuzz.obj"), text);
-        legacy::parse(&source, LegacyOptions::default()).ok()
-    } else {
-        let source = SourceText::new(scenes.join("fuzz.toml"), text);
-        native::parse(&source).ok()
-    }
-}
-
-/// Renders an accepted scene at 8×8, 1 spp with every integrator whose
-/// settings validate (shadow maps at most 64² texels). Returns how many
-/// renders ran and how many samples were dropped as non-finite.
-fn render_tiny(desc: &SceneDesc) -> (u64, u64) {
-    let (mut renders, mut dropped) = (0, 0);
-    // A loader validates what it returns, so building cannot fail.
-    let scene = Scene::build(desc).expect("a loaded scene builds");
-    for integrator in [
-        IntegratorKind::March,
-        IntegratorKind::Single,
-        IntegratorKind::Volpath,
-    ] {
-        let mut settings = RenderSettings {
-            width: 8,
-            height: 8,
-            spp: 1,
-            threads: Some(1),
-            integrator,
-            ..desc.settings
-        };
-        if let VisibilityMode::Maps { resolution } = settings.visibility {
-            settings.visibility = VisibilityMode::Maps {
-                resolution: resolution.min(64),
-            };
-        }
-        if let Ok(render) = tyndall::render(&scene, &settings, &|_| {}) {
-            renders += 1;
-            dropped += render.stats.invalid_samples;
-        }
-    }
-    (renders, dropped)
-}
 
 /// CPU seconds this process has used (user + system, from
 /// `/proc/self/stat`, in ticks of 1/100 s), or `None` where that is not
@@ -133,129 +59,24 @@ struct Current {
     input: Vec<u8>,
 }
 
-struct Args {
-    seconds: f64,
-    seed: u64,
-    limit: f64,
-    targets: Vec<Target>,
-    scenes: PathBuf,
-    findings: PathBuf,
-}
+/// The input being run, shared with the watchdog thread, which ends the
+/// process (saving the input) when one runs past the limit.
+#[derive(Clone)]
+struct Watchdog(Arc<Mutex<Current>>);
 
-fn parse_args() -> Result<Args, String> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let mut args = Args {
-        seconds: 60.0,
-        seed: 1,
-        limit: 10.0,
-        targets: Target::ALL.to_vec(),
-        scenes: root.join("scenes"),
-        findings: root.join("target/fuzz-findings"),
-    };
-    let mut it = std::env::args().skip(1);
-    while let Some(flag) = it.next() {
-        let mut value = || it.next().ok_or_else(|| format!("{flag} needs a value"));
-        match flag.as_str() {
-            "--seconds" => args.seconds = value()?.parse().map_err(|e| format!("{e}"))?,
-            "--seed" => args.seed = value()?.parse().map_err(|e| format!("{e}"))?,
-            "--limit" => args.limit = value()?.parse().map_err(|e| format!("{e}"))?,
-            "--scenes" => args.scenes = PathBuf::from(value()?),
-            "--findings" => args.findings = PathBuf::from(value()?),
-            "--targets" => {
-                let names = value()?;
-                args.targets = names
-                    .split(',')
-                    .map(|n| {
-                        Target::ALL
-                            .into_iter()
-                            .find(|t| t.name() == n)
-                            .ok_or_else(|| format!("unknown target `{n}`"))
-                    })
-                    .collect::<Result<_, _>>()?;
-            }
-            "--help" | "-h" => {
-                return Err("usage: tyndall-fuzz [--seconds N] [--seed S] [--limit SECONDS] [--targets native,legacy,grid,mesh,render] [--scenes DIR] [--findings DIR]".into());
-            }
-            other => return Err(format!("unknown flag `{other}`")),
-        }
-    }
-    Ok(args)
-}
-
-fn seed_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return;
-    };
-    let mut paths: Vec<PathBuf> = entries.flatten().map(|e| e.path()).collect();
-    paths.sort();
-    for path in paths {
-        if path.is_dir() {
-            seed_files(&path, out);
-        } else {
-            out.push(path);
-        }
-    }
-}
-
-fn save(findings: &Path, kind: &str, target: &str, n: u64, input: &[u8]) {
-    let _ = std::fs::create_dir_all(findings);
-    let path = findings.join(format!("{kind}-{target}-{n}.bin"));
-    let _ = std::fs::write(&path, input);
-    eprintln!(
-        "{kind} in target {target}: input saved to {}",
-        path.display()
-    );
-}
-
-fn main() -> std::process::ExitCode {
-    let args = match parse_args() {
-        Ok(a) => a,
-        Err(e) => {
-            eprintln!("{e}");
-            return std::process::ExitCode::from(2);
-        }
-    };
-    let mut paths = Vec::new();
-    seed_files(&args.scenes, &mut paths);
-    let seeds: Vec<(PathBuf, Vec<u8>)> = paths
-        .into_iter()
-        .filter_map(|p| std::fs::read(&p).ok().map(|b| (p, b)))
-        .collect();
-    if seeds.is_empty() {
-        eprintln!("no seed files under {}", args.scenes.display());
-        return std::process::ExitCode::from(2);
-    }
-    let seed_bytes: Vec<Vec<u8>> = seeds.iter().map(|(_, b)| b.clone()).collect();
-    // Seeds by the targets they suit best; every file seeds every target
-    // some of the time.
-    let suits = |t: Target, p: &Path| {
-        let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
-        match t {
-            Target::Native => ext == "toml",
-            Target::Render => ext == "toml" || ext == "obj",
-            Target::Legacy | Target::Mesh => ext == "obj",
-            Target::Grid => ext == "tgrid",
-        }
-    };
-
-    // Panics are caught and counted; keep their messages short.
-    std::panic::set_hook(Box::new(|info| {
-        eprintln!("panic: {info}");
-    }));
-    let current = std::sync::Arc::new(Mutex::new(Current {
-        started: Instant::now(),
-        started_cpu: None,
-        target: "",
-        input: Vec::new(),
-    }));
-    let limit = Duration::from_secs_f64(args.limit);
-    {
-        let current = current.clone();
-        let findings = args.findings.clone();
+impl Watchdog {
+    fn start(limit: Duration, findings: PathBuf) -> Self {
+        let current = Arc::new(Mutex::new(Current {
+            started: Instant::now(),
+            started_cpu: None,
+            target: "",
+            input: Vec::new(),
+        }));
+        let watched = current.clone();
         std::thread::spawn(move || {
             loop {
                 std::thread::sleep(Duration::from_millis(250));
-                let c = current.lock().unwrap_or_else(|e| e.into_inner());
+                let c = watched.lock().unwrap_or_else(|e| e.into_inner());
                 // CPU time where known; wall time (ten times the limit)
                 // as a backstop.
                 let cpu = match (cpu_seconds(), c.started_cpu) {
@@ -273,26 +94,189 @@ fn main() -> std::process::ExitCode {
                 }
             }
         });
+        Self(current)
     }
+
+    /// Runs `input` through `target` under the watchdog; `Err` for a
+    /// panic.
+    fn run(&self, target: Target, input: &[u8], scenes: &Path) -> Result<Outcome, ()> {
+        {
+            let mut c = self.0.lock().unwrap_or_else(|e| e.into_inner());
+            c.started = Instant::now();
+            c.started_cpu = cpu_seconds();
+            c.target = target.name();
+            c.input.clear();
+            c.input.extend_from_slice(input);
+        }
+        let outcome = catch_unwind(AssertUnwindSafe(|| target.run(input, scenes))).map_err(|_| ());
+        self.0.lock().unwrap_or_else(|e| e.into_inner()).target = "";
+        outcome
+    }
+}
+
+struct Args {
+    seconds: f64,
+    seed: u64,
+    limit: f64,
+    targets: Vec<Target>,
+    scenes: PathBuf,
+    corpus: PathBuf,
+    findings: PathBuf,
+}
+
+fn parse_args() -> Result<Args, String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut args = Args {
+        seconds: 60.0,
+        seed: 1,
+        limit: 10.0,
+        targets: Target::ALL.to_vec(),
+        scenes: root.join("scenes"),
+        corpus: Path::new(env!("CARGO_MANIFEST_DIR")).join("corpus"),
+        findings: root.join("target/fuzz-findings"),
+    };
+    let mut it = std::env::args().skip(1);
+    while let Some(flag) = it.next() {
+        let mut value = || it.next().ok_or_else(|| format!("{flag} needs a value"));
+        match flag.as_str() {
+            "--seconds" => args.seconds = value()?.parse().map_err(|e| format!("{e}"))?,
+            "--seed" => args.seed = value()?.parse().map_err(|e| format!("{e}"))?,
+            "--limit" => args.limit = value()?.parse().map_err(|e| format!("{e}"))?,
+            "--scenes" => args.scenes = PathBuf::from(value()?),
+            "--corpus" => args.corpus = PathBuf::from(value()?),
+            "--findings" => args.findings = PathBuf::from(value()?),
+            "--targets" => {
+                args.targets = value()?
+                    .split(',')
+                    .map(|n| Target::from_name(n).ok_or_else(|| format!("unknown target `{n}`")))
+                    .collect::<Result<_, _>>()?;
+            }
+            "--help" | "-h" => {
+                let names: Vec<&str> = Target::ALL.iter().map(|t| t.name()).collect();
+                return Err(format!(
+                    "usage: tyndall-fuzz [--seconds N] [--seed S] [--limit SECONDS] [--targets {}] [--scenes DIR] [--corpus DIR] [--findings DIR]",
+                    names.join(",")
+                ));
+            }
+            other => return Err(format!("unknown flag `{other}`")),
+        }
+    }
+    Ok(args)
+}
+
+fn files_under(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    let mut paths: Vec<PathBuf> = entries.flatten().map(|e| e.path()).collect();
+    paths.sort();
+    for path in paths {
+        if path.is_dir() {
+            files_under(&path, out);
+        } else {
+            out.push(path);
+        }
+    }
+}
+
+fn save(findings: &Path, kind: &str, target: &str, n: u64, input: &[u8]) {
+    let _ = std::fs::create_dir_all(findings);
+    let path = findings.join(format!("{kind}-{target}-{n}.bin"));
+    let _ = std::fs::write(&path, input);
+    eprintln!(
+        "{kind} in target {target}: input saved to {}",
+        path.display()
+    );
+}
+
+/// Replays the regression corpus: `corpus/<target>/*` through each
+/// target (a folder naming no target is an error, so no reproducer is
+/// silently skipped). Returns the number of inputs and of panics.
+fn replay_corpus(args: &Args, watchdog: &Watchdog) -> Result<(usize, u64), String> {
+    let Ok(entries) = std::fs::read_dir(&args.corpus) else {
+        return Ok((0, 0));
+    };
+    let mut folders: Vec<PathBuf> = entries
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.is_dir())
+        .collect();
+    folders.sort();
+    let (mut count, mut panics) = (0, 0);
+    for folder in folders {
+        let name = folder.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        let target = Target::from_name(name).ok_or_else(|| {
+            format!(
+                "{}: the corpus folder names no target",
+                folder.display()
+            )
+        })?;
+        let mut files = Vec::new();
+        files_under(&folder, &mut files);
+        for file in files {
+            let input = std::fs::read(&file).map_err(|e| format!("{}: {e}", file.display()))?;
+            count += 1;
+            if watchdog.run(target, &input, &args.scenes).is_err() {
+                panics += 1;
+                eprintln!("corpus input {} panicked", file.display());
+            }
+        }
+    }
+    Ok((count, panics))
+}
+
+fn main() -> std::process::ExitCode {
+    let args = match parse_args() {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("{e}");
+            return std::process::ExitCode::from(2);
+        }
+    };
+    let mut paths = Vec::new();
+    files_under(&args.scenes, &mut paths);
+    files_under(&args.corpus, &mut paths);
+    let seeds: Vec<(PathBuf, Vec<u8>)> = paths
+        .into_iter()
+        .filter(|p| p.extension().is_none_or(|e| e != "py" && e != "md"))
+        .filter_map(|p| std::fs::read(&p).ok().map(|b| (p, b)))
+        .collect();
+    if seeds.is_empty() {
+        eprintln!("no seed files under {}", args.scenes.display());
+        return std::process::ExitCode::from(2);
+    }
+    let seed_bytes: Vec<Vec<u8>> = seeds.iter().map(|(_, b)| b.clone()).collect();
+
+    // Panics are caught and counted; keep their messages short.
+    std::panic::set_hook(Box::new(|info| {
+        eprintln!("panic: {info}");
+    }));
+    let watchdog = Watchdog::start(Duration::from_secs_f64(args.limit), args.findings.clone());
+    let (replayed, mut panics) = match replay_corpus(&args, &watchdog) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("{e}");
+            return std::process::ExitCode::from(2);
+        }
+    };
 
     let mut rng = Rng(args.seed);
     let deadline = Instant::now() + Duration::from_secs_f64(args.seconds);
-    let tried: [AtomicU64; 5] = Default::default();
-    let accepted: [AtomicU64; 5] = Default::default();
-    let (mut panics, mut renders, mut dropped) = (0u64, 0u64, 0u64);
+    let tried: [AtomicU64; Target::ALL.len()] = Default::default();
+    let accepted: [AtomicU64; Target::ALL.len()] = Default::default();
+    let (mut renders, mut dropped) = (0u64, 0u64);
     let mut iteration = 0u64;
+    // A render costs about a thousand parses: renders get one pick in
+    // RENDER_SHARE when other targets run too, so parses keep their pace.
+    let parse_targets: Vec<Target> = args
+        .targets
+        .iter()
+        .copied()
+        .filter(|t| *t != Target::Render)
+        .collect();
+    let render_too = parse_targets.len() < args.targets.len();
     while Instant::now() < deadline {
         iteration += 1;
-        // A render costs about a thousand parses: renders get one pick in
-        // RENDER_SHARE when other targets run too, so parses keep their
-        // pace.
-        let parse_targets: Vec<Target> = args
-            .targets
-            .iter()
-            .copied()
-            .filter(|t| *t != Target::Render)
-            .collect();
-        let render_too = parse_targets.len() < args.targets.len();
         let target = if parse_targets.is_empty() || (render_too && rng.below(RENDER_SHARE) == 0) {
             Target::Render
         } else {
@@ -300,7 +284,7 @@ fn main() -> std::process::ExitCode {
         };
         let suited: Vec<&Vec<u8>> = seeds
             .iter()
-            .filter(|(p, _)| suits(target, p))
+            .filter(|(p, _)| target.suits(p))
             .map(|(_, b)| b)
             .collect();
         let mut input = if suited.is_empty() || rng.below(8) == 0 {
@@ -309,47 +293,16 @@ fn main() -> std::process::ExitCode {
             suited[rng.below(suited.len())].clone()
         };
         mutate(&mut rng, &mut input, &seed_bytes);
-        {
-            let mut c = current.lock().unwrap_or_else(|e| e.into_inner());
-            c.started = Instant::now();
-            c.started_cpu = cpu_seconds();
-            c.target = target.name();
-            c.input.clone_from(&input);
-        }
-        let scenes = &args.scenes;
-        let outcome = catch_unwind(AssertUnwindSafe(|| match target {
-            Target::Native => (parse_scene(scenes, &input, false).is_some(), 0, 0),
-            Target::Legacy => (parse_scene(scenes, &input, true).is_some(), 0, 0),
-            Target::Grid => (tgrid::from_bytes(&input).is_ok(), 0, 0),
-            Target::Mesh => {
-                let transform = MeshTransform {
-                    translate: glam::Vec3::ZERO,
-                    scale: glam::Vec3::ONE,
-                    rotate_deg: glam::Vec3::ZERO,
-                };
-                (mesh::parse_obj_mesh(&input, &transform).is_ok(), 0, 0)
-            }
-            Target::Render => {
-                // A mutated TOML or legacy scene.
-                match parse_scene(scenes, &input, looks_legacy(&input)) {
-                    Some(desc) => {
-                        let (r, d) = render_tiny(&desc);
-                        (true, r, d)
-                    }
-                    None => (false, 0, 0),
-                }
-            }
-        }));
-        let index = Target::ALL.iter().position(|t| *t == target).unwrap_or(0);
+        let index = target.index();
         tried[index].fetch_add(1, Ordering::Relaxed);
-        match outcome {
-            Ok((ok, r, d)) => {
-                if ok {
+        match watchdog.run(target, &input, &args.scenes) {
+            Ok(outcome) => {
+                if outcome.accepted {
                     accepted[index].fetch_add(1, Ordering::Relaxed);
                 }
-                renders += r;
-                dropped += d;
-                if d > 0 {
+                renders += outcome.renders;
+                dropped += outcome.dropped;
+                if outcome.dropped > 0 {
                     // Not a failure (the render reports them), but worth
                     // a look: save the scene.
                     save(
@@ -361,20 +314,20 @@ fn main() -> std::process::ExitCode {
                     );
                 }
             }
-            Err(_) => {
+            Err(()) => {
                 panics += 1;
                 save(&args.findings, "panic", target.name(), iteration, &input);
             }
         }
-        current.lock().unwrap_or_else(|e| e.into_inner()).target = "";
     }
     println!("tyndall-fuzz: seed {}, {:.0} s", args.seed, args.seconds);
-    for (i, t) in Target::ALL.iter().enumerate() {
+    println!("  regression corpus: {replayed} inputs replayed");
+    for t in Target::ALL {
         println!(
             "  {:7} {:>10} inputs, {:>8} accepted",
             t.name(),
-            tried[i].load(Ordering::Relaxed),
-            accepted[i].load(Ordering::Relaxed)
+            tried[t.index()].load(Ordering::Relaxed),
+            accepted[t.index()].load(Ordering::Relaxed)
         );
     }
     println!("  renders at 8×8, 1 spp: {renders}; non-finite samples dropped: {dropped}");
@@ -384,9 +337,4 @@ fn main() -> std::process::ExitCode {
     } else {
         std::process::ExitCode::SUCCESS
     }
-}
-
-/// Legacy scenes have `v` statements and no TOML tables.
-fn looks_legacy(input: &[u8]) -> bool {
-    input.contains(&b'v') && !input.contains(&b'[')
 }
