@@ -92,8 +92,12 @@ fn read_data(s: &mut Stream, n: usize, flags: u32) -> Result<Vec<u8>, String> {
 
 /// Inflates a zlib stream to at most `limit` bytes.
 fn zlib(packed: &[u8], limit: usize) -> Result<Vec<u8>, String> {
-    miniz_oxide::inflate::decompress_to_vec_zlib_with_limit(packed, limit)
-        .map_err(|e| format!("a zip chunk does not inflate to {limit} bytes ({:?})", e.status))
+    miniz_oxide::inflate::decompress_to_vec_zlib_with_limit(packed, limit).map_err(|e| {
+        format!(
+            "a zip chunk does not inflate to {limit} bytes ({:?})",
+            e.status
+        )
+    })
 }
 
 /// Decodes a Blosc-1 frame (c-blosc blosc.c `blosc_decompress`) whose
@@ -113,17 +117,26 @@ pub fn blosc_decompress(frame: &[u8], expected: usize) -> Result<Vec<u8>, String
     if frame.len() < 16 {
         return bad("is shorter than its 16-byte header");
     }
-    let word = |at: usize| u32::from_le_bytes([frame[at], frame[at + 1], frame[at + 2], frame[at + 3]]) as usize;
+    let word = |at: usize| {
+        u32::from_le_bytes([frame[at], frame[at + 1], frame[at + 2], frame[at + 3]]) as usize
+    };
     let (version, flags, typesize) = (frame[0], frame[2], frame[3] as usize);
     let (nbytes, blocksize, cbytes) = (word(4), word(8), word(12));
     if version == 0 || version > 2 {
-        return bad(&format!("has format version {version}; versions 1 and 2 are read"));
+        return bad(&format!(
+            "has format version {version}; versions 1 and 2 are read"
+        ));
     }
     if nbytes != expected {
-        return bad(&format!("holds {nbytes} bytes where {expected} were expected"));
+        return bad(&format!(
+            "holds {nbytes} bytes where {expected} were expected"
+        ));
     }
     if cbytes != frame.len() {
-        return bad(&format!("claims {cbytes} bytes but is {} bytes long", frame.len()));
+        return bad(&format!(
+            "claims {cbytes} bytes but is {} bytes long",
+            frame.len()
+        ));
     }
     if nbytes == 0 {
         return Ok(Vec::new());
@@ -167,7 +180,8 @@ pub fn blosc_decompress(frame: &[u8], expected: usize) -> Result<Vec<u8>, String
     for b in 0..nblocks {
         let bsize = blocksize.min(nbytes - b * blocksize);
         let last_short = bsize < blocksize;
-        let nsplits = if !dont_split && typesize <= 16 && blocksize / typesize >= 128 && !last_short {
+        let nsplits = if !dont_split && typesize <= 16 && blocksize / typesize >= 128 && !last_short
+        {
             typesize
         } else {
             1
@@ -181,7 +195,8 @@ pub fn blosc_decompress(frame: &[u8], expected: usize) -> Result<Vec<u8>, String
             }
             let size = i32::from_le_bytes([frame[at], frame[at + 1], frame[at + 2], frame[at + 3]]);
             at += 4;
-            let size = usize::try_from(size).map_err(|_| "a Blosc chunk has a negative stream size".to_string())?;
+            let size = usize::try_from(size)
+                .map_err(|_| "a Blosc chunk has a negative stream size".to_string())?;
             if size > frame.len() - at {
                 return bad("has a stream beyond its end");
             }
@@ -327,9 +342,7 @@ pub fn read_compressed_values(
     if metadata > NO_MASK_AND_ALL_VALS {
         return Err(format!("unknown node compression metadata {metadata}"));
     }
-    let full = |s: &mut Stream| -> Result<Vec<f32>, String> {
-        (0..c).map(|_| s.f32()).collect()
-    };
+    let full = |s: &mut Stream| -> Result<Vec<f32>, String> { (0..c).map(|_| s.f32()).collect() };
     let minus_bg: Vec<f32> = background.iter().map(|v| -v).collect();
     let mut inactive1 = background.to_vec();
     let mut inactive0 = if metadata == NO_MASK_OR_INACTIVE_VALS {
@@ -436,7 +449,10 @@ mod tests {
         let mut out = Vec::new();
         assert!(lz4_block(&src, &mut out, 8).is_err(), "more than asked for");
         let bad = [0x13, b'a', 2, 0, 0x10, b'b'];
-        assert!(lz4_block(&bad, &mut Vec::new(), 9).is_err(), "offset before start");
+        assert!(
+            lz4_block(&bad, &mut Vec::new(), 9).is_err(),
+            "offset before start"
+        );
     }
 
     /// Active-mask compression with two inactive values and a selection
@@ -464,6 +480,8 @@ mod tests {
         assert_eq!(&v[..4], &[1.5, 7.0, 2.5, -3.0]);
         assert_eq!(s.remaining(), 0);
         bytes[0] = 7;
-        assert!(read_compressed_values(&mut Stream::new(&bytes), 512, &mask, &[0.0], &codec).is_err());
+        assert!(
+            read_compressed_values(&mut Stream::new(&bytes), 512, &mask, &[0.0], &codec).is_err()
+        );
     }
 }

@@ -67,7 +67,9 @@ pub struct Descriptor {
 /// Reads the header; refuses anything but a VDB file of versions
 /// 222–224 with grid offsets.
 pub fn read_header(s: &mut Stream) -> Result<Header, String> {
-    let magic = s.i64().map_err(|_| "not an OpenVDB file (too short)".to_string())?;
+    let magic = s
+        .i64()
+        .map_err(|_| "not an OpenVDB file (too short)".to_string())?;
     if magic != MAGIC {
         return Err("not an OpenVDB file (no VDB magic number)".into());
     }
@@ -156,7 +158,11 @@ pub fn read_descriptors(s: &mut Stream) -> Result<Vec<Descriptor>, String> {
         let instance_parent = s.string()?;
         let (grid_pos, block_pos, end_pos) = (s.i64()?, s.i64()?, s.i64()?);
         let here = s.pos() as i64;
-        if grid_pos < here || block_pos < grid_pos || end_pos < block_pos || end_pos > s.len() as i64 {
+        if grid_pos < here
+            || block_pos < grid_pos
+            || end_pos < block_pos
+            || end_pos > s.len() as i64
+        {
             return Err(format!(
                 "grid #{g} (\"{name}\"): its offsets (grid {grid_pos}, buffers {block_pos}, end {end_pos}) do not fit the file of {} bytes",
                 s.len()

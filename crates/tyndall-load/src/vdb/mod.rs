@@ -137,7 +137,11 @@ pub fn list_grids(path: &Path) -> Result<Vec<GridEntry>, String> {
         .zip(&file.descriptors)
         .map(|(selector, d)| GridEntry {
             selector,
-            grid_type: format!("{}{}", d.grid_type, if d.half_suffix { "_HalfFloat" } else { "" }),
+            grid_type: format!(
+                "{}{}",
+                d.grid_type,
+                if d.half_suffix { "_HalfFloat" } else { "" }
+            ),
         })
         .collect())
 }
@@ -166,7 +170,11 @@ fn locate<'a>(file: &'a File, name: &str, want: Want) -> Result<Grid<'a>, String
             if names.is_empty() {
                 "no grids".to_string()
             } else {
-                names.iter().map(|n| format!("\"{n}\"")).collect::<Vec<_>>().join(", ")
+                names
+                    .iter()
+                    .map(|n| format!("\"{n}\""))
+                    .collect::<Vec<_>>()
+                    .join(", ")
             }
         ));
     };
@@ -187,12 +195,18 @@ fn locate<'a>(file: &'a File, name: &str, want: Want) -> Result<Grid<'a>, String
             ));
         }
         (FLOAT_TREE, Want::Vector) => {
-            return Err(format!("holds floats ({tree_name}), not vectors ({VEC3_TREE})"));
+            return Err(format!(
+                "holds floats ({tree_name}), not vectors ({VEC3_TREE})"
+            ));
         }
         _ => {
             return Err(format!(
                 "holds {tree_name} values, which this reader does not read: only float grids ({FLOAT_TREE}, full or half precision){} are read",
-                if want == Want::Vector { " and vec3s grids" } else { "" }
+                if want == Want::Vector {
+                    " and vec3s grids"
+                } else {
+                    ""
+                }
             ));
         }
     };
@@ -225,8 +239,8 @@ fn locate<'a>(file: &'a File, name: &str, want: Want) -> Result<Grid<'a>, String
         }
     }
     let half = d.half_suffix || meta_bool(&meta, "is_saved_as_half_float") == Some(true);
-    let index_to_world =
-        transform::read_transform(&mut s).map_err(|e| e.replace("the grid's transform", "its transform"))?;
+    let index_to_world = transform::read_transform(&mut s)
+        .map_err(|e| e.replace("the grid's transform", "its transform"))?;
     Ok(Grid {
         stream: s,
         codec: Codec {
@@ -249,10 +263,16 @@ pub fn read_grid(path: &Path, name: &str) -> Result<SparseGrid, String> {
     let mut tile_bricks = 0u64;
     let mut sink = |item: Item| -> Result<(), String> {
         match item {
-            Item::Leaf { origin, mask, values } => {
+            Item::Leaf {
+                origin,
+                mask,
+                values,
+            } => {
                 for (n, &v) in values.iter().enumerate().filter(|&(n, _)| bit(mask, n)) {
                     let i = origin + slot(n, 3);
-                    sparse.set_voxel(i, v).map_err(|e| format!("voxel {i}: {e}"))?;
+                    sparse
+                        .set_voxel(i, v)
+                        .map_err(|e| format!("voxel {i}: {e}"))?;
                 }
             }
             Item::Tile {
@@ -304,9 +324,16 @@ pub fn read_vector_grid(path: &Path, name: &str) -> Result<VectorGrid, String> {
     let (mut voxels, mut tiles) = (Vec::new(), Vec::new());
     let mut sink = |item: Item| -> Result<(), String> {
         match item {
-            Item::Leaf { origin, mask, values } => {
+            Item::Leaf {
+                origin,
+                mask,
+                values,
+            } => {
                 for n in (0..512).filter(|&n| bit(mask, n)) {
-                    voxels.push((origin + slot(n, 3), Vec3::from_slice(&values[3 * n..3 * n + 3])));
+                    voxels.push((
+                        origin + slot(n, 3),
+                        Vec3::from_slice(&values[3 * n..3 * n + 3]),
+                    ));
                 }
             }
             Item::Tile {

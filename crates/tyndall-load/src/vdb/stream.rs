@@ -102,7 +102,9 @@ impl<'a> Stream<'a> {
     /// against the bytes left before anything is copied.
     pub fn string(&mut self) -> Result<String, String> {
         let n = self.u32()? as usize;
-        let bytes = self.take(n).map_err(|e| format!("a string of {n} bytes: {e}"))?;
+        let bytes = self
+            .take(n)
+            .map_err(|e| format!("a string of {n} bytes: {e}"))?;
         Ok(String::from_utf8_lossy(bytes).into_owned())
     }
 

@@ -56,7 +56,11 @@ pub fn read_transform(s: &mut Stream) -> Result<Mat4, String> {
                 "the grid's transform is a NonlinearFrustumMap (a perspective frustum), which this reader does not support; resample the grid to a linear transform".into(),
             );
         }
-        other => return Err(format!("the grid's transform is an unknown map \"{other}\"")),
+        other => {
+            return Err(format!(
+                "the grid's transform is an unknown map \"{other}\""
+            ));
+        }
     };
     check(&map, m)
 }
@@ -69,7 +73,9 @@ fn check(map: &str, m: DMat4) -> Result<Mat4, String> {
     }
     let row3 = m.row(3);
     if row3 != glam::DVec4::new(0.0, 0.0, 0.0, 1.0) {
-        return Err(format!("the grid's transform ({map}) is not affine: last column {row3}"));
+        return Err(format!(
+            "the grid's transform ({map}) is not affine: last column {row3}"
+        ));
     }
     // Singular or so nearly singular that f32 cannot invert it.
     let det = f.determinant();

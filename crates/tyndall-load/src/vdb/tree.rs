@@ -74,7 +74,9 @@ pub fn read_tree(
     let mut origins: Vec<[i32; 3]> = Vec::new();
     let aligned = |o: [i32; 3], what: &str| -> Result<IVec3, String> {
         if o.iter().any(|v| v & (NODE2 - 1) != 0) {
-            return Err(format!("a root {what} at {o:?} is not aligned to {NODE2} voxels"));
+            return Err(format!(
+                "a root {what} at {o:?} is not aligned to {NODE2} voxels"
+            ));
         }
         Ok(IVec3::from_array(o))
     };
