@@ -494,27 +494,22 @@ fn format_versions_222_to_224() {
     }
 }
 
-/// A point grid is refused saying what it is. pyopenvdb cannot write
-/// points, so this is the tiles file with its grid type rewritten to
-/// `Tree_ptdataidx32_5_4_3` and its descriptor's offsets moved by the 6
-/// bytes the longer name adds.
-#[test]
-fn point_grids_are_refused_by_name() {
-    let bytes = std::fs::read(data("tiles.vdb")).unwrap();
-    let (from, to) = ("Tree_float_5_4_3", "Tree_ptdataidx32_5_4_3");
+/// `bytes` with the first grid type `from` rewritten to `to` and that
+/// grid's descriptor offsets moved by the change in length: the
+/// descriptor is the type's length and bytes, the instance parent's name
+/// (a u32 length and its bytes), then three i64 offsets.
+fn retype(bytes: &[u8], from: &str, to: &str) -> Vec<u8> {
     let mut pattern = (from.len() as u32).to_le_bytes().to_vec();
     pattern.extend_from_slice(from.as_bytes());
     let at = bytes
         .windows(pattern.len())
         .position(|w| w == pattern)
-        .unwrap();
+        .expect("the type is in the file");
     let mut b = bytes[..at].to_vec();
     b.extend_from_slice(&(to.len() as u32).to_le_bytes());
     b.extend_from_slice(to.as_bytes());
     b.extend_from_slice(&bytes[at + pattern.len()..]);
-    // The instance parent's name (a u32 length and its bytes), then the
-    // grid's three i64 offsets, each now 6 bytes later.
-    let shift = (to.len() - from.len()) as i64;
+    let shift = to.len() as i64 - from.len() as i64;
     let mut p = at + 4 + to.len();
     let parent = u32::from_le_bytes(b[p..p + 4].try_into().unwrap()) as usize;
     p += 4 + parent;
@@ -523,10 +518,35 @@ fn point_grids_are_refused_by_name() {
         let v = i64::from_le_bytes(b[q..q + 8].try_into().unwrap()) + shift;
         b[q..q + 8].copy_from_slice(&v.to_le_bytes());
     }
+    b
+}
+
+/// A point grid is refused saying what it is. pyopenvdb cannot write
+/// points, so this is the tiles file with its grid type rewritten to
+/// `Tree_ptdataidx32_5_4_3` (see [`retype`]).
+#[test]
+fn point_grids_are_refused_by_name() {
+    let bytes = std::fs::read(data("tiles.vdb")).unwrap();
+    let to = "Tree_ptdataidx32_5_4_3";
+    let b = retype(&bytes, "Tree_float_5_4_3", to);
     let e = read_grid(&temp("points.vdb", &b), "density").unwrap_err();
     assert!(
         e.contains("point grid") && e.contains(to) && e.contains("points.vdb"),
         "{e}"
+    );
+}
+
+/// Half floats are announced by the grid type's `_HalfFloat` suffix and by
+/// the grid's `is_saved_as_half_float` metadata; either suffices. The
+/// half sphere with the suffix removed from its type (see [`retype`])
+/// still reads as the same half grid.
+#[test]
+fn half_floats_are_known_by_their_metadata_too() {
+    let bytes = std::fs::read(data("half.vdb")).unwrap();
+    let b = retype(&bytes, "Tree_float_5_4_3_HalfFloat", "Tree_float_5_4_3");
+    assert_eq!(
+        read_grid(&temp("nosuffix.vdb", &b), "density").unwrap(),
+        read_grid(&data("half.vdb"), "density").unwrap()
     );
 }
 
