@@ -231,12 +231,8 @@ fn locate<'a>(file: &'a File, name: &str, want: Want) -> Result<Grid<'a>, String
         ));
     }
     let meta = header::read_meta(&mut s).map_err(|e| format!("its metadata: {e}"))?;
-    if let Some(class) = meta_string(&meta, "class") {
-        if class == "level set" {
-            return Err(format!(
-                "is a level set (grid class \"level set\": signed distances to a surface, not densities); convert it to a fog volume first (e.g. OpenVDB's tools::sdfToFogVolume, Houdini's VDB Convert)"
-            ));
-        }
+    if meta_string(&meta, "class").as_deref() == Some("level set") {
+        return Err("is a level set (grid class \"level set\": signed distances to a surface, not densities); convert it to a fog volume first (e.g. OpenVDB's tools::sdfToFogVolume, Houdini's VDB Convert)".into());
     }
     let half = d.half_suffix || meta_bool(&meta, "is_saved_as_half_float") == Some(true);
     let index_to_world = transform::read_transform(&mut s)
