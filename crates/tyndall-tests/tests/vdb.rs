@@ -318,6 +318,29 @@ fn half_float_grid_is_the_float_grid_rounded_to_halves() {
     assert!(inside > 1000 && compared > inside, "{inside} of {compared}");
 }
 
+/// The same grids written by OpenVDB with other compression
+/// (make_cpp_vdbs.cpp): the sphere with zip and active-mask compression,
+/// the tiles with active-mask compression alone, read exactly as the Blosc
+/// originals.
+#[test]
+fn zip_and_uncompressed_files_read_as_the_blosc_ones() {
+    for (original, copy, flags) in [
+        ("sphere.vdb", "sphere_zip.vdb", 0x1 | 0x2),
+        ("tiles.vdb", "tiles_raw.vdb", 0x2),
+    ] {
+        assert_eq!(
+            list_grids(&data(original)).unwrap()[0].compression,
+            Some(0x4 | 0x2)
+        );
+        assert_eq!(list_grids(&data(copy)).unwrap()[0].compression, Some(flags));
+        assert_eq!(
+            read_grid(&data(copy), "density").unwrap(),
+            read_grid(&data(original), "density").unwrap(),
+            "{copy}"
+        );
+    }
+}
+
 /// Every linear map OpenVDB writes (one grid each in transforms.vdb, named
 /// by its map type) gives the world points OpenVDB's own
 /// `Transform.indexToWorld` gave (transforms.txt, written by the same
@@ -574,6 +597,8 @@ fn mutated_files_give_errors_not_panics() {
         ("grids.vdb", "velocity"),
         ("sphere.vdb", "density"),
         ("half.vdb", "density"),
+        ("sphere_zip.vdb", "density"),
+        ("tiles_raw.vdb", "density"),
     ] {
         let bytes = std::fs::read(data(file)).unwrap();
         let n = bytes.len();
@@ -617,6 +642,37 @@ fn huge_counts_are_refused_before_allocating() {
         e.contains("4294967295 metadata entries") && e.contains("huge.vdb"),
         "{e}"
     );
+}
+
+/// A root claiming 2^32 − 1 tiles or children (roottile.vdb's root: one
+/// tile, no children; the tile made inactive) is a truncated file, found
+/// without allocating for the claim.
+#[test]
+fn a_root_claiming_billions_of_nodes_is_truncated() {
+    let bytes = std::fs::read(data("roottile.vdb")).unwrap();
+    // Buffer count 1, background 0, 1 tile, 0 children, the tile at the
+    // origin with value 1, active.
+    let mut root: Vec<u8> = [1u32, 0, 1, 0, 0, 0, 0]
+        .iter()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    root.extend_from_slice(&1f32.to_le_bytes());
+    root.push(1);
+    let at = bytes
+        .windows(root.len())
+        .position(|w| w == root)
+        .expect("the root as described");
+    for field in [8, 12] {
+        let mut b = bytes.clone();
+        b[at + field..at + field + 4].copy_from_slice(&u32::MAX.to_le_bytes());
+        // The tile made inactive, so that it is not refused first.
+        b[at + root.len() - 1] = 0;
+        let e = read_grid(&temp("billions.vdb", &b), "density").unwrap_err();
+        assert!(
+            e.contains("truncated") && e.contains("billions.vdb") && e.contains("grid \"density\""),
+            "{e}"
+        );
+    }
 }
 
 /// Writes `bytes` to a per-process temporary file.

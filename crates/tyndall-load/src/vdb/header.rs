@@ -34,7 +34,6 @@ const HALF_SUFFIX: &str = "_HalfFloat";
 #[derive(Debug)]
 pub struct Header {
     pub version: u32,
-    pub library: (u32, u32),
 }
 
 /// A metadata entry: name, type name and the value's bytes. Each value is
@@ -79,7 +78,8 @@ pub fn read_header(s: &mut Stream) -> Result<Header, String> {
             "file format version {version}: this reader reads versions {OLDEST}–{NEWEST} (OpenVDB 3 to 12)"
         ));
     }
-    let library = (s.u32()?, s.u32()?);
+    // The writing library's major and minor version: not needed.
+    s.take(8)?;
     let has_offsets = s.u8()?;
     if has_offsets == 0 {
         return Err("the file was written as a stream without grid offsets, which this reader does not read".into());
@@ -87,7 +87,7 @@ pub fn read_header(s: &mut Stream) -> Result<Header, String> {
     // From version 218 the UUID is a 36-character string (not
     // length-prefixed).
     s.take(36)?;
-    Ok(Header { version, library })
+    Ok(Header { version })
 }
 
 /// Reads a metadata map (MetaMap::readMeta): an `u32` count, then per

@@ -26,7 +26,7 @@
 //! together may cover at most [`MAX_TILE_BRICKS`] bricks of 8³, since a
 //! [`SparseGrid`] stores a tile as one map entry per brick.
 //!
-//! Grids are chosen by name ([`select`]): `"density"` is the first grid
+//! Grids are chosen by name: `"density"` is the first grid
 //! of that name, `"density[1]"` the second, `"#2"` the third grid in the
 //! file whatever its name.
 
@@ -72,6 +72,9 @@ pub struct GridEntry {
     /// Its tree type, e.g. `Tree_float_5_4_3`, with `_HalfFloat` if
     /// saved as halves.
     pub grid_type: String,
+    /// Its compression flags (OpenVDB io/Compression.h: 0x1 zip, 0x2
+    /// active mask, 0x4 Blosc), `None` if they cannot be read.
+    pub compression: Option<u32>,
 }
 
 /// A parsed file.
@@ -86,7 +89,6 @@ fn open(path: &Path) -> Result<File, String> {
     let parse = |data: &[u8]| -> Result<(Vec<Descriptor>, u32), String> {
         let mut s = Stream::new(data);
         let h = header::read_header(&mut s)?;
-        let _ = h.library;
         header::read_meta(&mut s).map_err(|e| format!("the file's metadata: {e}"))?;
         Ok((header::read_descriptors(&mut s)?, h.version))
     };
@@ -119,7 +121,7 @@ fn selectors(descriptors: &[Descriptor]) -> Vec<String> {
 /// The index of the grid `name` selects: a grid's exact name (the first
 /// of that name), `name[k]` (the k-th grid of that name, from 0), or
 /// `#i` (the i-th grid of the file, from 0).
-pub fn select(descriptors: &[Descriptor], name: &str) -> Option<usize> {
+fn select(descriptors: &[Descriptor], name: &str) -> Option<usize> {
     if let Some(i) = descriptors.iter().position(|d| d.name == name) {
         return Some(i);
     }
@@ -135,13 +137,17 @@ pub fn list_grids(path: &Path) -> Result<Vec<GridEntry>, String> {
     Ok(selectors(&file.descriptors)
         .into_iter()
         .zip(&file.descriptors)
-        .map(|(selector, d)| GridEntry {
-            selector,
-            grid_type: format!(
-                "{}{}",
-                d.grid_type,
-                if d.half_suffix { "_HalfFloat" } else { "" }
-            ),
+        .map(|(selector, d)| {
+            let mut s = Stream::new(&file.data);
+            GridEntry {
+                selector,
+                grid_type: format!(
+                    "{}{}",
+                    d.grid_type,
+                    if d.half_suffix { "_HalfFloat" } else { "" }
+                ),
+                compression: s.seek(d.grid_pos).and_then(|_| s.u32()).ok(),
+            }
         })
         .collect())
 }
@@ -248,7 +254,8 @@ fn locate<'a>(file: &'a File, name: &str, want: Want) -> Result<Grid<'a>, String
     })
 }
 
-/// Reads the float grid `name` (see [`select`]) of the OpenVDB file at
+/// Reads the float grid `name` (its name, `name[k]` or `#i`: see the
+/// module's doc) of the OpenVDB file at
 /// `path` as a density, with its index-to-world transform. Errors name
 /// the file and the grid.
 pub fn read_grid(path: &Path, name: &str) -> Result<SparseGrid, String> {
@@ -311,7 +318,7 @@ pub fn read_grid(path: &Path, name: &str) -> Result<SparseGrid, String> {
     Ok(sparse)
 }
 
-/// Reads the vec3 grid `name` (`Tree_vec3s_5_4_3`, full or half
+/// Reads the vec3 grid `name` (chosen as by [`read_grid`]; `Tree_vec3s_5_4_3`, full or half
 /// precision) of the OpenVDB file at `path`: its active voxels and tiles.
 pub fn read_vector_grid(path: &Path, name: &str) -> Result<VectorGrid, String> {
     let file = open(path)?;

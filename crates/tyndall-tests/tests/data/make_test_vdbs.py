@@ -36,8 +36,9 @@ Files:
 
 pyopenvdb writes with its default compression, Blosc (LZ4) plus active-mask
 compression when OpenVDB is built with Blosc (Debian's is), and file format
-224; it offers no way to choose zip or older formats, so those paths are
-tested on bytes built in the tests.
+224; it offers no way to choose zip, so make_cpp_vdbs.cpp (OpenVDB's C++
+API) writes zip and uncompressed copies. Older formats cannot be written:
+the tests rewrite the version field of these files instead.
 """
 import numpy as np
 import pyopenvdb as vdb
