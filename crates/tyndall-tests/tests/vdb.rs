@@ -687,3 +687,20 @@ fn temp(name: &str, bytes: &[u8]) -> PathBuf {
     std::fs::write(&path, bytes).expect("write");
     path
 }
+
+/// A grid written as an instance of another (a shallow copy sharing its
+/// tree, instance.vdb) reads as that grid's values under its own
+/// transform: voxel size 0.5, translated by (1, 2, 3).
+#[test]
+fn instanced_grids_share_their_parents_tree() {
+    let file = data("instance.vdb");
+    let density = read_grid(&file, "density").unwrap();
+    let moved = read_grid(&file, "moved").unwrap();
+    assert_eq!(moved.active_bounds(), density.active_bounds());
+    assert_eq!(moved.value(IVec3::ONE), 2.0);
+    let p = moved
+        .index_to_world()
+        .transform_point3(Vec3::new(1.0, 1.0, 1.0));
+    assert_eq!(p, Vec3::new(1.5, 2.5, 3.5));
+    assert_eq!(density.index_to_world(), glam::Mat4::IDENTITY);
+}

@@ -52,6 +52,9 @@ pub struct Meta {
 pub struct Descriptor {
     /// The name as the user gave it (the unique suffix removed).
     pub name: String,
+    /// The name made unique in the file (`name`, `SEP`, a number), as
+    /// instances name their parents.
+    pub unique_name: String,
     /// The tree type without the half-float suffix, e.g.
     /// `Tree_float_5_4_3`.
     pub grid_type: String,
@@ -150,26 +153,24 @@ pub fn read_descriptors(s: &mut Stream) -> Result<Vec<Descriptor>, String> {
             Some(i) => unique[..i].to_string(),
             None => unique.clone(),
         };
+        // The buffers' offset is not used (and is 0 for instances).
         let mut grid_type = s.string()?;
         let half_suffix = grid_type.ends_with(HALF_SUFFIX);
         if half_suffix {
             grid_type.truncate(grid_type.len() - HALF_SUFFIX.len());
         }
         let instance_parent = s.string()?;
-        let (grid_pos, block_pos, end_pos) = (s.i64()?, s.i64()?, s.i64()?);
+        let (grid_pos, _block_pos, end_pos) = (s.i64()?, s.i64()?, s.i64()?);
         let here = s.pos() as i64;
-        if grid_pos < here
-            || block_pos < grid_pos
-            || end_pos < block_pos
-            || end_pos > s.len() as i64
-        {
+        if grid_pos < here || end_pos < grid_pos || end_pos > s.len() as i64 {
             return Err(format!(
-                "grid #{g} (\"{name}\"): its offsets (grid {grid_pos}, buffers {block_pos}, end {end_pos}) do not fit the file of {} bytes",
+                "grid #{g} (\"{name}\"): its offsets (grid {grid_pos}, end {end_pos}) do not fit the file of {} bytes",
                 s.len()
             ));
         }
         out.push(Descriptor {
             name,
+            unique_name: unique,
             grid_type,
             half_suffix,
             instance_parent,

@@ -216,16 +216,58 @@ fn locate<'a>(file: &'a File, name: &str, want: Want) -> Result<Grid<'a>, String
             ));
         }
     };
-    if !d.instance_parent.is_empty() {
+    let (s, flags, half, index_to_world) = head(file, d)?;
+    if d.instance_parent.is_empty() {
+        return Ok(Grid {
+            stream: s,
+            codec: Codec {
+                flags,
+                half,
+                components,
+            },
+            index_to_world,
+        });
+    }
+    // An instance (format 216 on) stores no tree: it shares that of the
+    // grid its descriptor names by unique name (io/Archive.cc
+    // `connectInstance`), read with that grid's compression; the
+    // instance's own transform places it.
+    let parent = file
+        .descriptors
+        .iter()
+        .find(|p| p.unique_name == d.instance_parent && p.instance_parent.is_empty())
+        .ok_or_else(|| {
+            format!(
+                "is an instance of grid \"{}\", which is not in the file (or is an instance itself)",
+                d.instance_parent
+            )
+        })?;
+    if parent.grid_type != d.grid_type {
         return Err(format!(
-            "is an instance of grid \"{}\" (shares its tree), which this reader does not read",
-            d.instance_parent
+            "is an instance of grid \"{}\" of another type ({})",
+            parent.name, parent.grid_type
         ));
     }
+    let (s, flags, half, _) =
+        head(file, parent).map_err(|e| format!("instances grid \"{}\", which {e}", parent.name))?;
+    Ok(Grid {
+        stream: s,
+        codec: Codec {
+            flags,
+            half,
+            components,
+        },
+        index_to_world,
+    })
+}
+
+/// Reads what precedes a grid's tree: its compression flags (stored per
+/// grid from format 222: io/Archive.cc `readGridCompression`), metadata
+/// (refusing level sets; saying whether values are halves) and transform;
+/// the stream is left at the tree.
+fn head<'a>(file: &'a File, d: &Descriptor) -> Result<(Stream<'a>, u32, bool, Mat4), String> {
     let mut s = Stream::new(&file.data);
     s.seek(d.grid_pos)?;
-    // From version 222 each grid stores its compression flags
-    // (Archive.cc `readGridCompression`).
     let flags = s.u32()?;
     if flags & !(COMPRESS_ZIP | COMPRESS_ACTIVE_MASK | COMPRESS_BLOSC) != 0 {
         return Err(format!("has unknown compression flags {flags:#x}"));
@@ -243,15 +285,7 @@ fn locate<'a>(file: &'a File, name: &str, want: Want) -> Result<Grid<'a>, String
     let half = d.half_suffix || meta_bool(&meta, "is_saved_as_half_float") == Some(true);
     let index_to_world = transform::read_transform(&mut s)
         .map_err(|e| e.replace("the grid's transform", "its transform"))?;
-    Ok(Grid {
-        stream: s,
-        codec: Codec {
-            flags,
-            half,
-            components,
-        },
-        index_to_world,
-    })
+    Ok((s, flags, half, index_to_world))
 }
 
 /// Reads the float grid `name` (its name, `name[k]` or `#i`: see the

@@ -31,6 +31,9 @@ Files:
   a level-2 node) of 0.5 from the origin, an active 8^3 tile (a tile of a
   level-1 node) of 0.25 from (128, 0, 0) and one voxel of 0.75 at
   (200, 3, 3).
+- instance.vdb: grid "density" (a 2x2x2 box of 2) and "moved", a shallow
+  copy sharing its tree (written as an instance) with voxel size 0.5,
+  translated by (1, 2, 3).
 - roottile.vdb: grid "density" filled with 1 over (0..4095)^3: one active
   root tile of 4096^3 voxels.
 
@@ -183,6 +186,16 @@ def more():
     tiles.getAccessor().setValueOn((200, 3, 3), 0.75)
     tiles.name = "density"
     vdb.write("tiles.vdb", grids=[tiles])
+
+    density = box(2.0, (0, 0, 0), (1, 1, 1))
+    density.name = "density"
+    moved = density.copy()
+    moved.name = "moved"
+    t = vdb.createLinearTransform(voxelSize=0.5)
+    t.translate((1.0, 2.0, 3.0))
+    moved.transform = t
+    assert density.sharesWith(moved)
+    vdb.write("instance.vdb", grids=[density, moved])
 
     root = vdb.FloatGrid(0.0)
     root.fill((0, 0, 0), (4095, 4095, 4095), 1.0)
