@@ -34,6 +34,9 @@ Files:
 - instance.vdb: grid "density" (a 2x2x2 box of 2) and "moved", a shallow
   copy sharing its tree (written as an instance) with voxel size 0.5,
   translated by (1, 2, 3).
+- bigtiles.vdb: grid "density" filled with 1 over (0..1151) x (0..1023) x
+  (0..1023): 576 active tiles of 128^3 voxels, 2.36 M bricks of 8^3, more
+  than the reader's bound of 2^21.
 - roottile.vdb: grid "density" filled with 1 over (0..4095)^3: one active
   root tile of 4096^3 voxels.
 
@@ -196,6 +199,11 @@ def more():
     moved.transform = t
     assert density.sharesWith(moved)
     vdb.write("instance.vdb", grids=[density, moved])
+
+    big = vdb.FloatGrid(0.0)
+    big.fill((0, 0, 0), (1151, 1023, 1023), 1.0)
+    big.name = "density"
+    vdb.write("bigtiles.vdb", grids=[big])
 
     root = vdb.FloatGrid(0.0)
     root.fill((0, 0, 0), (4095, 4095, 4095), 1.0)
