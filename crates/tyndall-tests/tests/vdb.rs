@@ -704,3 +704,28 @@ fn instanced_grids_share_their_parents_tree() {
     assert_eq!(p, Vec3::new(1.5, 2.5, 3.5));
     assert_eq!(density.index_to_world(), glam::Mat4::IDENTITY);
 }
+
+/// A transform with a zero or non-finite scale is refused naming the file
+/// and the grid: transforms.vdb's ScaleMap grid with the y of its scale
+/// (the map's first `Vec3d`, (0.5, 0.25, 2)) set to 0, then to NaN.
+#[test]
+fn degenerate_transforms_are_refused() {
+    let bytes = std::fs::read(data("transforms.vdb")).unwrap();
+    let scale: Vec<u8> = [0.5f64, 0.25, 2.0]
+        .iter()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    let at = bytes
+        .windows(scale.len())
+        .position(|w| w == scale)
+        .expect("the ScaleMap's scale");
+    for (y, expected) in [(0.0f64, "singular"), (f64::NAN, "not finite")] {
+        let mut b = bytes.clone();
+        b[at + 8..at + 16].copy_from_slice(&y.to_le_bytes());
+        let e = read_grid(&temp("degenerate.vdb", &b), "ScaleMap").unwrap_err();
+        assert!(
+            e.contains(expected) && e.contains("degenerate.vdb") && e.contains("grid \"ScaleMap\""),
+            "{e}"
+        );
+    }
+}
