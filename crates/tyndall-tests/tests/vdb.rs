@@ -573,7 +573,8 @@ fn half_floats_are_known_by_their_metadata_too() {
     );
 }
 
-/// Hostile input: every test file truncated at many lengths, with bytes
+/// Hostile input: test files (float, half, vec3 half, zip, uncompressed,
+/// an instance, a grid after others) truncated at many lengths, with bytes
 /// flipped, and with each 4-byte field of its first 4 KiB set to
 /// 0xFFFFFFFF, reads as `Ok` or an `Err` naming the file — never a panic
 /// or an allocation abort — and quickly.
@@ -584,8 +585,15 @@ fn mutated_files_give_errors_not_panics() {
     let mut errors = 0;
     let mut check = |bytes: &[u8], name: &str| {
         let path = temp("mutant.vdb", bytes);
-        let result = std::panic::catch_unwind(|| read_grid(&path, name));
-        let result = result.unwrap_or_else(|_| panic!("read_grid panicked on a mutant of {name}"));
+        // Vector grids through read_vector_grid, densities through read_grid.
+        let result = std::panic::catch_unwind(|| {
+            if name.starts_with("velocity") {
+                read_vector_grid(&path, name).map(|_| ())
+            } else {
+                read_grid(&path, name).map(|_| ())
+            }
+        });
+        let result = result.unwrap_or_else(|_| panic!("the reader panicked on a mutant of {name}"));
         if let Err(e) = result {
             assert!(e.contains("mutant.vdb"), "{e}");
             errors += 1;
@@ -594,7 +602,9 @@ fn mutated_files_give_errors_not_panics() {
     };
     for (file, grid) in [
         ("tiles.vdb", "density"),
-        ("grids.vdb", "velocity"),
+        ("grids.vdb", "density[1]"),
+        ("grids.vdb", "velocity_half"),
+        ("instance.vdb", "moved"),
         ("sphere.vdb", "density"),
         ("half.vdb", "density"),
         ("sphere_zip.vdb", "density"),

@@ -15,9 +15,15 @@
 //! suffix or the `is_saved_as_half_float` metadata); zip, Blosc (LZ4,
 //! zlib) and active-mask compression ([`compression`]); every linear map
 //! ([`transform`]); tiles at every level ([`tree`]); vec3 grids
-//! (`Tree_vec3s_5_4_3`) through [`read_vector_grid`]. Refused with a
+//! (`Tree_vec3s_5_4_3`) through [`read_vector_grid`]; instanced grids
+//! (sharing another grid's tree) with their own transform. Refused with a
 //! message saying what they are: level sets, point grids, frustum
-//! transforms, instanced grids, other value types.
+//! transforms, other value types, file formats before 222 (OpenVDB 2).
+//!
+//! Memory: the file's bytes, plus a 2 KiB brick per leaf (a leaf takes at
+//! least 130 bytes of the file: two 64-byte masks and its values), plus
+//! what tiles cost, bounded by [`MAX_TILE_BRICKS`]; a vec3 grid's active
+//! tiles are listed, at most one per bit of a node's mask.
 //!
 //! As a density: the background must be 0 (a [`SparseGrid`] is 0
 //! outside its bricks), inactive voxels and tiles take the background,
