@@ -101,6 +101,42 @@ mod tests {
         b
     }
 
+    /// TranslationMap (one `Vec3d`) and UnitaryMap (a `Mat4d`, as
+    /// AffineMap): OpenVDB 10 simplifies both away before writing (a
+    /// Transform turns them into UniformScaleTranslateMap and AffineMap),
+    /// so no test file holds them and this checks the layout read from
+    /// math/Maps.h. The matrix is OpenVDB's, row-vector convention: a
+    /// rotation by 90° about z maps index x to world y, and the last row
+    /// translates.
+    #[test]
+    fn translation_and_unitary_maps() {
+        let m = read_transform(&mut Stream::new(&bytes(
+            "TranslationMap",
+            &[1.0, -2.0, 0.5],
+        )))
+        .unwrap();
+        assert_eq!(
+            m.transform_point3(glam::Vec3::ONE),
+            glam::Vec3::new(2.0, -1.0, 1.5)
+        );
+        #[rustfmt::skip]
+        let rows = [
+            0.0, 1.0, 0.0, 0.0,
+            -1.0, 0.0, 0.0, 0.0,
+            0.0, 0.0, 1.0, 0.0,
+            5.0, 6.0, 7.0, 1.0,
+        ];
+        let m = read_transform(&mut Stream::new(&bytes("UnitaryMap", &rows))).unwrap();
+        assert_eq!(
+            m.transform_point3(glam::Vec3::X),
+            glam::Vec3::new(5.0, 7.0, 7.0)
+        );
+        let mut projective = rows;
+        projective[3] = 0.5;
+        let e = read_transform(&mut Stream::new(&bytes("AffineMap", &projective))).unwrap_err();
+        assert!(e.contains("not affine"), "{e}");
+    }
+
     /// ScaleTranslateMap: world = index·scale + translation; a zero scale
     /// is an error, as is a frustum.
     #[test]
