@@ -139,7 +139,38 @@ def gltf_cases():
     write("render", "node-dag-32768-coincident.gltf", chain(16, 2))
 
 
+def png_2x2():
+    """A 2×2 RGB PNG (red, green, blue, white), written by hand: the
+    signature, IHDR, one zlib-compressed IDAT, IEND."""
+    import zlib
+
+    def chunk(kind, body):
+        crc = zlib.crc32(kind + body) & 0xFFFFFFFF
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", crc)
+
+    rows = b"\0" + bytes([255, 0, 0, 0, 255, 0]) + b"\0" + bytes([0, 0, 255, 255, 255, 255])
+    return (
+        b"\x89PNG\r\n\x1a\n"
+        + chunk(b"IHDR", struct.pack(">IIBBBBB", 2, 2, 8, 2, 0, 0, 0))
+        + chunk(b"IDAT", zlib.compress(rows))
+        + chunk(b"IEND", b"")
+    )
+
+
 def glb_cases():
+    # Valid seeds for the mutations: a plain triangle, and one textured
+    # by a PNG inside the BIN chunk.
+    doc, data = document(uri=False)
+    write("glb", "seed-triangle.glb", glb(doc, data))
+    doc, data = document(textured=True, uri=False)
+    png = png_2x2()
+    doc["bufferViews"].append({"buffer": 0, "byteOffset": len(data), "byteLength": len(png)})
+    data += png
+    doc["buffers"][0]["byteLength"] = len(data)
+    textured(doc, {"bufferView": 3, "mimeType": "image/png"})
+    write("glb", "seed-textured-triangle.glb", glb(doc, data))
+    write("render", "seed-textured-triangle.glb", glb(doc, data))
+
     doc, data = document(uri=False)
     write("glb", "header-claims-4gib.glb", glb(doc, data, claimed_length=0xFFFFFFFF))
 

@@ -205,12 +205,8 @@ fn replay_corpus(args: &Args, watchdog: &Watchdog) -> Result<(usize, u64), Strin
     let (mut count, mut panics) = (0, 0);
     for folder in folders {
         let name = folder.file_name().and_then(|n| n.to_str()).unwrap_or("");
-        let target = Target::from_name(name).ok_or_else(|| {
-            format!(
-                "{}: the corpus folder names no target",
-                folder.display()
-            )
-        })?;
+        let target = Target::from_name(name)
+            .ok_or_else(|| format!("{}: the corpus folder names no target", folder.display()))?;
         let mut files = Vec::new();
         files_under(&folder, &mut files);
         for file in files {

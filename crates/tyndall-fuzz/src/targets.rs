@@ -24,7 +24,7 @@ pub enum Target {
     Gltf,
     /// The binary glTF container, the same loader.
     Glb,
-    /// The OpenVDB reader ([`vdb::grid_bytes`]): the grid list, then
+    /// The OpenVDB reader ([`vdb::read_grid_from_bytes`]): the grid list, then
     /// every grid read as a density and as a vector grid.
     Vdb,
     /// Scenes the native, legacy or glTF loader accepted, rendered at 8×8
@@ -170,14 +170,14 @@ fn load_gltf(scenes: &Path, bytes: &[u8]) -> Option<SceneDesc> {
 /// vector grid; accepted if any read succeeds.
 fn read_vdb(bytes: &[u8]) -> bool {
     let name = Path::new("fuzz.vdb");
-    let Ok(grids) = vdb::list_grid_bytes(name, bytes) else {
+    let Ok(grids) = vdb::list_grids_from_bytes(name, bytes) else {
         return false;
     };
     let mut any = false;
     for i in 0..grids.len() {
         let selector = format!("#{i}");
-        any |= vdb::grid_bytes(name, bytes, &selector).is_ok();
-        any |= vdb::vector_grid_bytes(name, bytes, &selector).is_ok();
+        any |= vdb::read_grid_from_bytes(name, bytes, &selector).is_ok();
+        any |= vdb::read_vector_grid_from_bytes(name, bytes, &selector).is_ok();
     }
     any
 }

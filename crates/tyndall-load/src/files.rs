@@ -20,6 +20,10 @@ pub const MAX_MESH_FILE_BYTES: u64 = 256 << 20;
 /// after 256 bytes.
 pub const MAX_GRID_FILE_BYTES: u64 = (tyndall::media::grid::MAX_VOXELS << 2) + 256;
 
+/// Largest OpenVDB file read, in bytes (2 GiB: a cloud of 10⁹ half-float
+/// voxels). The reader holds the whole file while it parses it.
+pub const MAX_VDB_FILE_BYTES: u64 = 2 << 30;
+
 /// Reads at most `limit` bytes of a file. A file that is longer (or a
 /// device such as `/dev/zero` that never ends) is refused after reading
 /// `limit + 1` bytes; the message says what the limit is. The error is

@@ -676,7 +676,7 @@ fn legacy_camera_angle_out_of_range_is_refused_at_its_place() {
     // The ends of the range itself are accepted.
     for angle in ["179", "0.001"] {
         common::parse_legacy(
-            &SourceText::new("scene.obj", &format!(
+            &SourceText::new("scene.obj", format!(
                 "PerspectiveCamera {{\ncamera_position < 0, 0, 5 >\npoint_of_interest < 0, 0, 0 >\nup < 0, 1, 0 >\nangle {angle}\n}}\n"
             )),
             LegacyOptions::default(),

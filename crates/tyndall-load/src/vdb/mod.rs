@@ -42,6 +42,7 @@ mod stream;
 mod transform;
 mod tree;
 
+use crate::files::MAX_VDB_FILE_BYTES;
 use compression::{COMPRESS_ACTIVE_MASK, COMPRESS_BLOSC, COMPRESS_ZIP, Codec, bit};
 use glam::{IVec3, Mat4, Vec3};
 use header::{Descriptor, meta_bool, meta_string};
@@ -90,8 +91,17 @@ struct File {
     version: u32,
 }
 
+/// Reads the file at `path` (at most [`MAX_VDB_FILE_BYTES`]: `/dev/zero`
+/// is refused, not read whole) and parses its header.
 fn open(path: &Path) -> Result<File, String> {
-    let data = std::fs::read(path).map_err(|e| format!("{}: cannot open: {e}", path.display()))?;
+    let data = crate::files::read_capped(path, MAX_VDB_FILE_BYTES)
+        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    parse(path, data)
+}
+
+/// Parses the header and grid descriptors of a file's bytes `data`;
+/// errors name `path`.
+fn parse(path: &Path, data: Vec<u8>) -> Result<File, String> {
     let parse = |data: &[u8]| -> Result<(Vec<Descriptor>, u32), String> {
         let mut s = Stream::new(data);
         let h = header::read_header(&mut s)?;
@@ -139,7 +149,16 @@ fn select(descriptors: &[Descriptor], name: &str) -> Option<usize> {
 
 /// The grids of the file at `path`, in file order.
 pub fn list_grids(path: &Path) -> Result<Vec<GridEntry>, String> {
-    let file = open(path)?;
+    entries(&open(path)?)
+}
+
+/// [`list_grids`] of a file held in memory (for fuzzers); errors name
+/// `path`.
+pub fn list_grids_from_bytes(path: &Path, bytes: &[u8]) -> Result<Vec<GridEntry>, String> {
+    entries(&parse(path, bytes.to_vec())?)
+}
+
+fn entries(file: &File) -> Result<Vec<GridEntry>, String> {
     Ok(selectors(&file.descriptors)
         .into_iter()
         .zip(&file.descriptors)
@@ -299,9 +318,18 @@ fn head<'a>(file: &'a File, d: &Descriptor) -> Result<(Stream<'a>, u32, bool, Ma
 /// `path` as a density, with its index-to-world transform. Errors name
 /// the file and the grid.
 pub fn read_grid(path: &Path, name: &str) -> Result<SparseGrid, String> {
-    let file = open(path)?;
+    density_grid(path, &open(path)?, name)
+}
+
+/// [`read_grid`] of a file held in memory (for fuzzers); errors name
+/// `path`.
+pub fn read_grid_from_bytes(path: &Path, bytes: &[u8], name: &str) -> Result<SparseGrid, String> {
+    density_grid(path, &parse(path, bytes.to_vec())?, name)
+}
+
+fn density_grid(path: &Path, file: &File, name: &str) -> Result<SparseGrid, String> {
     let what = format!("{}: grid \"{name}\"", path.display());
-    let mut grid = locate(&file, name, Want::Density).map_err(|e| format!("{what} {e}"))?;
+    let mut grid = locate(file, name, Want::Density).map_err(|e| format!("{what} {e}"))?;
     let mut sparse = SparseGrid::new(grid.index_to_world);
     let mut tile_bricks = 0u64;
     let mut sink = |item: Item| -> Result<(), String> {
@@ -361,9 +389,22 @@ pub fn read_grid(path: &Path, name: &str) -> Result<SparseGrid, String> {
 /// Reads the vec3 grid `name` (chosen as by [`read_grid`]; `Tree_vec3s_5_4_3`, full or half
 /// precision) of the OpenVDB file at `path`: its active voxels and tiles.
 pub fn read_vector_grid(path: &Path, name: &str) -> Result<VectorGrid, String> {
-    let file = open(path)?;
+    vector_grid(path, &open(path)?, name)
+}
+
+/// [`read_vector_grid`] of a file held in memory (for fuzzers); errors
+/// name `path`.
+pub fn read_vector_grid_from_bytes(
+    path: &Path,
+    bytes: &[u8],
+    name: &str,
+) -> Result<VectorGrid, String> {
+    vector_grid(path, &parse(path, bytes.to_vec())?, name)
+}
+
+fn vector_grid(path: &Path, file: &File, name: &str) -> Result<VectorGrid, String> {
     let what = format!("{}: grid \"{name}\"", path.display());
-    let mut grid = locate(&file, name, Want::Vector).map_err(|e| format!("{what} {e}"))?;
+    let mut grid = locate(file, name, Want::Vector).map_err(|e| format!("{what} {e}"))?;
     let (mut voxels, mut tiles) = (Vec::new(), Vec::new());
     let mut sink = |item: Item| -> Result<(), String> {
         match item {
