@@ -23,6 +23,7 @@
 
 mod glb;
 mod materials;
+mod mesh;
 mod sources;
 mod validate;
 
@@ -33,19 +34,17 @@ use materials::BaseTexture;
 use crate::photometry::{candela_to_watts_per_sr, lux_to_watts_per_m2};
 use crate::source::SceneError;
 use ::gltf::khr_lights_punctual::Kind;
-use ::gltf::mesh::Mode;
-use ::gltf::{Accessor, Semantic};
-use glam::{Mat3, Mat4, Vec2, Vec3};
+use glam::{Mat4, Vec3};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use tyndall::camera::{CameraSpec, FieldOfView};
 use tyndall::color::Rgb;
-use tyndall::description::{LightDesc, Origin, SceneDesc, Sourced, SurfaceTexture};
+use tyndall::description::{LightDesc, Origin, SceneDesc, Sourced};
 use tyndall::lights::{DirectionalLight, PointLight, SpotLight, SpotProfile};
 use tyndall::materials::MaterialId;
 use tyndall::settings::MAX_IMAGE_SIDE;
-use tyndall::shapes::{Bounds, Triangle};
+use tyndall::shapes::Bounds;
 use tyndall::texture::TextureId;
 
 /// Extensions this loader interprets; any other listed in
@@ -658,246 +657,5 @@ impl GltfLoader<'_> {
                 irradiance: color * lux_to_watts_per_m2(intensity),
             }),
         })
-    }
-
-    /// Checks that an accessor holds `dimensions` × f32 or integer data
-    /// as expected, naming `element` in the error.
-    fn check_accessor(
-        &self,
-        element: &str,
-        what: &str,
-        accessor: &Accessor,
-        dimensions: ::gltf::accessor::Dimensions,
-        float: bool,
-    ) -> Result<(), SceneError> {
-        use ::gltf::accessor::DataType;
-        let type_ok = if float {
-            accessor.data_type() == DataType::F32
-        } else {
-            matches!(
-                accessor.data_type(),
-                DataType::U8 | DataType::U16 | DataType::U32
-            )
-        };
-        if accessor.dimensions() != dimensions || !type_ok {
-            return Err(self.err(
-                element,
-                format!(
-                    "{what} must be {dimensions:?} of {}, got {:?} of {:?}",
-                    if float { "floats" } else { "unsigned integers" },
-                    accessor.dimensions(),
-                    accessor.data_type()
-                ),
-            ));
-        }
-        if accessor.count() == 0 {
-            return Err(self.err(element, format!("{what} is empty")));
-        }
-        Ok(())
-    }
-
-    fn mesh(
-        &mut self,
-        mesh: &::gltf::Mesh,
-        world: Mat4,
-        scene: &mut SceneDesc,
-    ) -> Result<(), SceneError> {
-        // A mirroring transform reverses the winding, and with it the
-        // front face (glTF §3.7.4): swap two corners to keep it.
-        let mirrored = world.determinant() < 0.0;
-        // Normals transform by the inverse transpose (glTF §3.7.2.1 asks
-        // for unit normals; they are renormalised after it).
-        let normal_matrix = Mat3::from_mat4(world).inverse().transpose();
-        for primitive in mesh.primitives() {
-            let element = format!("meshes[{}].primitives[{}]", mesh.index(), primitive.index());
-            if primitive.mode() != Mode::Triangles {
-                return Err(self.err(
-                    &element,
-                    format!(
-                        "primitive mode {:?} is not supported: only triangles (mode 4) are",
-                        primitive.mode()
-                    ),
-                ));
-            }
-            let positions_accessor = primitive
-                .get(&Semantic::Positions)
-                .ok_or_else(|| self.err(&element, "the primitive has no POSITION attribute"))?;
-            self.check_accessor(
-                &element,
-                "POSITION",
-                &positions_accessor,
-                ::gltf::accessor::Dimensions::Vec3,
-                true,
-            )?;
-            if let Some(indices) = primitive.indices() {
-                self.check_accessor(
-                    &element,
-                    "the indices",
-                    &indices,
-                    ::gltf::accessor::Dimensions::Scalar,
-                    false,
-                )?;
-            }
-            if let Some(normals) = primitive.get(&Semantic::Normals) {
-                self.check_accessor(
-                    &element,
-                    "NORMAL",
-                    &normals,
-                    ::gltf::accessor::Dimensions::Vec3,
-                    true,
-                )?;
-            }
-            let (material, base_texture) = self.material_id(&primitive.material(), scene)?;
-            let mut triangles = Vec::new();
-            let buffers = &self.buffers;
-            let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
-            let positions: Vec<Vec3> = reader
-                .read_positions()
-                .ok_or_else(|| {
-                    self.err(
-                        &element,
-                        "cannot read POSITION: its accessor lies outside its buffer",
-                    )
-                })?
-                .map(|p| world.transform_point3(Vec3::from_array(p)))
-                .collect();
-            // Vertex normals, for shading; a primitive without them is
-            // flat-shaded (glTF §3.7.2.1).
-            let normals: Option<Vec<Vec3>> = match reader.read_normals() {
-                Some(normals) => Some(
-                    normals
-                        .map(|n| (normal_matrix * Vec3::from_array(n)).normalize_or_zero())
-                        .collect(),
-                ),
-                None if primitive.get(&Semantic::Normals).is_some() => {
-                    return Err(self.err(
-                        &element,
-                        "cannot read NORMAL: its accessor lies outside its buffer",
-                    ));
-                }
-                None => None,
-            };
-            if let Some(normals) = &normals
-                && normals.len() != positions.len()
-            {
-                return Err(self.err(
-                    &element,
-                    format!(
-                        "NORMAL has {} entries but POSITION has {}",
-                        normals.len(),
-                        positions.len()
-                    ),
-                ));
-            }
-            // The base colour texture's coordinates (TEXCOORD_n), if the
-            // material has one.
-            let mut missing_coords = None;
-            let tex_coords: Option<Vec<[f32; 2]>> = match base_texture {
-                Some(texture) => match reader.read_tex_coords(texture.tex_coord) {
-                    Some(coords) => Some(coords.into_f32().collect()),
-                    None => {
-                        missing_coords = Some(texture.tex_coord);
-                        None
-                    }
-                },
-                None => None,
-            };
-            if let Some(coords) = &tex_coords
-                && coords.len() != positions.len()
-            {
-                return Err(self.err(
-                    &element,
-                    format!(
-                        "TEXCOORD has {} entries but POSITION has {}",
-                        coords.len(),
-                        positions.len()
-                    ),
-                ));
-            }
-            let mut corner_uvs = Vec::new();
-            let mut corner_normals = Vec::new();
-            let indices: Vec<u32> = match primitive.indices() {
-                Some(_) => reader
-                    .read_indices()
-                    .ok_or_else(|| {
-                        self.err(
-                            &element,
-                            "cannot read the indices: their accessor lies outside its buffer",
-                        )
-                    })?
-                    .into_u32()
-                    .collect(),
-                None => (0..positions.len() as u32).collect(),
-            };
-            if !indices.len().is_multiple_of(3) {
-                return Err(self.err(
-                    &element,
-                    format!("{} vertices do not form whole triangles", indices.len()),
-                ));
-            }
-            for (t, corners) in indices.chunks_exact(3).enumerate() {
-                let vertex = |i: u32| {
-                    positions.get(i as usize).copied().ok_or_else(|| {
-                        self.err(
-                            &element,
-                            format!(
-                                "triangle {t} refers to vertex {i}, but POSITION has {} vertices",
-                                positions.len()
-                            ),
-                        )
-                    })
-                };
-                let (a, mut b, mut c) = (
-                    vertex(corners[0])?,
-                    vertex(corners[1])?,
-                    vertex(corners[2])?,
-                );
-                if !(a.is_finite() && b.is_finite() && c.is_finite()) {
-                    return Err(self.err(&element, "vertex positions must be finite"));
-                }
-                let mut order = [corners[0], corners[1], corners[2]];
-                if mirrored {
-                    std::mem::swap(&mut b, &mut c);
-                    order.swap(1, 2);
-                }
-                match Triangle::new(a, b, c) {
-                    Some(triangle) => {
-                        self.bounds = self.bounds.union(triangle.bounds());
-                        if let Some(coords) = &tex_coords {
-                            corner_uvs.push(order.map(|i| Vec2::from_array(coords[i as usize])));
-                        }
-                        if let Some(normals) = &normals {
-                            let corner = |i: u32| normals[i as usize];
-                            let n = order.map(corner);
-                            if n.contains(&Vec3::ZERO) {
-                                return Err(self.err(
-                                    &element,
-                                    format!("triangle {t} has a zero or non-finite NORMAL"),
-                                ));
-                            }
-                            corner_normals.push(n);
-                        }
-                        triangles.push(triangle);
-                    }
-                    None => self.skipped_degenerate += 1,
-                }
-            }
-            if let Some(n) = missing_coords {
-                self.warn(
-                    &element,
-                    format!(
-                        "the material's baseColorTexture uses TEXCOORD_{n}, which the primitive \
-                         does not have: the texture's mean colour applies"
-                    ),
-                );
-            }
-            let origin = self.origin(element);
-            let texture = base_texture.map(|t| SurfaceTexture {
-                texture: t.texture,
-                uvs: corner_uvs,
-            });
-            scene.add_mesh(triangles, corner_normals, texture, material, origin);
-        }
-        Ok(())
     }
 }
