@@ -145,7 +145,16 @@ fn the_core_does_not_depend_on_the_gpu_crate() {
 #[test]
 fn the_core_has_no_file_format_dependency() {
     let manifest = std::fs::read_to_string(repo().join("crates/tyndall/Cargo.toml")).expect("read");
-    for name in ["toml", "tobj", "image", "exr", "serde", "gltf", "serde_json", "miniz_oxide"] {
+    for name in [
+        "toml",
+        "tobj",
+        "image",
+        "exr",
+        "serde",
+        "gltf",
+        "serde_json",
+        "miniz_oxide",
+    ] {
         let listed = manifest.lines().any(|l| {
             l.trim_start().starts_with(&format!("{name}."))
                 || l.trim_start().starts_with(&format!("{name} ="))

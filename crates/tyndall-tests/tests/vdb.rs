@@ -200,7 +200,7 @@ fn vdb_errors_name_file_and_grid() {
             Some("smoke"),
             "\"density\", \"temperature\", \"velocity\"",
         ),
-        ("missing.vdb", None, "cannot open"),
+        ("missing.vdb", None, "cannot read"),
         ("make_test_vdbs.py", None, "not a readable OpenVDB file"),
     ];
     for (name, grid, expected) in cases {
@@ -211,7 +211,7 @@ fn vdb_errors_name_file_and_grid() {
         }
         let m = load("bad", &medium).err().expect("a bad grid is an error");
         assert!(m.contains(expected) && m.contains(name), "{name}: {m}");
-        if expected != "cannot open" && expected != "not a readable OpenVDB file" {
+        if expected != "cannot read" && expected != "not a readable OpenVDB file" {
             assert!(
                 m.contains(&format!("grid \"{}\"", grid.unwrap_or("density"))),
                 "{m}"
@@ -738,4 +738,20 @@ fn degenerate_transforms_are_refused() {
             "{e}"
         );
     }
+}
+
+/// A VDB file that is a device (issue 28: readers must not read
+/// `/dev/zero` whole) is refused before anything is read.
+#[test]
+fn a_device_as_vdb_file_is_refused_unread() {
+    if !Path::new("/dev/zero").exists() {
+        return;
+    }
+    let m = load("zero", "file = \"/dev/zero\"")
+        .err()
+        .expect("a device is not a VDB file");
+    assert!(
+        m.contains("/dev/zero") && m.contains("not a regular file"),
+        "{m}"
+    );
 }

@@ -91,9 +91,19 @@ struct File {
     version: u32,
 }
 
-/// Reads the file at `path` (at most [`MAX_VDB_FILE_BYTES`]: `/dev/zero`
-/// is refused, not read whole) and parses its header.
+/// Reads the file at `path` (a regular file of at most
+/// [`MAX_VDB_FILE_BYTES`]: `/dev/zero` is refused, not read) and parses
+/// its header.
 fn open(path: &Path) -> Result<File, String> {
+    // A device or pipe (`/dev/zero`) would be read up to the cap first.
+    if let Ok(metadata) = std::fs::metadata(path)
+        && !metadata.is_file()
+    {
+        return Err(format!(
+            "{}: cannot read: it is not a regular file",
+            path.display()
+        ));
+    }
     let data = crate::files::read_capped(path, MAX_VDB_FILE_BYTES)
         .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
     parse(path, data)
@@ -242,41 +252,35 @@ fn locate<'a>(file: &'a File, name: &str, want: Want) -> Result<Grid<'a>, String
         }
     };
     let (s, flags, half, index_to_world) = head(file, d)?;
-    if d.instance_parent.is_empty() {
-        return Ok(Grid {
-            stream: s,
-            codec: Codec {
-                flags,
-                half,
-                components,
-            },
-            index_to_world,
-        });
-    }
-    // An instance (format 216 on) stores no tree: it shares that of the
-    // grid its descriptor names by unique name (io/Archive.cc
-    // `connectInstance`), read with that grid's compression; the
-    // instance's own transform places it.
-    let parent = file
-        .descriptors
-        .iter()
-        .find(|p| p.unique_name == d.instance_parent && p.instance_parent.is_empty())
-        .ok_or_else(|| {
-            format!(
-                "is an instance of grid \"{}\", which is not in the file (or is an instance itself)",
-                d.instance_parent
-            )
-        })?;
-    if parent.grid_type != d.grid_type {
-        return Err(format!(
-            "is an instance of grid \"{}\" of another type ({})",
-            parent.name, parent.grid_type
-        ));
-    }
-    let (s, flags, half, _) =
-        head(file, parent).map_err(|e| format!("instances grid \"{}\", which {e}", parent.name))?;
+    let (stream, flags, half) = if d.instance_parent.is_empty() {
+        (s, flags, half)
+    } else {
+        // An instance (format 216 on) stores no tree: it shares that of
+        // the grid its descriptor names by unique name (io/Archive.cc
+        // `connectInstance`), read with that grid's compression; the
+        // instance's own transform places it.
+        let parent = file
+            .descriptors
+            .iter()
+            .find(|p| p.unique_name == d.instance_parent && p.instance_parent.is_empty())
+            .ok_or_else(|| {
+                format!(
+                    "is an instance of grid \"{}\", which is not in the file (or is an instance itself)",
+                    d.instance_parent
+                )
+            })?;
+        if parent.grid_type != d.grid_type {
+            return Err(format!(
+                "is an instance of grid \"{}\" of another type ({})",
+                parent.name, parent.grid_type
+            ));
+        }
+        let (s, flags, half, _) = head(file, parent)
+            .map_err(|e| format!("instances grid \"{}\", which {e}", parent.name))?;
+        (s, flags, half)
+    };
     Ok(Grid {
-        stream: s,
+        stream,
         codec: Codec {
             flags,
             half,
