@@ -69,7 +69,7 @@ fn on_gpu(kind: IntegratorKind) -> bool {
 /// Renders `args.scene` on the GPU and writes the image.
 pub fn render(args: RenderArgs) -> Result<()> {
     refuse_unsupported_flags(&args)?;
-    let mut desc = load_scene(args.scene.as_deref(), args.two_sided)?;
+    let mut desc = load_scene(args.scene.as_deref(), args.two_sided, args.frame)?;
     args.overrides.apply(&mut desc)?;
     let output = args
         .output

@@ -24,7 +24,7 @@ use tyndall::settings::{DEFAULT_MAP_RESOLUTION, VisibilityMode};
 use tyndall::{IntegratorKind, RenderStats, Scene, SceneDesc};
 use tyndall_image::ImageFormat;
 use tyndall_image::parts::{PartCompression, read_part, write_part};
-use tyndall_load::{LegacyOptions, SceneError, demo};
+use tyndall_load::{LegacyOptions, LoadOptions, SceneError, demo};
 
 #[derive(Parser)]
 #[command(
@@ -83,6 +83,11 @@ struct RenderArgs {
     /// Load legacy .obj quads as two-sided (the course code makes them one-sided).
     #[arg(long)]
     two_sided: bool,
+    /// The frame of the scene's file sequences: a run of `#` in a [[media]]
+    /// `file` is the frame number, zero-padded (a Blender fluid cache's
+    /// `cache/data/fluid_data_####.vdb` at --frame 12 reads fluid_data_0012.vdb).
+    #[arg(long)]
+    frame: Option<u32>,
     /// No progress bar and no statistics (errors and warnings still go to stderr).
     #[arg(short, long)]
     quiet: bool,
@@ -310,10 +315,24 @@ fn refuse_flags(command: &str, refused: &[(bool, &str, &str)]) -> Result<()> {
 }
 
 /// Loads a scene by its file ending, or the demo for `None`.
-pub fn load_scene(path: Option<&Path>, two_sided: bool) -> Result<SceneDesc> {
+pub fn load_scene(path: Option<&Path>, two_sided: bool, frame: Option<u32>) -> Result<SceneDesc> {
     Ok(match path {
-        None => demo::load()?,
-        Some(path) => tyndall_load::load(path, LegacyOptions { two_sided })?,
+        None => {
+            let mut desc = demo::load()?;
+            if let Some(frame) = frame {
+                desc.warnings.push(format!(
+                    "--frame {frame} is unused: the demo has no file sequence"
+                ));
+            }
+            desc
+        }
+        Some(path) => tyndall_load::load(
+            path,
+            LoadOptions {
+                legacy: LegacyOptions { two_sided },
+                frame,
+            },
+        )?,
     })
 }
 
@@ -326,7 +345,7 @@ fn render(args: RenderArgs) -> Result<()> {
     if args.gpu {
         return render_on_gpu(args);
     }
-    let mut desc = load_scene(args.scene.as_deref(), args.two_sided)?;
+    let mut desc = load_scene(args.scene.as_deref(), args.two_sided, args.frame)?;
     args.overrides.apply(&mut desc)?;
     let output = args
         .output

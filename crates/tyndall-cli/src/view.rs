@@ -21,6 +21,9 @@ pub struct ViewArgs {
     /// Load legacy .obj quads as two-sided.
     #[arg(long)]
     two_sided: bool,
+    /// The frame of the scene's file sequences (`####` in a [[media]] `file`).
+    #[arg(long)]
+    frame: Option<u32>,
     /// Render this many GPU frames, then exit (with --screenshot: save first).
     #[arg(long)]
     frames: Option<u32>,
@@ -75,7 +78,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
     if args.frames == Some(0) {
         bail!("--frames must be at least 1");
     }
-    let mut desc = load_scene(args.scene.as_deref(), args.two_sided)?;
+    let mut desc = load_scene(args.scene.as_deref(), args.two_sided, args.frame)?;
     if desc.settings.interleave == 1 {
         // What makes the march real-time: the tile shares out its lattice.
         desc.settings.interleave = VIEW_INTERLEAVE;

@@ -21,6 +21,7 @@ pub mod legacy;
 pub mod mesh;
 pub mod native;
 pub mod photometry;
+pub mod sequence;
 mod source;
 pub mod tgrid;
 #[cfg(feature = "vdb")]
@@ -73,14 +74,54 @@ fn include(
     }
 }
 
-/// Loads a scene by its file ending: `.toml` (native), `.obj` (the
-/// paper's legacy format, with `legacy` options), `.gltf`/`.glb` (glTF 2.0).
-pub fn load(path: &Path, legacy: LegacyOptions) -> Result<SceneDesc, SceneError> {
+/// How to load a scene file, beyond what the file says.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// The paper's legacy format's options.
+    pub legacy: LegacyOptions,
+    /// The frame of the file sequences a native scene names
+    /// (`file = "fluid_data_####.vdb"`, see [`sequence`]).
+    pub frame: Option<u32>,
+}
+
+impl From<LegacyOptions> for LoadOptions {
+    fn from(legacy: LegacyOptions) -> Self {
+        Self {
+            legacy,
+            frame: None,
+        }
+    }
+}
+
+/// Loads a scene by its file ending: `.toml` (native, its file sequences
+/// at `options.frame`), `.obj` (the paper's legacy format, with
+/// `options.legacy`), `.gltf`/`.glb` (glTF 2.0). A frame given for a
+/// scene that names no file sequence is unused, with a warning.
+pub fn load(path: &Path, options: LoadOptions) -> Result<SceneDesc, SceneError> {
+    let LoadOptions { legacy, frame } = options;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
+    let mut desc = match ext.as_deref() {
+        Some("toml") => return native::load_frame(path, frame),
+        _ => load_by_ending(path, ext.as_deref(), legacy)?,
+    };
+    if let Some(frame) = frame {
+        desc.warnings.push(format!(
+            "frame {frame} is unused: {} names no file sequence (only [[media]] files such as `fluid_data_####.vdb` do)",
+            path.display()
+        ));
+    }
+    Ok(desc)
+}
+
+fn load_by_ending(
+    path: &Path,
+    ext: Option<&str>,
+    legacy: LegacyOptions,
+) -> Result<SceneDesc, SceneError> {
+    match ext {
         Some("toml") => native::load(path),
         Some("obj") => legacy::load(path, legacy),
         #[cfg(feature = "gltf")]

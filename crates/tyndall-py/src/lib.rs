@@ -11,7 +11,7 @@ mod scene;
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use std::path::PathBuf;
-use tyndall_load::{LegacyOptions, SourceText, native};
+use tyndall_load::{LegacyOptions, LoadOptions, SourceText, native};
 
 use scene::NativeScene;
 
@@ -34,19 +34,25 @@ fn image_bytes(image: &tyndall::Image) -> Vec<u8> {
 }
 
 /// Loads a scene file by its ending: native (.toml), the paper's legacy
-/// format (.obj) or glTF 2.0 (.gltf, .glb).
+/// format (.obj) or glTF 2.0 (.gltf, .glb); a native scene's file
+/// sequences (`fluid_data_####.vdb`) at `frame`.
 #[pyfunction]
-#[pyo3(signature = (path, two_sided = false))]
-fn load(path: PathBuf, two_sided: bool) -> PyResult<NativeScene> {
-    let desc = tyndall_load::load(&path, LegacyOptions { two_sided }).map_err(value_error)?;
+#[pyo3(signature = (path, two_sided = false, frame = None))]
+fn load(path: PathBuf, two_sided: bool, frame: Option<u32>) -> PyResult<NativeScene> {
+    let options = LoadOptions {
+        legacy: LegacyOptions { two_sided },
+        frame,
+    };
+    let desc = tyndall_load::load(&path, options).map_err(value_error)?;
     NativeScene::new(desc)
 }
 
 /// Parses a native scene from TOML text; `path` names it in errors and
-/// anchors relative paths (its folder).
+/// anchors relative paths (its folder); file sequences at `frame`.
 #[pyfunction]
-fn parse_toml(text: String, path: PathBuf) -> PyResult<NativeScene> {
-    let desc = native::parse(&SourceText::new(path, text)).map_err(value_error)?;
+#[pyo3(signature = (text, path, frame = None))]
+fn parse_toml(text: String, path: PathBuf, frame: Option<u32>) -> PyResult<NativeScene> {
+    let desc = native::parse_frame(&SourceText::new(path, text), frame).map_err(value_error)?;
     NativeScene::new(desc)
 }
 

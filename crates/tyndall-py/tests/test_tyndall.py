@@ -191,3 +191,33 @@ def test_from_dict_errors_name_the_key_path():
         {"camera": camera, "lights": [dict(spot, cutoff_deg=20.0)], "fog": {"sigma_t": 0.1, "albedo": 0.8}}
     )
     assert scene.render(width=8, height=8, spp=1).max() > 0
+
+
+def test_frame_picks_the_file_of_a_sequence(tmp_path):
+    """A cache's `####` sequence: `frame=` picks the file (issue 21); a
+    missing frame, or the file of a frame that is not there, is a
+    ValueError naming what is wrong."""
+    smoke = (REPO / "scenes" / "smoke.toml").read_text()
+    (tmp_path / "cache").mkdir()
+    grid = (REPO / "scenes" / "smoke" / "plume.tgrid").read_bytes()
+    (tmp_path / "cache" / "plume_0012.tgrid").write_bytes(grid)
+    scene_file = tmp_path / "smoke.toml"
+    scene_file.write_text(smoke.replace('file = "smoke/plume.tgrid"', 'file = "cache/plume_####.tgrid"'))
+    sequenced = tyndall.load(scene_file, frame=12).render(**SMALL)
+    plain = tyndall.load(REPO / "scenes" / "smoke.toml").render(**SMALL)
+    assert sequenced.tobytes() == plain.tobytes()
+    with pytest.raises(ValueError, match="frame sequence"):
+        tyndall.load(scene_file)
+    with pytest.raises(ValueError, match="plume_0013.tgrid"):
+        tyndall.load(scene_file, frame=13)
+    with pytest.raises(ValueError, match="whole number"):
+        tyndall.load(scene_file, frame=-1)
+    described = tyndall.Scene.from_dict(
+        {"camera": {"position": [0, 2, 8], "look_at": [0, 1.95, 0], "fov_y_deg": 36},
+         "render": {"integrator": "volpath"},
+         "media": [{"sigma_t": 9.0, "box": {"min": [-1.2, 0, -1.2], "max": [1.2, 4, 1.2]},
+                    "density": "grid", "file": "cache/plume_####.tgrid"}]},
+        base_dir=tmp_path,
+        frame=12,
+    )
+    assert described.render(**SMALL).max() >= 0.0

@@ -31,7 +31,6 @@ use std::path::{Path, PathBuf};
 use tyndall::camera::Camera;
 use tyndall::lights::Light;
 use tyndall::{Image, IntegratorKind, RenderSettings};
-use tyndall_load::LegacyOptions;
 
 const WIDTH: u32 = 24;
 const HEIGHT: u32 = 16;
@@ -111,7 +110,7 @@ fn file_name(path: &Path) -> &str {
 fn load(path: &Path) -> Loaded {
     let extension = path.extension().and_then(|e| e.to_str());
     let loaded = if matches!(extension, Some("obj" | "gltf" | "glb")) {
-        common::load_any(path, LegacyOptions::default()).map(|mut desc| {
+        common::load_any(path, Default::default()).map(|mut desc| {
             desc.override_fog(Some(LEGACY_DENSITY), Some(LEGACY_ALBEDO))
                 .expect("fog");
             desc
@@ -119,7 +118,7 @@ fn load(path: &Path) -> Loaded {
     } else {
         // Native scenes through tyndall-load, which also reads what they
         // include (OpenVDB densities, glTF files).
-        common::load_any(path, LegacyOptions::default())
+        common::load_any(path, Default::default())
     };
     loaded.unwrap_or_else(|e| panic!("{e}"))
 }

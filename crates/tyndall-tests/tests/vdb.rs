@@ -755,3 +755,75 @@ fn a_device_as_vdb_file_is_refused_unread() {
         "{m}"
     );
 }
+
+/// A cache as Blender writes it, one file per frame
+/// (`cache/data/fluid_data_0012.vdb`): `file = "…_####.vdb"` reads the
+/// frame chosen at load time (issue 21), the same grid as naming the
+/// file itself. Without a frame, or at a frame whose file is missing,
+/// the error names the scene's line (that of `file`) and the file.
+#[test]
+fn a_frame_sequence_reads_the_chosen_frame() {
+    let dir = std::env::temp_dir().join(format!("tyndall-vdb-frames-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("cache/data")).expect("temp dir");
+    std::fs::copy(
+        data("sphere.vdb"),
+        dir.join("cache/data/fluid_data_0012.vdb"),
+    )
+    .expect("copy");
+    let scene = |file: &str| {
+        let path = dir.join("fluid.toml");
+        std::fs::write(
+            &path,
+            format!(
+                "[camera]\nposition = [0, 0, 10]\nlook_at = [0, 0, 0]\nfov_y_deg = 30\n\n\
+                 [render]\nintegrator = \"volpath\"\n\n\
+                 [[media]]\nsigma_t = {SIGMA}\nalbedo = 0.5\ndensity = \"vdb\"\nfile = {file:?}\n"
+            ),
+        )
+        .expect("write scene");
+        path
+    };
+    let at = |frame: Option<u32>| {
+        let options = tyndall_load::LoadOptions {
+            frame,
+            ..Default::default()
+        };
+        common::load_any(&scene("cache/data/fluid_data_####.vdb"), options)
+    };
+    let framed = at(Some(12)).expect("frame 12");
+    assert!(
+        !framed.warnings.iter().any(|w| w.contains("frame")),
+        "{:?}",
+        framed.warnings
+    );
+    let named = common::load_any(&scene("cache/data/fluid_data_0012.vdb"), Default::default())
+        .expect("the file itself");
+    let (a, b) = (&framed.scene.volumes()[0], &named.scene.volumes()[0]);
+    for p in [Vec3::ZERO, CENTER, Vec3::new(0.7, 0.1, -0.4)] {
+        assert_eq!(a.extinction_at(p), b.extinction_at(p), "at {p}");
+    }
+    let e = at(None).err().expect("no frame").to_string();
+    assert!(
+        e.contains("fluid.toml:13:1:") && e.contains("frame sequence") && e.contains("--frame N"),
+        "{e}"
+    );
+    let e = at(Some(13)).err().expect("frame 13 is missing").to_string();
+    assert!(e.contains("fluid_data_0013.vdb"), "{e}");
+    // A frame no file takes is said, not silently dropped.
+    let unused = common::load_any(
+        &scene("cache/data/fluid_data_0012.vdb"),
+        tyndall_load::LoadOptions {
+            frame: Some(3),
+            ..Default::default()
+        },
+    )
+    .expect("loads");
+    assert!(
+        unused
+            .warnings
+            .iter()
+            .any(|w| w.contains("frame 3 is unused")),
+        "{:?}",
+        unused.warnings
+    );
+}

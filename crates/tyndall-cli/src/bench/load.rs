@@ -11,7 +11,6 @@ use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 use tyndall::Scene;
-use tyndall_load::LegacyOptions;
 
 /// Quads along each side of the grid: 2·708² = 1,002,528 triangles.
 const GRID: u32 = 708;
@@ -28,7 +27,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let mut triangles = 0;
     for _ in 0..args.runs {
         let start = Instant::now();
-        let desc = tyndall_load::load(&path, LegacyOptions::default())?;
+        let desc = tyndall_load::load(&path, Default::default())?;
         loads.push(start.elapsed());
         let start = Instant::now();
         let scene = Scene::from_desc(desc)?;

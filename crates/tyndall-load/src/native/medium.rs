@@ -45,8 +45,8 @@ impl Loader<'_> {
                 self.err(&span, "density", "density \"vdb\" needs `file = \"….vdb\"`")
             })?;
             let name = m.grid.as_deref().unwrap_or("density");
-            let grid = crate::vdb_grid(&self.relative(file), name)
-                .map_err(|e| self.err(&span, "file", e))?;
+            let path = self.data_file(&span, "file", file)?;
+            let grid = crate::vdb_grid(&path, name).map_err(|e| self.err(&span, "file", e))?;
             let world = self.placement(&span, placement)?.matrix() * grid.index_to_world();
             Some((grid, world))
         } else {
@@ -142,8 +142,8 @@ impl Loader<'_> {
                         "density \"grid\" needs `file = \"….tgrid\"`",
                     )
                 })?;
-                let grid = crate::tgrid::read(&self.relative(file))
-                    .map_err(|e| self.err(&span, "file", e))?;
+                let path = self.data_file(&span, "file", file)?;
+                let grid = crate::tgrid::read(&path).map_err(|e| self.err(&span, "file", e))?;
                 Density::Grid(grid)
             }
             "vdb" => {

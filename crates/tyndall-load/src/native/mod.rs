@@ -38,14 +38,26 @@ use tables::*;
 
 /// Loads a native scene file.
 pub fn load(path: &Path) -> Result<SceneDesc, SceneError> {
+    load_frame(path, None)
+}
+
+/// Loads a native scene file whose file sequences (`####`,
+/// [`crate::sequence`]) are read at `frame`.
+pub fn load_frame(path: &Path, frame: Option<u32>) -> Result<SceneDesc, SceneError> {
     let source = SourceText::read(path)?;
-    parse(&source)
+    parse_frame(&source, frame)
 }
 
 /// Parses native scene text; relative paths resolve against the
 /// directory of `source.path`. The description is validated
 /// ([`SceneDesc::validate`]), its errors placed at the offending key.
 pub fn parse(source: &SourceText) -> Result<SceneDesc, SceneError> {
+    parse_frame(source, None)
+}
+
+/// [`parse`], with the scene's file sequences read at `frame`; a frame
+/// that no file uses is reported in the warnings.
+pub fn parse_frame(source: &SourceText, frame: Option<u32>) -> Result<SceneDesc, SceneError> {
     let file: SceneFile = toml::from_str(&source.text).map_err(|e| {
         let offset = e.span().map_or(0, |s| s.start);
         locate_parse_error(source, offset, e.message().trim_end())
@@ -54,6 +66,8 @@ pub fn parse(source: &SourceText) -> Result<SceneDesc, SceneError> {
         source,
         file: Arc::from(source.path.as_path()),
         warnings: Vec::new(),
+        frame,
+        frame_used: false,
     }
     .build(file)?;
     if let Some(e) = source.locate_all(&desc.errors()) {
@@ -69,6 +83,10 @@ struct Loader<'a> {
     /// The file, shared by the origins of its items.
     file: Arc<Path>,
     warnings: Vec<String>,
+    /// The frame file sequences are read at.
+    frame: Option<u32>,
+    /// Whether a file sequence took the frame.
+    frame_used: bool,
 }
 
 impl Loader<'_> {
@@ -197,6 +215,14 @@ impl Loader<'_> {
         }
         desc.settings = settings;
         desc.output = output;
+        if let Some(frame) = self.frame
+            && !self.frame_used
+        {
+            self.warnings.push(format!(
+                "frame {frame} is unused: {} names no file sequence (`####`)",
+                self.source.path.display()
+            ));
+        }
         desc.warnings = self.warnings;
         Ok(desc)
     }
@@ -312,6 +338,21 @@ impl Loader<'_> {
     fn relative(&self, p: &str) -> std::path::PathBuf {
         let dir = self.source.path.parent().unwrap_or(Path::new(""));
         dir.join(p)
+    }
+
+    /// The file a data `file` key names, relative to the scene: a frame
+    /// sequence (`fluid_data_####.vdb`) at the chosen frame. The error
+    /// names `key` in the table spanning `span`.
+    fn data_file(
+        &mut self,
+        span: &Range<usize>,
+        key: &str,
+        pattern: &str,
+    ) -> Result<std::path::PathBuf, SceneError> {
+        let name =
+            crate::sequence::frame_file(pattern, self.frame).map_err(|e| self.err(span, key, e))?;
+        self.frame_used |= crate::sequence::is_sequence(pattern);
+        Ok(self.relative(&name))
     }
 
     /// The fog of a `[fog]` table (its values checked by

@@ -41,16 +41,17 @@ __all__ = ["Scene", "load", "demo", "merge_parts", "write_exr", "write_png"]
 PathLike = Union[str, "os.PathLike[str]"]
 
 # How a scene was made, enough to make it again in another process:
-# ("load", absolute path, two_sided), ("toml", text, name) or ("demo",).
+# ("load", absolute path, two_sided, frame), ("toml", text, name, frame)
+# or ("demo",).
 Recipe = Tuple[Any, ...]
 
 
 def _build(recipe: Recipe) -> "_tyndall.NativeScene":
     kind = recipe[0]
     if kind == "load":
-        return _tyndall.load(recipe[1], recipe[2])
+        return _tyndall.load(recipe[1], recipe[2], recipe[3])
     if kind == "toml":
-        return _tyndall.parse_toml(recipe[1], recipe[2])
+        return _tyndall.parse_toml(recipe[1], recipe[2], recipe[3])
     if kind == "demo":
         return _tyndall.demo()
     raise ValueError(f"not a scene recipe: {recipe!r}")
@@ -80,20 +81,27 @@ class Scene:
         return (_rebuild, (self._recipe,))
 
     @classmethod
-    def from_dict(cls, description: Mapping[str, Any], base_dir: Optional[PathLike] = None) -> "Scene":
+    def from_dict(
+        cls,
+        description: Mapping[str, Any],
+        base_dir: Optional[PathLike] = None,
+        frame: Optional[int] = None,
+    ) -> "Scene":
         """Build a scene from a dict with the same structure as a native TOML file.
 
         ``{"camera": {...}, "lights": [{...}], "materials": {"glass": {...}}}``
         reads exactly as the TOML file with those tables would (see
         docs/scene-format.md). Relative paths (mesh files, grids) are relative
-        to ``base_dir`` (default: the current folder). Errors raise
+        to ``base_dir`` (default: the current folder); a file sequence
+        (``"fluid_data_####.vdb"``) is read at ``frame``. Errors raise
         ``ValueError`` naming the key path, e.g. ``lights[0].cutoff_deg``.
         """
         text, paths = _to_toml(description)
         folder = os.path.abspath(os.fspath(base_dir)) if base_dir is not None else os.getcwd()
         name = os.path.join(folder, "<dict>")
         try:
-            return cls(_tyndall.parse_toml(text, name), ("toml", text, name))
+            frame = _frame(frame)
+            return cls(_tyndall.parse_toml(text, name, frame), ("toml", text, name, frame))
         except ValueError as e:
             raise ValueError(_name_key_path(str(e), name, paths)) from None
 
@@ -191,16 +199,29 @@ class Scene:
         )
 
 
-def load(path: PathLike, two_sided: bool = False) -> Scene:
+def load(path: PathLike, two_sided: bool = False, frame: Optional[int] = None) -> Scene:
     """Load a scene file by its ending: native (``.toml``), the paper's legacy
     format (``.obj``) or glTF 2.0 (``.gltf``, ``.glb``).
 
-    ``two_sided`` loads legacy quads as two-sided. Raises ``ValueError``
-    naming the file, line and column of any error.
+    ``two_sided`` loads legacy quads as two-sided. ``frame`` picks the frame
+    of the scene's file sequences: a ``[[media]]`` ``file`` such as a
+    Blender fluid cache's ``"cache/data/fluid_data_####.vdb"`` reads
+    ``fluid_data_0012.vdb`` at ``frame=12``. Raises ``ValueError`` naming
+    the file, line and column of any error.
     """
     path = os.path.abspath(os.fspath(path))
     two_sided = bool(two_sided)
-    return Scene(_tyndall.load(path, two_sided), ("load", path, two_sided))
+    frame = _frame(frame)
+    return Scene(_tyndall.load(path, two_sided, frame), ("load", path, two_sided, frame))
+
+
+def _frame(frame: Optional[int]) -> Optional[int]:
+    """A frame number: a whole number from 0 to 2³² − 1, or None."""
+    if frame is None:
+        return None
+    if isinstance(frame, bool) or not isinstance(frame, int) or not 0 <= frame < 2**32:
+        raise ValueError(f"frame must be a whole number from 0 to 4294967295, got {frame!r}")
+    return frame
 
 
 def demo() -> Scene:

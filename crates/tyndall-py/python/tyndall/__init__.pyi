@@ -20,7 +20,10 @@ class Scene:
 
     @classmethod
     def from_dict(
-        cls, description: Mapping[str, Any], base_dir: Optional[PathLike] = None
+        cls,
+        description: Mapping[str, Any],
+        base_dir: Optional[PathLike] = None,
+        frame: Optional[int] = None,
     ) -> "Scene":
         """A scene from a dict with the structure of a native TOML file."""
         ...
@@ -62,7 +65,7 @@ class Scene:
         """Render a part; the bytes of the OpenEXR part file `tyndall render --tile` writes."""
         ...
 
-def load(path: PathLike, two_sided: bool = False) -> Scene: ...
+def load(path: PathLike, two_sided: bool = False, frame: Optional[int] = None) -> Scene: ...
 def demo() -> Scene: ...
 def merge_parts(
     parts: Sequence[Union[bytes, PathLike]], output: Optional[PathLike] = None

@@ -75,7 +75,7 @@ pub fn parse_legacy(source: &SourceText, options: LegacyOptions) -> Result<Loade
 
 /// Any scene file (by its ending, as `tyndall render` reads it), loaded
 /// and built.
-pub fn load_any(path: &Path, options: LegacyOptions) -> Result<Loaded, SceneError> {
+pub fn load_any(path: &Path, options: tyndall_load::LoadOptions) -> Result<Loaded, SceneError> {
     Loaded::new(tyndall_load::load(path, options)?)
 }
 
