@@ -300,6 +300,12 @@ fn build_volume(m: MediumDesc) -> Result<Volume, DescError> {
         RegionDesc::Box(b) => VolumeRegion::Box(b),
         RegionDesc::Mesh(triangles) => VolumeRegion::Mesh(MeshRegion::new(triangles)),
     };
-    Volume::new(m.sigma_t, m.albedo, m.phase, m.density, region)
-        .map_err(|e| DescError::new(&m.origin, "density", e))
+    let volume = Volume::new(m.sigma_t, m.albedo, m.phase, m.density, region)
+        .map_err(|e| DescError::new(&m.origin, "density", e))?;
+    match m.emission {
+        Some(emission) => volume
+            .with_emission(emission)
+            .map_err(|e| DescError::new(&m.origin, "emission", e)),
+        None => Ok(volume),
+    }
 }

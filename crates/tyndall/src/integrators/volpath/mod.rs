@@ -54,7 +54,12 @@
 //! transmittance the fog estimators use is multiplied by the volumes'
 //! (ratio tracking), which keeps their MIS weights valid: the weights
 //! still sum to one, and each strategy stays unbiased. Segments inside a
-//! solid dielectric carry no medium.
+//! solid dielectric carry no medium. Emissive volumes add their emission
+//! at every tentative collision of that walk (`β·j/μ̄`, as pbrt-v4's
+//! `VolPathIntegrator`; docs/physics.md §2.5), on every segment of the
+//! path: emission is light the path hits, counted in full whatever its
+//! depth, like an emitting surface reached by BSDF sampling (there is no
+//! next event estimation towards emitting media, so no MIS weight).
 //!
 //! Light focused by dielectrics from point and spot lights cannot be
 //! reached from here; [`super::light_tracer`] adds it.
@@ -155,6 +160,7 @@ pub(crate) fn radiance(
     let max_events = integrator.max_depth.min(MAX_PATH_EVENTS);
     let strategies = integrator.strategies;
     let connections = integrator.light_subpaths.connect();
+    let emissive = scene.volumes.iter().any(|v| v.is_emissive());
     // What the vertex the ray leaves from connected to.
     let mut connected_from = Connections::default();
     loop {
@@ -187,7 +193,19 @@ pub(crate) fn radiance(
         // surface: the first of independent events is the nearest.
         if !solids.inside() {
             let t_end = fog_event.map_or(t_hit, |(_, t, _)| t);
-            match tracker.sample_collision(&scene.volumes, &ray, 0.0, t_end, &mut throughput) {
+            // Emission of the volumes on the way, found by the walk
+            // itself (docs/physics.md §2.5).
+            let mut emitted = Rgb::ZERO;
+            let collision = tracker.sample_collision(
+                &scene.volumes,
+                &ray,
+                0.0,
+                t_end,
+                &mut throughput,
+                emissive.then_some(&mut emitted),
+            );
+            radiance += emitted;
+            match collision {
                 Collision::Escaped => {}
                 Collision::Absorbed => return radiance,
                 Collision::Scatter { t, volume } => {
