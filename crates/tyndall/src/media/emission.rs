@@ -73,6 +73,25 @@ impl EmissionEval {
         Self { desc, table }
     }
 
+    /// A bound of the largest channel of `j` over the unit-cube box
+    /// `[lo, hi]`, for choosing where to sample emission: the fields'
+    /// bounds there, `sigma_a_max` the largest absorption where the
+    /// density is 1, and Planck's radiance at the hottest temperature
+    /// (it grows with temperature at every wavelength).
+    pub(crate) fn bound(&self, lo: Vec3, hi: Vec3, density: &Density, sigma_a_max: f32) -> f32 {
+        let d = &self.desc;
+        let field = d.field.as_ref().unwrap_or(density);
+        let mut bound = d.color.max_element() * field.max_in(lo, hi);
+        if let (Some(b), Some(table)) = (&d.blackbody, &self.table) {
+            let hottest = b.scale * b.temperature.max_in(lo, hi) + b.offset;
+            bound += b.intensity
+                * sigma_a_max
+                * density.max_in(lo, hi)
+                * table.eval(hottest).max_element();
+        }
+        bound
+    }
+
     /// `j(x)` at `u` in the unit cube, given the density there and the
     /// medium's absorption σa(x) (module doc).
     #[inline]

@@ -16,6 +16,7 @@
 //!   ([`emission`]). `volpath` renders them.
 
 pub mod emission;
+pub mod emitters;
 pub mod grid;
 pub mod noise;
 pub mod sparse;

@@ -29,6 +29,7 @@
 //!   tentative collisions; so its expectation is `∫ T(t)·j(t) dt`, the
 //!   emission term of the radiative transfer equation, without bias.
 
+use super::emitters::HitWeighting;
 use super::volume::{MajorantSegment, RegionScratch, Volume};
 use crate::color::Rgb;
 use crate::ray::Ray;
@@ -114,7 +115,9 @@ impl VolumeTracker {
     /// path contribution. With `emitted`, adds to it the volumes'
     /// emission that reaches the ray's origin from the walk, times the
     /// incoming throughput: an unbiased estimate of `β·∫ T(t)·j(t) dt`
-    /// up to the collision (module doc).
+    /// up to the collision (module doc), each volume's emission weighted
+    /// against next event estimation towards it by the [`HitWeighting`]
+    /// if the ray's origin did that.
     pub fn sample_collision(
         &mut self,
         volumes: &[Volume],
@@ -122,7 +125,7 @@ impl VolumeTracker {
         t0: f32,
         t1: f32,
         throughput: &mut Rgb,
-        mut emitted: Option<&mut Rgb>,
+        mut emitted: Option<(&mut Rgb, Option<HitWeighting>)>,
     ) -> Collision {
         if volumes.is_empty() {
             return Collision::Escaped;
@@ -146,17 +149,22 @@ impl VolumeTracker {
                 let mut sigma_s = Rgb::ZERO;
                 let mut j = Rgb::ZERO;
                 let x = ray.at(t);
-                for_each_volume(volumes, segment.mask, |_, v| {
+                let weighting = emitted.as_ref().map(|(_, w)| *w);
+                for_each_volume(volumes, segment.mask, |i, v| {
                     let e = v.extinction_at(x);
                     sigma_t += e;
                     sigma_s += e * v.albedo;
-                    if emitted.is_some() {
-                        j += v.emission_at(x);
+                    if let Some(weighting) = weighting {
+                        let jv = v.emission_at(x);
+                        if jv != Rgb::ZERO {
+                            let w = weighting.map_or(1.0, |h| h.weight(i, x, e.max_element()));
+                            j += jv * w;
+                        }
                     }
                 });
-                if let Some(sum) = emitted.as_deref_mut() {
+                if let Some((sum, _)) = emitted.as_mut() {
                     // At every tentative collision, before its outcome.
-                    *sum += beta * j / majorant;
+                    **sum += beta * j / majorant;
                 }
                 let sigma_n = (Rgb::splat(majorant) - sigma_t).max(Rgb::ZERO);
                 let p_scatter = (beta * sigma_s).element_sum() / norm;

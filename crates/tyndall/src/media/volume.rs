@@ -383,6 +383,33 @@ impl Volume {
         Ok(self)
     }
 
+    /// For next event estimation towards the volume's emission
+    /// ([`super::emitters`]): its box, its majorant cells and a bound of
+    /// the emission in each (x fastest); `None` unless it emits and is
+    /// bounded by a box (a mesh region's cells reach outside it).
+    pub(crate) fn emission_cells(&self) -> Option<(Bounds, UVec3, Vec<f32>)> {
+        let emission = self.emission.as_ref()?;
+        let VolumeRegion::Box(bounds) = self.region else {
+            return None;
+        };
+        let cells = self.majorants.cells;
+        let n = cells.as_vec3();
+        let sigma_a_max = (self.sigma_t * (Rgb::ONE - self.albedo)).max_element();
+        let mut weights = Vec::with_capacity(cells.element_product() as usize);
+        for z in 0..cells.z {
+            for y in 0..cells.y {
+                for x in 0..cells.x {
+                    let c = UVec3::new(x, y, z).as_vec3();
+                    let lo = ((c - MAJORANT_MARGIN) / n).max(Vec3::ZERO);
+                    let hi = ((c + 1.0 + MAJORANT_MARGIN) / n).min(Vec3::ONE);
+                    let w = emission.bound(lo, hi, &self.density, sigma_a_max);
+                    weights.push(if w.is_finite() { w.max(0.0) } else { 0.0 });
+                }
+            }
+        }
+        Some((bounds, cells, weights))
+    }
+
     /// Whether the volume emits light.
     pub fn is_emissive(&self) -> bool {
         self.emission.is_some()
