@@ -140,6 +140,11 @@ impl SceneBuffers {
     /// geometry is the same (a live view's change of camera, fog or
     /// lights): the tree is then not built again on the host.
     pub(crate) fn after(scene: &Scene, previous: Option<&Self>) -> Result<Self, GpuError> {
+        if let Some(index) = scene.volumes().iter().position(|v| v.is_emissive()) {
+            return Err(GpuError::Unsupported(format!(
+                "emitting medium #{index} ([[media]] in order, from 0: `emission` or `temperature_grid`; only the CPU `volpath` renders emission)"
+            )));
+        }
         if !scene.volumes().is_empty() {
             return Err(GpuError::Unsupported(
                 "heterogeneous volumes (only the box fog is rendered on the GPU)".into(),

@@ -312,3 +312,34 @@ fn strategies_agree_under_an_emissive_mesh() {
         &[("light sampling", nee), ("hits", hits)],
     );
 }
+
+/// Emitting media (the fire lighting a floor and wall, one bounce): next
+/// event estimation towards the medium's emission off (only emission
+/// found by tracking, in full), and emission found by tracking off at
+/// vertices that ran NEE (NEE alone where it reaches), against both under
+/// the balance heuristic: each strategy unbiased, and their weights
+/// summing to one.
+#[test]
+fn emitting_media_strategies_agree() {
+    check_scene(
+        "scenes/fire.toml",
+        (48, 54),
+        128,
+        &[
+            (
+                "emission NEE off",
+                Strategies {
+                    emission_nee: false,
+                    ..Strategies::ALL
+                },
+            ),
+            (
+                "emission hits off",
+                Strategies {
+                    emission_hits: false,
+                    ..Strategies::ALL
+                },
+            ),
+        ],
+    );
+}

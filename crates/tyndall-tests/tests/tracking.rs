@@ -70,7 +70,7 @@ fn check_estimators(what: &str, volumes: &[Volume], ray: &Ray, t1: f32, exact: R
     assert_close(&format!("{what}: ratio tracking"), ratio, exact);
     let delta = mean_and_stderr(|| {
         let mut throughput = Rgb::ONE;
-        match tracker.sample_collision(volumes, ray, 0.0, t1, &mut throughput) {
+        match tracker.sample_collision(volumes, ray, 0.0, t1, &mut throughput, None) {
             Collision::Escaped => throughput,
             _ => Rgb::ZERO,
         }
@@ -208,7 +208,14 @@ fn free_flight_distances_follow_beer_lambert() {
     let mut bins = [0u32; 9];
     for _ in 0..N {
         let mut throughput = Rgb::ONE;
-        match tracker.sample_collision(std::slice::from_ref(&v), &ray, 0.0, 10.0, &mut throughput) {
+        match tracker.sample_collision(
+            std::slice::from_ref(&v),
+            &ray,
+            0.0,
+            10.0,
+            &mut throughput,
+            None,
+        ) {
             Collision::Scatter { t, .. } => {
                 assert_eq!(throughput, Rgb::ONE, "grey tracking never reweights");
                 let bin = (((t - a) / (b - a)) * 8.0).clamp(0.0, 7.0) as usize;

@@ -111,6 +111,11 @@ pub fn check_coordinates(what: &str, v: glam::Vec3) -> Result<(), String> {
     Ok(())
 }
 
+/// Hottest blackbody temperature a medium may reach, kelvin: beyond it
+/// the visible radiance grows only linearly (Rayleigh–Jeans) and no
+/// flame comes near.
+pub const MAX_TEMPERATURE_K: f32 = 1.0e5;
+
 /// Checks that every channel of an emitted quantity is at most
 /// [`MAX_EMISSION`].
 pub fn check_emission(what: &str, c: crate::color::Rgb) -> Result<(), String> {

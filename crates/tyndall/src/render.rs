@@ -87,6 +87,10 @@ pub enum RenderError {
         "the scene has {0} volume(s) ([[media]]), which only the `volpath` integrator renders; `{1}` estimates homogeneous [fog] only: use --integrator volpath"
     )]
     VolumesNeedVolpath(usize, &'static str),
+    #[error(
+        "medium #{0} (in [[media]] order, counted from 0) emits light (`emission` or `temperature_grid`), which only the `volpath` integrator renders; `{1}` cannot: use --integrator volpath"
+    )]
+    EmissiveMediumNeedsVolpath(usize, &'static str),
     #[error("the scene has {0} volumes; at most {MAX_VOLUMES} are supported")]
     TooManyVolumes(usize),
     #[error(
@@ -132,6 +136,14 @@ impl RenderSettings {
         }
         if scene.volumes.len() > MAX_VOLUMES {
             return Err(RenderError::TooManyVolumes(scene.volumes.len()));
+        }
+        if self.integrator != IntegratorKind::Volpath
+            && let Some(index) = scene.volumes.iter().position(|v| v.is_emissive())
+        {
+            return Err(RenderError::EmissiveMediumNeedsVolpath(
+                index,
+                self.integrator.name(),
+            ));
         }
         if !scene.volumes.is_empty() && self.integrator != IntegratorKind::Volpath {
             return Err(RenderError::VolumesNeedVolpath(

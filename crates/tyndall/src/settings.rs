@@ -286,6 +286,14 @@ pub struct Strategies {
     /// than they save error (docs/benchmarks.md).
     pub later_area_equiangular: bool,
     pub connections: bool,
+    /// Next event estimation towards emitting media (from volume events
+    /// and Lambertian surfaces), MIS-weighted against emission found
+    /// by tracking.
+    pub emission_nee: bool,
+    /// Emission of media found by tracking along directions sampled at
+    /// vertices that also ran `emission_nee`. (Along camera rays, and
+    /// where NEE cannot reach, found emission always counts in full.)
+    pub emission_hits: bool,
 }
 
 impl Strategies {
@@ -298,6 +306,8 @@ impl Strategies {
         equiangular: true,
         later_area_equiangular: false,
         connections: true,
+        emission_nee: true,
+        emission_hits: true,
     };
 
     /// No strategy; switch on the ones wanted.
@@ -309,6 +319,8 @@ impl Strategies {
         equiangular: false,
         later_area_equiangular: false,
         connections: false,
+        emission_nee: false,
+        emission_hits: false,
     };
 }
 

@@ -96,6 +96,35 @@ impl Visibility {
     }
 }
 
+/// The glass tint along the segment from `origin` (already offset off
+/// any surface) over `distance` along unit `direction`, 0 if an opaque
+/// surface is in the way: a shadow ray to a point that is no light's
+/// (a point of an emitting medium). Always traced: shadow maps are made
+/// for lights.
+pub(crate) fn segment_transmittance(
+    scene: &Scene,
+    origin: Vec3,
+    direction: Vec3,
+    distance: f32,
+    counts: &mut RayCounts,
+) -> Rgb {
+    counts.shadow += 1;
+    let incident = Incident {
+        direction,
+        distance,
+        irradiance: Rgb::ONE,
+        light_normal: None,
+    };
+    shadow_ray(
+        &scene.geometry,
+        &scene.materials,
+        scene.glass.model,
+        origin,
+        &incident,
+        None,
+    )
+}
+
 /// Hits of a light's own geometry past this fraction of a shadow ray
 /// towards it do not block it. A ray that meets a curved emitter (a
 /// sphere) near its silhouette meets it at a distance known only to

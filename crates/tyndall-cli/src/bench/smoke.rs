@@ -62,6 +62,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             phase,
             density: Density::Uniform,
             region: RegionDesc::Box(bounds),
+            emission: None,
             origin: Origin::Code,
         }];
         time(&desc)

@@ -1,6 +1,7 @@
 //! `[[media]]` tables: general media (RGB extinction, densities from noise,
 //! `.tgrid` voxel grids or OpenVDB grids, regions bounded by a box or a
-//! mesh).
+//! mesh), and their emission (a colour times a field, blackbody emission
+//! from a temperature grid: docs/physics.md §2.5).
 
 use super::Loader;
 use super::tables::MediumTable;
@@ -9,6 +10,7 @@ use glam::Vec3;
 use serde_spanned::Spanned;
 use tyndall::color::Rgb;
 use tyndall::description::{MediumDesc, RegionDesc};
+use tyndall::media::emission::{Blackbody, Emission};
 use tyndall::media::noise::SmokeNoise;
 use tyndall::media::sparse::{SparseDensity, SparseGrid};
 use tyndall::media::volume::Density;
@@ -41,17 +43,43 @@ impl Loader<'_> {
         // An OpenVDB grid, placed: its index-to-world transform, then the
         // medium's translate/scale/rotate_deg.
         let vdb = if kind == "vdb" {
-            let file = m.file.as_ref().ok_or_else(|| {
-                self.err(&span, "density", "density \"vdb\" needs `file = \"….vdb\"`")
-            })?;
             let name = m.grid.as_deref().unwrap_or("density");
-            let path = self.data_file(&span, "file", file)?;
-            let grid = crate::vdb_grid(&path, name).map_err(|e| self.err(&span, "file", e))?;
-            let world = self.placement(&span, placement)?.matrix() * grid.index_to_world();
-            Some((grid, world))
+            Some(self.vdb_file_grid(&span, m, "file", name)?)
         } else {
             None
         };
+        for (key, given) in [
+            ("emission_grid", m.emission_grid.is_some()),
+            ("temperature_grid", m.temperature_grid.is_some()),
+        ] {
+            if given && vdb.is_none() {
+                return Err(self.err(
+                    &span,
+                    key,
+                    format!("`{key}` names another grid of a density \"vdb\" medium's file; this medium's density is \"{kind}\""),
+                ));
+            }
+        }
+        for (key, given) in [
+            ("temperature_scale", m.temperature_scale.is_some()),
+            ("temperature_offset", m.temperature_offset.is_some()),
+            ("blackbody_intensity", m.blackbody_intensity.is_some()),
+        ] {
+            if given && m.temperature_grid.is_none() {
+                return Err(self.err(
+                    &span,
+                    key,
+                    format!("`{key}` applies to blackbody emission, which needs `temperature_grid = \"…\"`"),
+                ));
+            }
+        }
+        if m.emission_grid.is_some() && m.emission.is_none() {
+            return Err(self.err(
+                &span,
+                "emission_grid",
+                "`emission_grid` scales an `emission = [r, g, b]` colour, which this medium lacks",
+            ));
+        }
         if m.grid.is_some() && vdb.is_none() {
             return Err(self.err(&span, "grid", "`grid` applies to density \"vdb\" only"));
         }
@@ -153,20 +181,7 @@ impl Loader<'_> {
                 let (grid, world) = vdb.expect("read above for density \"vdb\"");
                 // A vdb medium has a box or a mesh (from the grid's
                 // active voxels if not given).
-                let field_box = region.bounds();
-                let unit_to_world = glam::Mat4::from_scale_rotation_translation(
-                    field_box.extent(),
-                    glam::Quat::IDENTITY,
-                    field_box.min,
-                );
-                let unit_to_index = world.inverse() * unit_to_world;
-                if !unit_to_index.is_finite() {
-                    return Err(self.err(
-                        &span,
-                        "file",
-                        "the grid's transform (with the medium's placement) cannot be inverted",
-                    ));
-                }
+                let unit_to_index = self.unit_to_index(&span, "file", &region, world)?;
                 Density::Sparse(Box::new(SparseDensity {
                     grid,
                     unit_to_index,
@@ -182,14 +197,96 @@ impl Loader<'_> {
                 ));
             }
         };
+        // Another grid of the file as a field in the medium's unit cube,
+        // placed like the density.
+        let field = |key: &str, name: &str| -> Result<Density, SceneError> {
+            let (grid, world) = self.vdb_file_grid(&span, m, key, name)?;
+            Ok(Density::Sparse(Box::new(SparseDensity {
+                grid,
+                unit_to_index: self.unit_to_index(&span, key, &region, world)?,
+            })))
+        };
+        let emission = if m.emission.is_some() || m.temperature_grid.is_some() {
+            let color = match m.emission {
+                Some(c) => self.emission(&span, "emission", c)?,
+                None => Rgb::ZERO,
+            };
+            let field_grid = match &m.emission_grid {
+                Some(name) => Some(field("emission_grid", name)?),
+                None => None,
+            };
+            let blackbody = match &m.temperature_grid {
+                Some(name) => Some(Blackbody {
+                    temperature: field("temperature_grid", name)?,
+                    scale: m.temperature_scale.unwrap_or(1.0),
+                    offset: m.temperature_offset.unwrap_or(0.0),
+                    intensity: m.blackbody_intensity.unwrap_or(1.0),
+                }),
+                None => None,
+            };
+            Some(Emission {
+                color,
+                field: field_grid,
+                blackbody,
+            })
+        } else {
+            None
+        };
         Ok(MediumDesc {
             sigma_t,
             albedo,
             phase: PhaseFunction::from_asymmetry(m.g),
             density,
             region,
+            emission,
             origin: self.origin(&span),
         })
+    }
+
+    /// Grid `name` of the medium's VDB `file` and its placed
+    /// index-to-world transform; errors name `key`.
+    fn vdb_file_grid(
+        &self,
+        span: &std::ops::Range<usize>,
+        m: &MediumTable,
+        key: &str,
+        name: &str,
+    ) -> Result<(SparseGrid, glam::Mat4), SceneError> {
+        let file = m
+            .file
+            .as_ref()
+            .ok_or_else(|| self.err(span, "density", "density \"vdb\" needs `file = \"….vdb\"`"))?;
+        let path = self.data_file(span, "file", file)?;
+        let grid = crate::vdb_grid(&path, name).map_err(|e| self.err(span, key, e))?;
+        let placement = (m.translate, m.scale, m.rotate_deg);
+        let world = self.placement(span, placement)?.matrix() * grid.index_to_world();
+        Ok((grid, world))
+    }
+
+    /// The map from a medium's unit cube (its region's bounds) to the
+    /// index space of a grid placed at `world`.
+    fn unit_to_index(
+        &self,
+        span: &std::ops::Range<usize>,
+        key: &str,
+        region: &RegionDesc,
+        world: glam::Mat4,
+    ) -> Result<glam::Mat4, SceneError> {
+        let field_box = region.bounds();
+        let unit_to_world = glam::Mat4::from_scale_rotation_translation(
+            field_box.extent(),
+            glam::Quat::IDENTITY,
+            field_box.min,
+        );
+        let unit_to_index = world.inverse() * unit_to_world;
+        if !unit_to_index.is_finite() {
+            return Err(self.err(
+                span,
+                key,
+                "the grid's transform (with the medium's placement) cannot be inverted",
+            ));
+        }
+        Ok(unit_to_index)
     }
 }
 

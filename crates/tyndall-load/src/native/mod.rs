@@ -67,7 +67,7 @@ pub fn parse_frame(source: &SourceText, frame: Option<u32>) -> Result<SceneDesc,
         file: Arc::from(source.path.as_path()),
         warnings: Vec::new(),
         frame,
-        frame_used: false,
+        frame_used: std::cell::Cell::new(false),
     }
     .build(file)?;
     if let Some(e) = source.locate_all(&desc.errors()) {
@@ -86,7 +86,7 @@ struct Loader<'a> {
     /// The frame file sequences are read at.
     frame: Option<u32>,
     /// Whether a file sequence took the frame.
-    frame_used: bool,
+    frame_used: std::cell::Cell<bool>,
 }
 
 impl Loader<'_> {
@@ -216,7 +216,7 @@ impl Loader<'_> {
         desc.settings = settings;
         desc.output = output;
         if let Some(frame) = self.frame
-            && !self.frame_used
+            && !self.frame_used.get()
         {
             self.warnings.push(format!(
                 "frame {frame} is unused: {} names no file sequence (`####`)",
@@ -344,14 +344,16 @@ impl Loader<'_> {
     /// sequence (`fluid_data_####.vdb`) at the chosen frame. The error
     /// names `key` in the table spanning `span`.
     fn data_file(
-        &mut self,
+        &self,
         span: &Range<usize>,
         key: &str,
         pattern: &str,
     ) -> Result<std::path::PathBuf, SceneError> {
         let name =
             crate::sequence::frame_file(pattern, self.frame).map_err(|e| self.err(span, key, e))?;
-        self.frame_used |= crate::sequence::is_sequence(pattern);
+        if crate::sequence::is_sequence(pattern) {
+            self.frame_used.set(true);
+        }
         Ok(self.relative(&name))
     }
 

@@ -58,6 +58,12 @@ pub(super) struct MediumTable {
     pub(super) bias: Option<f32>,
     pub(super) seed: Option<u32>,
     pub(super) grid: Option<String>,
+    pub(super) emission: Option<ColorValue>,
+    pub(super) emission_grid: Option<String>,
+    pub(super) temperature_grid: Option<String>,
+    pub(super) temperature_scale: Option<f32>,
+    pub(super) temperature_offset: Option<f32>,
+    pub(super) blackbody_intensity: Option<f32>,
 }
 
 #[derive(Deserialize)]

@@ -22,6 +22,7 @@ use crate::lights::{DirectionalLight, Light, PointLight, SpotLight};
 use crate::limits;
 use crate::materials::{Material, MaterialId};
 use crate::media::Fog;
+use crate::media::emission::Emission;
 use crate::media::volume::Density;
 use crate::phase::PhaseFunction;
 use crate::settings::RenderSettings;
@@ -160,6 +161,8 @@ pub struct MediumDesc {
     pub phase: PhaseFunction,
     pub density: Density,
     pub region: RegionDesc,
+    /// Light the medium emits (docs/physics.md §2.5), if any.
+    pub emission: Option<Emission>,
     pub origin: Origin,
 }
 
@@ -354,7 +357,9 @@ impl SceneDesc {
             .iter()
             .filter(|s| self.is_emissive(s.material))
             .collect();
-        if self.lights.is_empty() && emissive.iter().all(|s| s.shapes.is_empty()) {
+        let emitting_media = self.media.iter().any(|m| m.emission.is_some());
+        if self.lights.is_empty() && emissive.iter().all(|s| s.shapes.is_empty()) && !emitting_media
+        {
             warnings.push("the scene has no lights: only emissive surfaces will be visible".into());
         }
         let unbounded_fog = self

@@ -15,6 +15,7 @@ use crate::color::Rgb;
 use crate::limits;
 use crate::materials::{Material, Surface};
 use crate::media::Fog;
+use crate::media::emission::Emission;
 use crate::media::tracking::MAX_VOLUMES;
 use crate::media::volume::Density;
 use crate::phase::PhaseFunction;
@@ -480,6 +481,9 @@ impl MediumDesc {
                 ),
             );
         }
+        if let Some(emission) = &self.emission {
+            self.validate_emission(&item, emission)?;
+        }
         if !uniform {
             // Tracking cost: tentative collisions to cross the box where
             // the density is far below its majorant.
@@ -494,6 +498,49 @@ impl MediumDesc {
                     ),
                 );
             }
+        }
+        Ok(())
+    }
+}
+
+impl MediumDesc {
+    /// Emission in range: a bounded medium, a finite non-negative colour,
+    /// temperatures `scale·value + offset` from 0 to
+    /// [`limits::MAX_TEMPERATURE_K`].
+    fn validate_emission(&self, item: &Item, emission: &Emission) -> Result<(), DescError> {
+        if self.region == RegionDesc::Everywhere {
+            return item.fail(
+                "emission",
+                "an emitting medium needs a `box` or a `mesh` (one filling all space would emit without bound)".into(),
+            );
+        }
+        item.emission("emission", emission.color)?;
+        let Some(b) = &emission.blackbody else {
+            return Ok(());
+        };
+        let finite_at_least = |field: &'static str, v: f32, lo: f32, strict: bool| {
+            if v.is_finite() && (v > lo || (!strict && v == lo)) {
+                Ok(())
+            } else {
+                let relation = if strict { ">" } else { "≥" };
+                item.fail(
+                    field,
+                    format!("`{field}` must be finite and {relation} {lo}, got {v}"),
+                )
+            }
+        };
+        finite_at_least("temperature_scale", b.scale, 0.0, true)?;
+        finite_at_least("temperature_offset", b.offset, 0.0, false)?;
+        finite_at_least("blackbody_intensity", b.intensity, 0.0, false)?;
+        let hottest = b.scale * b.temperature.max_in(Vec3::ZERO, Vec3::ONE) + b.offset;
+        if !(hottest.is_finite() && hottest <= limits::MAX_TEMPERATURE_K) {
+            return item.fail(
+                "temperature_scale",
+                format!(
+                    "the hottest point would be {hottest:e} K (`temperature_scale`·value + `temperature_offset`), above the {:e} K limit",
+                    limits::MAX_TEMPERATURE_K
+                ),
+            );
         }
         Ok(())
     }
@@ -641,6 +688,7 @@ mod tests {
                 seed: 1,
             }),
             region: RegionDesc::Everywhere,
+            emission: None,
             origin: Origin::Code,
         };
         assert_eq!(refused(|d| d.media.push(smoke)), "density");

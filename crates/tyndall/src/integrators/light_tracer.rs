@@ -404,7 +404,7 @@ fn medium_event<'s>(
         free_flight(fog.sigma_t, a, b, u).map(|t| (t, fog))
     });
     let t_end = fog_event.map_or(t_hit, |(t, _)| t);
-    match tracker.sample_collision(&scene.volumes, ray, 0.0, t_end, beta) {
+    match tracker.sample_collision(&scene.volumes, ray, 0.0, t_end, beta, None) {
         Collision::Scatter { t, volume } => MediumEvent::Scatter(t, &scene.volumes[volume].phase),
         Collision::Absorbed => MediumEvent::Absorbed,
         Collision::Escaped => match fog_event {

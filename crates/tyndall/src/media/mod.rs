@@ -12,8 +12,11 @@
 //!   field (uniform, procedural [`noise`], a voxel [`grid`] or a
 //!   [`sparse`] grid from OpenVDB) inside a
 //!   box or a closed mesh; estimated by [`tracking`] (delta and ratio
-//!   tracking against per-cell majorants). `volpath` renders them.
+//!   tracking against per-cell majorants), and may emit light
+//!   ([`emission`]). `volpath` renders them.
 
+pub mod emission;
+pub mod emitters;
 pub mod grid;
 pub mod noise;
 pub mod sparse;

@@ -20,7 +20,16 @@
 //!   still carry light. This is our answer to per-channel extinction in
 //!   place of hero-wavelength MIS: one walk serves all three channels, so
 //!   no channel's pdf ever has to be evaluated.
+//! * Emission (docs/physics.md §2.5) is estimated on the same walk, as
+//!   pbrt-v4's `VolPathIntegrator` does (§14.2.2, "Add emission from
+//!   medium scattering event"): at every tentative collision, before its
+//!   outcome is drawn, the estimate gains `β·j(x)/μ̄` — β the throughput
+//!   the walk carries to x, whose expectation is the transmittance T(x)
+//!   (the ratio-tracking identity), and 1/μ̄ the inverse density of
+//!   tentative collisions; so its expectation is `∫ T(t)·j(t) dt`, the
+//!   emission term of the radiative transfer equation, without bias.
 
+use super::emitters::HitWeighting;
 use super::volume::{MajorantSegment, RegionScratch, Volume};
 use crate::color::Rgb;
 use crate::ray::Ray;
@@ -103,7 +112,12 @@ impl VolumeTracker {
     /// Samples the first real collision in `volumes` on `[t0, t1]` along
     /// `ray` by spectral tracking, weighting `throughput` so that its
     /// expectation over the outcomes is the exact transmittance-weighted
-    /// path contribution.
+    /// path contribution. With `emitted`, adds to it the volumes'
+    /// emission that reaches the ray's origin from the walk, times the
+    /// incoming throughput: an unbiased estimate of `β·∫ T(t)·j(t) dt`
+    /// up to the collision (module doc), each volume's emission weighted
+    /// against next event estimation towards it by the [`HitWeighting`]
+    /// if the ray's origin did that.
     pub fn sample_collision(
         &mut self,
         volumes: &[Volume],
@@ -111,6 +125,7 @@ impl VolumeTracker {
         t0: f32,
         t1: f32,
         throughput: &mut Rgb,
+        mut emitted: Option<(&mut Rgb, Option<HitWeighting>)>,
     ) -> Collision {
         if volumes.is_empty() {
             return Collision::Escaped;
@@ -132,11 +147,25 @@ impl VolumeTracker {
                 }
                 let mut sigma_t = Rgb::ZERO;
                 let mut sigma_s = Rgb::ZERO;
-                for_each_volume(volumes, segment.mask, |_, v| {
-                    let e = v.extinction_at(ray.at(t));
+                let mut j = Rgb::ZERO;
+                let x = ray.at(t);
+                let weighting = emitted.as_ref().map(|(_, w)| *w);
+                for_each_volume(volumes, segment.mask, |i, v| {
+                    let e = v.extinction_at(x);
                     sigma_t += e;
                     sigma_s += e * v.albedo;
+                    if let Some(weighting) = weighting {
+                        let jv = v.emission_at(x);
+                        if jv != Rgb::ZERO {
+                            let w = weighting.map_or(1.0, |h| h.weight(i, x, e.max_element()));
+                            j += jv * w;
+                        }
+                    }
                 });
+                if let Some((sum, _)) = emitted.as_mut() {
+                    // At every tentative collision, before its outcome.
+                    **sum += beta * j / majorant;
+                }
                 let sigma_n = (Rgb::splat(majorant) - sigma_t).max(Rgb::ZERO);
                 let p_scatter = (beta * sigma_s).element_sum() / norm;
                 let p_null = (beta * sigma_n).element_sum() / norm;

@@ -13,6 +13,7 @@
 //! tracking ([`super::tracking`]) take steps sized to the local density
 //! instead of the global maximum.
 
+use super::emission::{Emission, EmissionEval};
 use super::grid::VoxelGrid;
 use super::noise::SmokeNoise;
 use super::sparse::SparseDensity;
@@ -52,7 +53,7 @@ pub enum Density {
 impl Density {
     /// Density at `u` in the unit cube.
     #[inline]
-    fn eval(&self, u: Vec3) -> f32 {
+    pub fn eval(&self, u: Vec3) -> f32 {
         match self {
             Density::Uniform => 1.0,
             Density::Noise(noise) => noise.eval(u),
@@ -181,6 +182,10 @@ pub struct MajorantSegment {
 pub struct MajorantGrid {
     cells: UVec3,
     max: Vec<f32>,
+    /// Per cell, an absolute lower bound of the majorant (1/scene unit)
+    /// where an emission field is positive (empty: none): tracking must
+    /// take tentative collisions wherever the medium emits.
+    floor: Vec<f32>,
 }
 
 impl MajorantGrid {
@@ -198,7 +203,30 @@ impl MajorantGrid {
                 }
             }
         }
-        Self { cells, max }
+        Self {
+            cells,
+            max,
+            floor: Vec::new(),
+        }
+    }
+
+    /// Sets a majorant floor of `rate` (1/scene unit) in every cell where
+    /// `field` may be positive.
+    fn add_floor(&mut self, field: &Density, rate: f32) {
+        let n = self.cells.as_vec3();
+        let mut floor = Vec::with_capacity(self.max.len());
+        for z in 0..self.cells.z {
+            for y in 0..self.cells.y {
+                for x in 0..self.cells.x {
+                    let c = UVec3::new(x, y, z).as_vec3();
+                    let lo = ((c - MAJORANT_MARGIN) / n).max(Vec3::ZERO);
+                    let hi = ((c + 1.0 + MAJORANT_MARGIN) / n).min(Vec3::ONE);
+                    let positive = field.max_in(lo, hi) > 0.0;
+                    floor.push(if positive { rate } else { 0.0 });
+                }
+            }
+        }
+        self.floor = floor;
     }
 
     /// Appends the segments of `[t0, t1]` along `ray` (inside `bounds`,
@@ -247,7 +275,10 @@ impl MajorantGrid {
                 out.push(MajorantSegment {
                     t0: t,
                     t1: t_exit,
-                    majorant: self.max[index] * scale,
+                    majorant: match self.floor.get(index) {
+                        Some(&floor) => (self.max[index] * scale).max(floor),
+                        None => self.max[index] * scale,
+                    },
                     mask,
                 });
             }
@@ -278,6 +309,7 @@ pub struct Volume {
     /// The box the density field is mapped to (the region's bounds).
     field_box: Bounds,
     majorants: MajorantGrid,
+    emission: Option<EmissionEval>,
 }
 
 impl Volume {
@@ -317,7 +349,85 @@ impl Volume {
             region,
             field_box,
             majorants,
+            emission: None,
         })
+    }
+
+    /// The volume emitting `emission` (docs/physics.md §2.5). Where its
+    /// emission can be positive but the extinction majorant is 0 (an
+    /// emission grid outside the density, or no extinction at all), the
+    /// majorant is raised to one tentative collision per majorant cell,
+    /// so that tracking finds the emission there (null collisions:
+    /// unbiased). Refused for a volume filling all space.
+    pub fn with_emission(mut self, emission: Emission) -> Result<Self, String> {
+        if matches!(self.region, VolumeRegion::Everywhere) {
+            return Err(
+                "an emitting medium needs a `box` or a `mesh` (one filling all space would emit without bound)"
+                    .into(),
+            );
+        }
+        let colour_field = if emission.color == Rgb::ZERO {
+            None
+        } else if let Some(field) = &emission.field {
+            Some(field.clone())
+        } else if self.sigma_t.max_element() <= 0.0 {
+            Some(self.density.clone())
+        } else {
+            None
+        };
+        if let Some(field) = colour_field {
+            let cell = self.field_box.extent() / self.majorants.cells.as_vec3();
+            self.majorants.add_floor(&field, 1.0 / cell.min_element());
+        }
+        self.emission = Some(EmissionEval::new(emission));
+        Ok(self)
+    }
+
+    /// For next event estimation towards the volume's emission
+    /// ([`super::emitters`]): its box, its majorant cells and a bound of
+    /// the emission in each (x fastest); `None` unless it emits and is
+    /// bounded by a box (a mesh region's cells reach outside it).
+    pub(crate) fn emission_cells(&self) -> Option<(Bounds, UVec3, Vec<f32>)> {
+        let emission = self.emission.as_ref()?;
+        let VolumeRegion::Box(bounds) = self.region else {
+            return None;
+        };
+        let cells = self.majorants.cells;
+        let n = cells.as_vec3();
+        let sigma_a_max = (self.sigma_t * (Rgb::ONE - self.albedo)).max_element();
+        let mut weights = Vec::with_capacity(cells.element_product() as usize);
+        for z in 0..cells.z {
+            for y in 0..cells.y {
+                for x in 0..cells.x {
+                    let c = UVec3::new(x, y, z).as_vec3();
+                    let lo = ((c - MAJORANT_MARGIN) / n).max(Vec3::ZERO);
+                    let hi = ((c + 1.0 + MAJORANT_MARGIN) / n).min(Vec3::ONE);
+                    let w = emission.bound(lo, hi, &self.density, sigma_a_max);
+                    weights.push(if w.is_finite() { w.max(0.0) } else { 0.0 });
+                }
+            }
+        }
+        Some((bounds, cells, weights))
+    }
+
+    /// Whether the volume emits light.
+    pub fn is_emissive(&self) -> bool {
+        self.emission.is_some()
+    }
+
+    /// The emission coefficient j(x) per channel at a point of the
+    /// region, W·sr⁻¹·m⁻² per scene unit (docs/physics.md §2.5); 0 for a
+    /// volume that does not emit.
+    #[inline]
+    pub fn emission_at(&self, x: Vec3) -> Rgb {
+        let Some(emission) = &self.emission else {
+            return Rgb::ZERO;
+        };
+        // An emitting volume has a bounded field box.
+        let u = (x - self.field_box.min) / self.field_box.extent();
+        let density = self.density.eval(u);
+        let sigma_a = self.sigma_t * density * (Rgb::ONE - self.albedo);
+        emission.eval(u, density, sigma_a)
     }
 
     /// Extinction σt(x) per channel at a point of the region.
@@ -363,7 +473,7 @@ impl Volume {
         out: &mut Vec<MajorantSegment>,
     ) {
         let scale = self.sigma_t.max_element();
-        if scale <= 0.0 {
+        if scale <= 0.0 && self.majorants.floor.is_empty() {
             return;
         }
         scratch.intervals.clear();

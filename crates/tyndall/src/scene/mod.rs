@@ -17,6 +17,7 @@ use crate::lights::{Light, MeshLight, QuadLight, SphereLight};
 use crate::materials::Material;
 use crate::materials::Surface;
 use crate::media::Fog;
+use crate::media::emitters::MediaEmitters;
 use crate::media::volume::{MeshRegion, Volume, VolumeRegion};
 use crate::shapes::Shape;
 use glam::Vec3;
@@ -33,6 +34,8 @@ pub struct Scene {
     /// General media (RGB, non-uniform, mesh-bounded); only `volpath`
     /// renders them.
     pub(crate) volumes: Vec<Volume>,
+    /// The emitting volumes as light sources for NEE.
+    pub(crate) media_emitters: MediaEmitters,
     /// Radiance of rays that leave the scene (linear RGB).
     pub(crate) background: Rgb,
     pub(crate) glass: GlassSettings,
@@ -282,6 +285,7 @@ impl Scene {
             materials,
             lights,
             fog: desc.fog.as_ref().map(|f| f.value),
+            media_emitters: MediaEmitters::new(&volumes),
             volumes,
             background: desc.background,
             glass: desc.glass,
@@ -300,6 +304,12 @@ fn build_volume(m: MediumDesc) -> Result<Volume, DescError> {
         RegionDesc::Box(b) => VolumeRegion::Box(b),
         RegionDesc::Mesh(triangles) => VolumeRegion::Mesh(MeshRegion::new(triangles)),
     };
-    Volume::new(m.sigma_t, m.albedo, m.phase, m.density, region)
-        .map_err(|e| DescError::new(&m.origin, "density", e))
+    let volume = Volume::new(m.sigma_t, m.albedo, m.phase, m.density, region)
+        .map_err(|e| DescError::new(&m.origin, "density", e))?;
+    match m.emission {
+        Some(emission) => volume
+            .with_emission(emission)
+            .map_err(|e| DescError::new(&m.origin, "emission", e)),
+        None => Ok(volume),
+    }
 }

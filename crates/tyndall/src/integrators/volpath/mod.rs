@@ -54,7 +54,16 @@
 //! transmittance the fog estimators use is multiplied by the volumes'
 //! (ratio tracking), which keeps their MIS weights valid: the weights
 //! still sum to one, and each strategy stays unbiased. Segments inside a
-//! solid dielectric carry no medium.
+//! solid dielectric carry no medium. Emissive volumes add their emission
+//! at every tentative collision of that walk (`β·j/μ̄`, as pbrt-v4's
+//! `VolPathIntegrator`; docs/physics.md §2.5), on every segment of the
+//! path, whatever its depth, like an emitting surface reached by BSDF
+//! sampling. Emitting media are also lights: at volume events and
+//! Lambertian surface vertices NEE draws a point of an emitting volume by
+//! its power ([`crate::media::emitters`], `nee::media_emission_nee`), and
+//! the emission tracking finds along the direction sampled there is
+//! weighted against it by the balance heuristic (`HitWeighting`); from
+//! fog events, the camera and specular bounces it counts in full.
 //!
 //! Light focused by dielectrics from point and spot lights cannot be
 //! reached from here; [`super::light_tracer`] adds it.
@@ -74,6 +83,7 @@ use super::{
 };
 use crate::color::Rgb;
 use crate::materials::{Lobe, SurfaceEvent};
+use crate::media::emitters::HitWeighting;
 use crate::media::tracking::{Collision, VolumeTracker};
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
@@ -82,7 +92,7 @@ use crate::visibility::{RayCounts, Visibility};
 use connections::{LightVertexOrigin, connect_light_vertex};
 use glam::Vec3;
 use mis::{EquiangularCounts, balance_of_two, emission_weight};
-use nee::{PathVertex, medium_nee};
+use nee::{PathVertex, media_emission_nee, medium_nee};
 use segment::{Connections, EquiangularNee, FogSegment};
 
 /// Scattering events before Russian roulette may end a path.
@@ -155,6 +165,7 @@ pub(crate) fn radiance(
     let max_events = integrator.max_depth.min(MAX_PATH_EVENTS);
     let strategies = integrator.strategies;
     let connections = integrator.light_subpaths.connect();
+    let emissive = scene.volumes.iter().any(|v| v.is_emissive());
     // What the vertex the ray leaves from connected to.
     let mut connected_from = Connections::default();
     loop {
@@ -187,7 +198,31 @@ pub(crate) fn radiance(
         // surface: the first of independent events is the nearest.
         if !solids.inside() {
             let t_end = fog_event.map_or(t_hit, |(_, t, _)| t);
-            match tracker.sample_collision(&scene.volumes, &ray, 0.0, t_end, &mut throughput) {
+            // Emission of the volumes on the way, found by the walk
+            // itself (docs/physics.md §2.5).
+            let mut emitted = Rgb::ZERO;
+            // Weighted against NEE towards the media at the vertex the
+            // ray left (a volume event or a Lambertian bounce).
+            let weighting = match arrival {
+                Arrival::Sampled { from, pdf, .. } if emissive => Some(HitWeighting {
+                    emitters: &scene.media_emitters,
+                    from,
+                    pdf_dir: pdf,
+                    nee: strategies.emission_nee,
+                    hits: strategies.emission_hits,
+                }),
+                _ => None,
+            };
+            let collision = tracker.sample_collision(
+                &scene.volumes,
+                &ray,
+                0.0,
+                t_end,
+                &mut throughput,
+                emissive.then_some((&mut emitted, weighting)),
+            );
+            radiance += emitted;
+            match collision {
                 Collision::Escaped => {}
                 Collision::Absorbed => return radiance,
                 Collision::Scatter { t, volume } => {
@@ -205,6 +240,22 @@ pub(crate) fn radiance(
                         phase,
                     };
                     radiance += throughput * medium.nee(strategies, sampler, counts, &mut tracker);
+                    if emissive {
+                        radiance += throughput
+                            * media_emission_nee(
+                                scene,
+                                x,
+                                None,
+                                strategies,
+                                sampler,
+                                counts,
+                                &mut tracker,
+                                |omega| {
+                                    let p = phase.eval(omega.dot(ray.direction));
+                                    Some((Rgb::splat(p), p))
+                                },
+                            );
+                    }
                     let (direction, pdf) = phase.sample(ray.direction, sampler.next_2d());
                     arrival = Arrival::Sampled {
                         from: x,
@@ -377,6 +428,29 @@ pub(crate) fn radiance(
                     counts,
                     &mut tracker,
                     mis,
+                );
+        }
+        // NEE towards emitting media, for the Lambertian lobe, MIS
+        // against its cosine sampling as for area lights.
+        if emissive && surface.diffuse != Rgb::ZERO {
+            radiance += throughput
+                * media_emission_nee(
+                    scene,
+                    p,
+                    Some(normals.geometric),
+                    strategies,
+                    sampler,
+                    counts,
+                    &mut tracker,
+                    |omega| {
+                        normals.reflects(omega).then(|| {
+                            let cos = normals.shading.dot(omega);
+                            (
+                                surface.diffuse_brdf() * cos,
+                                surface.pdf(normals.shading, omega),
+                            )
+                        })
+                    },
                 );
         }
         // Light-vertex connections from Lambertian surfaces only: a

@@ -6,12 +6,16 @@
 use super::mis::{FogEventDensities, balance_of_two, segment_term};
 use super::segment::{EquiangularNee, FogSegment};
 use crate::color::Rgb;
+use crate::integrators::media_transmittance;
 use crate::integrators::{light_arriving, sample_light, scattered_light};
+use crate::media::emitters::hit_density;
 use crate::media::tracking::VolumeTracker;
 use crate::phase::PhaseFunction;
+use crate::ray::offset_origin;
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
 use crate::settings::Strategies;
+use crate::visibility::segment_transmittance;
 use crate::visibility::{RayCounts, Visibility};
 use glam::Vec3;
 
@@ -61,6 +65,71 @@ pub(super) fn medium_nee(
         sum += scattered_light(medium, index, x, &incident, counts, tracker) * weight;
     }
     sum
+}
+
+/// Next event estimation towards emitting media from `x` (a volume
+/// event, `normal = None`, or a surface point with geometric normal
+/// `normal` facing the side the path is on): a point `y` of an emitting
+/// volume drawn by its power ([`crate::media::emitters`]), its emission
+/// `j(y)` seen through glass, fog and the volumes (ratio tracking),
+/// `f(ω)·T·j/(p_nee·|y − x|²)`, balance-heuristic weighted against the
+/// emission that tracking along a direction sampled here with density
+/// `pdf_dir(ω)` finds. `eval(ω)` gives `(f, pdf_dir)` — the phase
+/// function or BSDF times cosine — or `None` where the vertex cannot
+/// scatter towards ω. The throughput is the caller's.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn media_emission_nee(
+    scene: &Scene,
+    x: Vec3,
+    normal: Option<Vec3>,
+    strategies: Strategies,
+    sampler: &mut PixelSampler,
+    counts: &mut RayCounts,
+    tracker: &mut VolumeTracker,
+    eval: impl Fn(Vec3) -> Option<(Rgb, f32)>,
+) -> Rgb {
+    let emitters = &scene.media_emitters;
+    if !strategies.emission_nee || emitters.is_empty() {
+        return Rgb::ZERO;
+    }
+    let (u_volume, u_cell) = (sampler.next_1d(), sampler.next_1d());
+    let w = sampler.next_2d().extend(sampler.next_1d());
+    let Some((volume, y, p_nee)) = emitters.sample(u_volume, u_cell, w) else {
+        return Rgb::ZERO;
+    };
+    let d = y - x;
+    let distance_squared = d.length_squared();
+    let distance = distance_squared.sqrt();
+    if distance.is_nan() || distance <= 0.0 {
+        return Rgb::ZERO;
+    }
+    let direction = d / distance;
+    let Some((f, pdf_dir)) = eval(direction) else {
+        return Rgb::ZERO;
+    };
+    let emitter = &scene.volumes[volume];
+    let j = emitter.emission_at(y);
+    if f == Rgb::ZERO || j == Rgb::ZERO {
+        return Rgb::ZERO;
+    }
+    let origin = normal.map_or(x, |n| offset_origin(x, n, direction));
+    let from_origin = distance - (origin - x).dot(direction);
+    let glass = segment_transmittance(scene, origin, direction, from_origin, counts);
+    if glass == Rgb::ZERO {
+        return Rgb::ZERO;
+    }
+    let media = media_transmittance(scene, tracker, x, origin, direction, distance);
+    let p_hit = if strategies.emission_hits {
+        hit_density(
+            pdf_dir,
+            emitter.extinction_at(y).max_element(),
+            distance_squared,
+        )
+    } else {
+        0.0
+    };
+    let weight = p_nee / (p_nee + p_hit);
+    f * glass * media * j * (weight / (p_nee * distance_squared))
 }
 
 /// A real scattering event in a volume: where, the direction the path

@@ -2,7 +2,10 @@
 //!
 //! Radiance, intensity and reflectance are linear RGB triples: three
 //! independent channels (docs/physics.md §1.2). [`Rgb`] is glam's `Vec3`, so colour
-//! arithmetic is component-wise.
+//! arithmetic is component-wise. [`blackbody`] holds Planck's law and
+//! its colour in linear Rec. 709.
+
+pub mod blackbody;
 
 /// A linear-RGB triple: radiance (W·sr⁻¹·m⁻²), intensity (W/sr), irradiance
 /// (W/m²) or a dimensionless reflectance/transmittance, per channel.
