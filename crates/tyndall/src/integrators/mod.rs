@@ -42,7 +42,8 @@ pub(crate) use lighting::{
     sample_light, scattered_light,
 };
 pub(crate) use scatterer::Scatterer;
-pub(crate) use surfaces::{MAX_GLASS_CROSSINGS, SolidDepth, SurfaceHit, refract_or_reflect};
+pub use surfaces::MAX_GLASS_CROSSINGS;
+pub(crate) use surfaces::{SolidDepth, SurfaceHit, refract_or_reflect};
 
 /// The pixel a camera sample belongs to, for methods that correlate
 /// neighbouring pixels (interleaved sampling).

@@ -11,7 +11,7 @@ use glam::Vec3;
 
 /// Most glass panes a camera ray crosses before it is cut off (a guard
 /// against degenerate scenes of stacked coincident panes).
-pub(crate) const MAX_GLASS_CROSSINGS: u32 = 64;
+pub const MAX_GLASS_CROSSINGS: u32 = 64;
 
 /// How many solid dielectrics a path is inside. A solid displaces the
 /// media: no fog or volume exists inside glass, so segments inside one
