@@ -42,7 +42,7 @@ fn reflect_layer(roughness: f32, incoming: vec3<f32>, normal: vec3<f32>) -> vec3
     return vec3<f32>(0.0);
 }
 
-// The camera path of tyndall::integrators::CameraPath::radiance for the
+// The camera path of tyndall::integrators::camera_path::CameraPath::radiance for the
 // materials the GPU renders (no dielectrics: the host refuses them).
 //
 // Also leaves the in-scattered part of the result in `fog_radiance` and

@@ -32,6 +32,7 @@ fn fog_interval(ray: Ray, t0: f32, t1: f32) -> vec3<f32> {
 }
 
 // Fog transmittance over `distance` from `x` along unit `direction`.
+// Mirrors tyndall::media::Fog::transmittance_along.
 fn fog_transmittance_along(x: vec3<f32>, direction: vec3<f32>, distance: f32) -> f32 {
     if !has_fog() {
         return 1.0;

@@ -186,6 +186,7 @@ fn sample_incident(light: Light, x: vec3<f32>) -> Incident {
 // `normal` (the shadow ray then starts just off it). Visibility comes
 // from the light's shadow map when maps are on, except for area lights,
 // which have none (maps.rs) and keep shadow rays, as on the CPU.
+// Mirrors tyndall::integrators::lighting::light_arriving.
 fn light_arriving(i: u32, light: Light, x: vec3<f32>, on_surface: bool, normal: vec3<f32>, inc: Incident) -> vec3<f32> {
     var origin = x;
     if on_surface {
@@ -210,7 +211,7 @@ fn light_arriving(i: u32, light: Light, x: vec3<f32>, on_surface: bool, normal: 
 // Radiance scattered at fog point `x` towards the camera (against unit
 // `view`) from light `i` (`light`) via its point `y`, per unit length: the paper's
 // eq. 1, σs·p(θ)·E·V·Tr_glass·T_fog
-// (tyndall::integrators::scattered_radiance); 0 outside a spot's cone
+// (tyndall::integrators::lighting::scattered_radiance); 0 outside a spot's cone
 // or behind a one-sided emitter, without a visibility query.
 fn scattered_radiance(i: u32, light: Light, y: LightPoint, x: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
     let inc = incident(light, x, y);

@@ -38,6 +38,7 @@ fn lattice_residue(stratum: u32, strata: u32) -> u32 {
 // residues, the expectation over r is the full sum's: each pixel
 // converges to the CPU march of the same step and interleave, while a
 // frame costs 1/m of the lattice per pixel.
+// Mirrors tyndall::integrators::march::in_scattered.
 fn in_scattered(ray: Ray, t_hit: f32, stratum: u32, strata: u32) -> vec3<f32> {
     let jitter = (f32(stratum) + next_1d()) / f32(strata);
     let residue = lattice_residue(stratum, strata);

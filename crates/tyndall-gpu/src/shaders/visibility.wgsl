@@ -1,10 +1,12 @@
 // ---- ray offsets (tyndall::ray) ----
 
+// Mirrors tyndall::ray::offset_distance.
 fn offset_distance(x: vec3<f32>) -> f32 {
     let a = abs(x);
     return 1e-4 * (1.0 + max(a.x, max(a.y, a.z)));
 }
 
+// Mirrors tyndall::ray::offset_origin.
 fn offset_origin(x: vec3<f32>, normal: vec3<f32>, direction: vec3<f32>) -> vec3<f32> {
     var side = -1.0;
     if dot(normal, direction) >= 0.0 {
