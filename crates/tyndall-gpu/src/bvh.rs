@@ -5,7 +5,7 @@
 //! depth-first order, each with the index of the node after its subtree
 //! (where a ray that misses its box goes on), leaves holding ranges of a
 //! primitive array reordered to match (a "threaded" BVH, as in Smits
-//! 1998, "Efficiency issues for ray tracing"). `bvh_next` in `march.wgsl`
+//! 1998, "Efficiency issues for ray tracing"). `bvh_next` in `bvh.wgsl`
 //! walks it; camera rays, shadow rays and shadow-map texels all use it.
 //!
 //! Why a BVH and not rasterised primary visibility: one structure serves
@@ -19,7 +19,7 @@ use obvhs::bvh2::Bvh2;
 use tyndall::accel::{Primitive, build_boxes, builds_tree, tree_build_params};
 use tyndall::shapes::Bounds;
 
-/// One node (`BvhNode` in `march.wgsl`): its box, grown by a relative
+/// One node (`BvhNode` in `scene.wgsl`): its box, grown by a relative
 /// margin so that flat shapes and rounding cannot make a ray miss it;
 /// `skip` the node after its subtree; for a leaf, `count` > 0 primitives
 /// from `first` in the reordered primitive array.

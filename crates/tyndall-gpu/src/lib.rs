@@ -9,7 +9,7 @@
 //! - **Compute, not raster.** Every stage — the shadow maps (one
 //!   invocation per texel), camera rays, the march along each pixel's ray,
 //!   direct light on surfaces (one invocation per pixel and frame) — is a
-//!   compute kernel (`shaders/maps.wgsl`, `shaders/march.wgsl`). The CPU
+//!   compute kernel (`shaders/maps.wgsl` and the march modules, `shaders.rs`). The CPU
 //!   march is a per-pixel loop; a compute kernel is that loop
 //!   transcribed, so its estimator (lattice, jitter, interleaving strata,
 //!   the budget of steps) is the CPU's step for step, and it runs without
@@ -54,7 +54,7 @@
 //!   combined by the balance heuristic. The GPU uses the same MIS as the
 //!   CPU, so each frame is an unbiased estimate of the CPU `single`
 //!   image's expectation. Both estimators evaluate eq. 1 through one
-//!   function (`scattered_radiance` in `march.wgsl`) with the same
+//!   function (`scattered_radiance` in `lights.wgsl`) with the same
 //!   visibility (maps or rays) and formulas, and the surfaces are lit by
 //!   the same code. The samplers (`equiangular_*`, `exponential_*`) are
 //!   transcribed once, in `formulas.wgsl`, and probed against
@@ -109,7 +109,7 @@
 //!   binary search), surfaces to a point uniform in the solid angle of a
 //!   rectangle (Ureña, Fajardo & King 2013) or of the cone a sphere
 //!   subtends — the CPU's `Light::sample_point` and `sample_li`,
-//!   transcribed in `march.wgsl` and `formulas.wgsl`. Area lights have no
+//!   transcribed in the march modules and `formulas.wgsl`. Area lights have no
 //!   shadow map on either side: with maps on they keep shadow rays.
 //!
 //! What a scene may hold besides: opaque (Lambert + reflective layer),

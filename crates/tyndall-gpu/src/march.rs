@@ -11,15 +11,15 @@ use crate::maps;
 use crate::readback::read_buffer;
 use crate::scene_buffers::{GpuLight, GpuMaterial, GpuPrimitive, SceneBuffers};
 use crate::shaders;
-use bytemuck::{Pod, Zeroable};
-use glam::Vec3;
-use tyndall::camera::Camera;
-use tyndall::glass::GlassModel;
-use tyndall::settings::{IntegratorKind, MAX_MARCH_STEPS, VisibilityMode};
+use bytemuck::Pod;
+use tyndall::settings::{IntegratorKind, VisibilityMode};
 use tyndall::{Image, RenderSettings, Rgb, Scene};
 use wgpu::util::DeviceExt;
 
+mod params;
 mod update;
+
+use params::{ESTIMATOR_MARCH, Params};
 pub use update::{MapsRebuilt, Update};
 
 /// A GPU render's parameters: those of the CPU `march` and `single` the
@@ -98,135 +98,11 @@ pub enum GpuVisibility {
     Maps { resolution: u32 },
 }
 
-/// The uniform block of `march.wgsl` (`Params`).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-struct Params {
-    camera_position: [f32; 4],
-    camera_forward: [f32; 4],
-    camera_right: [f32; 4],
-    camera_up: [f32; 4],
-    half_extent_resolution: [f32; 4],
-    fog_albedo_sigma_t: [f32; 4],
-    fog_min: [f32; 4],
-    fog_max: [f32; 4],
-    background_g: [f32; 4],
-    step: f32,
-    interleave: u32,
-    seed: u32,
-    frame: u32,
-    /// Nodes of the flattened BVH (`bvh.rs`).
-    node_count: u32,
-    light_count: u32,
-    glass_model: u32,
-    opaque_to_camera: u32,
-    max_bounces: u32,
-    step_budget: u32,
-    use_maps: u32,
-    map_resolution: u32,
-    /// [`ESTIMATOR_MARCH`] or [`ESTIMATOR_SINGLE`].
-    estimator: u32,
-    volume_samples: u32,
-    pad: [u32; 2],
-}
-
-/// `Params::estimator` values, as `march.wgsl` names them.
-const ESTIMATOR_MARCH: u32 = 0;
-const ESTIMATOR_SINGLE: u32 = 1;
-
-impl Params {
-    /// The uniforms for `scene` (flattened into `buffers`) under
-    /// `settings`, at frame 0; refuses a march step that is not positive
-    /// and finite, and single scattering without samples.
-    fn new(
-        scene: &Scene,
-        settings: &MarchSettings,
-        buffers: &SceneBuffers,
-    ) -> Result<Self, GpuError> {
-        if settings.in_scattering == InScattering::March
-            && !(settings.step > 0.0 && settings.step.is_finite())
-        {
-            return Err(GpuError::Unsupported(format!(
-                "march step {} (must be positive and finite)",
-                settings.step
-            )));
-        }
-        let (estimator, volume_samples) = match settings.in_scattering {
-            InScattering::March => (ESTIMATOR_MARCH, 0),
-            InScattering::Single { volume_samples } => {
-                if volume_samples == 0 {
-                    return Err(GpuError::Unsupported(
-                        "0 volume samples (single scattering needs at least 1)".into(),
-                    ));
-                }
-                (ESTIMATOR_SINGLE, volume_samples)
-            }
-        };
-        let (forward, right, up, half_extent) =
-            Camera::new(scene.camera(), settings.width, settings.height).frame();
-        let glass = scene.glass();
-        let map_resolution = match settings.visibility {
-            GpuVisibility::ShadowRays => 0,
-            GpuVisibility::Maps { resolution } => resolution,
-        };
-        let mut params = Self {
-            camera_position: v4(scene.camera().position, 0.0),
-            camera_forward: v4(forward, 0.0),
-            camera_right: v4(right, 0.0),
-            camera_up: v4(up, 0.0),
-            half_extent_resolution: [
-                half_extent.x,
-                half_extent.y,
-                settings.width as f32,
-                settings.height as f32,
-            ],
-            background_g: v4(scene.background(), 0.0),
-            step: settings.step,
-            interleave: settings.interleave.max(1),
-            seed: (settings.seed ^ (settings.seed >> 32)) as u32,
-            node_count: buffers.bvh_nodes.len() as u32,
-            light_count: buffers.lights.len() as u32,
-            glass_model: match glass.model {
-                GlassModel::Filter => 0,
-                GlassModel::Blend => 1,
-            },
-            opaque_to_camera: glass.opaque_to_camera as u32,
-            max_bounces: settings.max_bounces,
-            // The CPU march's cap: MAX_MARCH_STEPS over the lights.
-            step_budget: (MAX_MARCH_STEPS / buffers.lights.len().max(1) as u64).min(u32::MAX as u64)
-                as u32,
-            use_maps: (map_resolution > 0) as u32,
-            map_resolution,
-            estimator,
-            volume_samples,
-            ..Default::default()
-        };
-        if let Some(fog) = scene.fog() {
-            let g = match fog.phase {
-                tyndall::phase::PhaseFunction::Isotropic => 0.0,
-                tyndall::phase::PhaseFunction::HenyeyGreenstein { g } => g,
-            };
-            params.fog_albedo_sigma_t = v4(fog.albedo, fog.sigma_t);
-            params.background_g[3] = g;
-            let (min, max, bounded) = fog
-                .bounds
-                .map_or((Vec3::ZERO, Vec3::ZERO, 0.0), |b| (b.min, b.max, 1.0));
-            params.fog_min = v4(min, 1.0);
-            params.fog_max = v4(max, bounded);
-        }
-        Ok(params)
-    }
-}
-
-fn v4(v: Vec3, w: f32) -> [f32; 4] {
-    [v.x, v.y, v.z, w]
-}
-
 /// A scene on the GPU with its shadow maps and running per-pixel sums.
 pub struct GpuMarch {
     params: Params,
     params_buffer: wgpu::Buffer,
-    /// Bindings 1–8 and 10–14 of `march.wgsl`/`maps.wgsl`, in order;
+    /// Bindings 1–8 and 10–14 of `scene.wgsl`/`maps.wgsl`, in order;
     /// binding 9 (the layers) is added when the bind group is made.
     buffers: Vec<wgpu::Buffer>,
     layers: wgpu::Buffer,
@@ -430,7 +306,7 @@ impl GpuMarch {
         ] = compute_pipelines(
             gpu,
             "march",
-            &shaders::march(),
+            &shaders::march(&params::wgsl_prelude()),
             Some(&pipeline_layout),
             [
                 "march_frame",
@@ -621,7 +497,7 @@ impl GpuMarch {
     }
 
     /// Dispatches the discontinuity-buffer filter (`interleave_resolve`
-    /// in `march.wgsl`) into the display buffer when
+    /// in `camera.wgsl`) into the display buffer when
     /// [`GpuMarch::display_filters`], without waiting; says whether it did.
     pub fn submit_resolve(&self, gpu: &Gpu) -> bool {
         if !self.display_filters() {

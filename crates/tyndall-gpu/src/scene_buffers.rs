@@ -1,6 +1,6 @@
 //! The scene as flat GPU buffers: primitives, materials and lights as
 //! arrays of 16-byte-aligned plain structs (WGSL `std430` layout), read by
-//! `shaders/march.wgsl`, whose struct declarations mirror these.
+//! `shaders/scene.wgsl`, whose struct declarations mirror these.
 //!
 //! Built from the core's runtime [`tyndall::Scene`]; anything the GPU
 //! march does not implement is refused here with a message naming it, so

@@ -62,6 +62,7 @@ pub mod shadow_map_layout {
 /// The ray march's constants, for renderers and benchmarks that march
 /// the same way (the GPU path).
 pub mod ray_march {
+    pub use crate::integrators::MAX_GLASS_CROSSINGS;
     pub use crate::integrators::march::MAX_OPTICAL_DEPTH;
 }
 

@@ -21,11 +21,10 @@
 //! specular chain (light → glass → fog → glass → camera), and point
 //! lights seen in mirrors — connections through specular surfaces.
 
+use super::lighting::{TRACKING_STREAM, media_transmittance};
+use super::scatterer::Scatterer;
+use super::surfaces::{MAX_GLASS_CROSSINGS, SolidDepth, SurfaceNormals, refract_or_reflect};
 use super::volpath::{MAX_PATH_EVENTS, survives_roulette};
-use super::{
-    MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, SurfaceNormals, TRACKING_STREAM,
-    media_transmittance, refract_or_reflect,
-};
 use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::exact_sum::ExactRgb;

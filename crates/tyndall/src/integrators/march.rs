@@ -13,7 +13,8 @@
 //! fine-grained noise instead of banding. Each pixel alone is then
 //! unbiased only up to its stratum; a tile's average is unbiased.
 
-use super::{MediumQuery, PixelPosition, light_point, scattered_radiance};
+use super::PixelPosition;
+use super::lighting::{MediumQuery, light_point, scattered_radiance};
 use crate::color::Rgb;
 use crate::media::tracking::VolumeTracker;
 use crate::media::transmittance;

@@ -19,7 +19,7 @@
 //! window frames) is what makes one sample per ray noisy; several cost a
 //! shadow ray each but no new camera ray.
 
-use super::{MediumQuery, light_point, scattered_radiance};
+use super::lighting::{MediumQuery, light_point, scattered_radiance};
 use crate::color::Rgb;
 use crate::media::tracking::VolumeTracker;
 use crate::media::transmittance;

@@ -2,9 +2,10 @@
 //! how next event estimation picks their points (solid-angle sampling
 //! where it can).
 
-use super::{Incident, towards};
+use super::{Incident, LeSample, LightPoint, towards};
 use crate::color::Rgb;
-use crate::sampling::{uniform_cone, uniform_cone_pdf_from_gap};
+use crate::ray::{Ray, offset_origin};
+use crate::sampling::{cosine_hemisphere, uniform_cone, uniform_cone_pdf_from_gap};
 use crate::shapes::{Quad, Sphere};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
@@ -72,6 +73,20 @@ pub struct SphereLight {
 }
 
 impl SphereLight {
+    /// The emitting point for receivers to connect to: uniform over the
+    /// surface (density 1/A) from `u ∈ [0,1)²`, with its normal.
+    #[inline]
+    pub(super) fn sample_point(&self, u: Vec2) -> LightPoint {
+        let y = self.point(u);
+        LightPoint::on_surface(y, self.normal(y))
+    }
+
+    /// Total emitted power, `L·π·A` per emitting side.
+    pub(super) fn power(&self) -> Rgb {
+        let sides = if self.two_sided { 2.0 } else { 1.0 };
+        self.radiance * (PI * self.area() * sides)
+    }
+
     pub(super) fn area(&self) -> f32 {
         4.0 * PI * self.sphere.radius * self.sphere.radius
     }
@@ -288,6 +303,60 @@ fn arc_cosine(x: f32) -> f32 {
 }
 
 impl QuadLight {
+    /// The emitting point for receivers to connect to: uniform over the
+    /// quad (density 1/A) from `u ∈ [0,1)²`, with its normal.
+    #[inline]
+    pub(super) fn sample_point(&self, u: Vec2) -> LightPoint {
+        LightPoint::on_surface(self.quad.point(u.x, u.y), self.quad.normal)
+    }
+
+    /// A ray leaving the quad from a point uniform in area (`u_point`)
+    /// with a cosine-distributed direction (`u_direction`), on its back
+    /// side if it is two-sided and `u_side ≥ ½`.
+    pub(super) fn sample_le(&self, u_point: Vec2, u_direction: Vec2, u_side: f32) -> LeSample {
+        let (normal, sides) = if self.two_sided {
+            let back = u_side >= 0.5;
+            (
+                if back {
+                    -self.quad.normal
+                } else {
+                    self.quad.normal
+                },
+                2.0,
+            )
+        } else {
+            (self.quad.normal, 1.0)
+        };
+        let point = self.quad.point(u_point.x, u_point.y);
+        let direction = cosine_hemisphere(normal, u_direction);
+        LeSample {
+            point: LightPoint::on_surface(point, self.quad.normal),
+            ray: Ray {
+                origin: offset_origin(point, normal, direction),
+                direction,
+            },
+            // L·cos θ₀ / ((1/A)·(cos θ₀/(π·s))).
+            beta: self.radiance * (self.quad.area() * PI * sides),
+        }
+    }
+
+    /// The density of [`QuadLight::sample_le`]'s rays along the unit
+    /// `direction`, per unit area and projected solid angle: `1/(A·π·s)`
+    /// from `s` emitting sides, 0 behind a one-sided quad.
+    pub(super) fn pdf_le(&self, direction: Vec3) -> f32 {
+        if !(self.two_sided || direction.dot(self.quad.normal) > 0.0) {
+            return 0.0;
+        }
+        let sides = if self.two_sided { 2.0 } else { 1.0 };
+        1.0 / (self.quad.area() * PI * sides)
+    }
+
+    /// Total emitted power, `L·π·A` per emitting side.
+    pub(super) fn power(&self) -> Rgb {
+        let sides = if self.two_sided { 2.0 } else { 1.0 };
+        self.radiance * (PI * self.quad.area() * sides)
+    }
+
     /// A light of radiance `radiance` on `quad`.
     pub fn new(quad: Quad, radiance: Rgb, two_sided: bool) -> Self {
         Self {

@@ -6,6 +6,7 @@ use super::{Incident, LightPoint, towards};
 use crate::color::Rgb;
 use crate::shapes::Triangle;
 use glam::{Vec2, Vec3};
+use std::f32::consts::PI;
 
 /// A triangle mesh of constant radiance `radiance` (W·sr⁻¹·m⁻²), emitting
 /// from the front of each triangle (the side its normal faces; both sides
@@ -111,6 +112,23 @@ impl MeshLight {
             irradiance: self.radiance * (cos_y * self.area / d2),
             light_normal: Some(normal),
         })
+    }
+
+    /// Light reaching `x` from a point of the mesh chosen for it (a
+    /// triangle by its share of the area, then a point uniform on it,
+    /// from `u ∈ [0,1)²`), with the choice's solid-angle density.
+    #[inline]
+    pub(super) fn sample_incident(&self, x: Vec3, u: Vec2) -> Option<(Incident, f32)> {
+        let y = self.sample_point(u);
+        let incident = self.incident(x, y)?;
+        let pdf = self.pdf(x, y, incident.direction);
+        Some((incident, pdf))
+    }
+
+    /// Total emitted power, `L·π·A` per emitting side.
+    pub(super) fn power(&self) -> Rgb {
+        let sides = if self.two_sided { 2.0 } else { 1.0 };
+        self.radiance * (PI * self.area() * sides)
     }
 
     /// Density per unit solid angle, seen from `x`, of the point `y`

@@ -21,36 +21,26 @@
 //! ([`Light::reach`]), which the integrators use so that no march step or
 //! distance sample is spent outside the beam.
 
+//!
+//! Each kind's physics is in its own module (`point`, `spot`,
+//! `directional`, `area` for quads and spheres, `mesh`); this module
+//! holds the enum, the types of the interface, and the dispatch.
+
 mod area;
+mod directional;
 mod mesh;
+mod point;
 mod spot;
 
 pub use area::{QuadLight, SphereLight, SphericalRectangle};
+pub use directional::DirectionalLight;
 pub use mesh::MeshLight;
+pub use point::PointLight;
 pub use spot::{SpotLight, SpotProfile};
 
 use crate::color::Rgb;
-use crate::ray::{Ray, offset_origin};
-use crate::sampling::{cosine_hemisphere, uniform_cone};
+use crate::ray::Ray;
 use glam::{Vec2, Vec3};
-use std::f32::consts::PI;
-
-/// Point light of radiant intensity `intensity` (W/sr) in all directions.
-/// The paper writes `Φ/(4π)` for a light of power Φ.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PointLight {
-    pub position: Vec3,
-    pub intensity: Rgb,
-}
-
-/// Directional light (a sun): parallel light travelling along `direction`
-/// with irradiance `irradiance` (W/m²) on a surface facing it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DirectionalLight {
-    /// Unit direction the light travels in.
-    pub direction: Vec3,
-    pub irradiance: Rgb,
-}
 
 /// The closed set of light kinds.
 #[derive(Clone, Debug, PartialEq)]
@@ -134,14 +124,8 @@ impl Light {
             Light::Point(p) => Some(LightPoint::delta(p.position)),
             Light::Spot(s) => Some(LightPoint::delta(s.position)),
             Light::Directional(_) => None,
-            Light::Quad(q) => Some(LightPoint::on_surface(
-                q.quad.point(u.x, u.y),
-                q.quad.normal,
-            )),
-            Light::Sphere(s) => {
-                let y = s.point(u);
-                Some(LightPoint::on_surface(y, s.normal(y)))
-            }
+            Light::Quad(q) => Some(q.sample_point(u)),
+            Light::Sphere(s) => Some(s.sample_point(u)),
             Light::Mesh(m) => Some(m.sample_point(u)),
         }
     }
@@ -153,31 +137,9 @@ impl Light {
     #[inline]
     pub fn incident(&self, x: Vec3, y: Option<LightPoint>) -> Option<Incident> {
         match (self, y) {
-            (Light::Directional(d), _) => Some(Incident {
-                direction: -d.direction,
-                distance: f32::INFINITY,
-                irradiance: d.irradiance,
-                light_normal: None,
-            }),
-            (Light::Point(p), _) => {
-                let (direction, d2) = towards(x, p.position)?;
-                Some(Incident {
-                    direction,
-                    distance: d2.sqrt(),
-                    irradiance: p.intensity / d2,
-                    light_normal: None,
-                })
-            }
-            (Light::Spot(s), _) => {
-                let (direction, d2) = towards(x, s.position)?;
-                let falloff = s.falloff(-direction.dot(s.direction));
-                (falloff > 0.0).then(|| Incident {
-                    direction,
-                    distance: d2.sqrt(),
-                    irradiance: s.intensity * (falloff / d2),
-                    light_normal: None,
-                })
-            }
+            (Light::Directional(d), _) => Some(d.incident()),
+            (Light::Point(p), _) => p.incident(x),
+            (Light::Spot(s), _) => s.incident(x),
             (Light::Quad(q), Some(y)) => q.incident(x, y.position),
             (Light::Sphere(s), Some(y)) => s.incident(x, y.position),
             (Light::Mesh(m), Some(y)) => m.incident(x, y),
@@ -315,15 +277,12 @@ impl Light {
             Light::Sphere(s) => s
                 .sample_incident(x, u)
                 .map(|(incident, pdf)| (incident, Some(pdf))),
-            Light::Mesh(m) => {
-                let y = m.sample_point(u);
-                let incident = m.incident(x, y)?;
-                let pdf = m.pdf(x, y, incident.direction);
-                Some((incident, Some(pdf)))
-            }
-            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => self
-                .incident(x, self.sample_point(Vec2::ZERO))
-                .map(|i| (i, None)),
+            Light::Mesh(m) => m
+                .sample_incident(x, u)
+                .map(|(incident, pdf)| (incident, Some(pdf))),
+            Light::Point(p) => p.incident(x).map(|i| (i, None)),
+            Light::Spot(s) => s.incident(x).map(|i| (i, None)),
+            Light::Directional(d) => Some((d.incident(), None)),
         }
     }
 
@@ -351,52 +310,9 @@ impl Light {
     /// emissive spheres and meshes).
     pub fn sample_le(&self, u_point: Vec2, u_direction: Vec2, u_side: f32) -> Option<LeSample> {
         match self {
-            Light::Point(p) => {
-                let direction = uniform_cone(Vec3::Z, -1.0, u_direction);
-                Some(LeSample {
-                    point: LightPoint::delta(p.position),
-                    ray: Ray {
-                        origin: p.position,
-                        direction,
-                    },
-                    beta: p.intensity * (4.0 * PI),
-                })
-            }
-            Light::Spot(s) => {
-                let direction = uniform_cone(s.direction, s.cos_cutoff, u_direction);
-                let falloff = s.falloff(direction.dot(s.direction));
-                if falloff <= 0.0 {
-                    return None;
-                }
-                let solid_angle = 2.0 * PI * (1.0 - s.cos_cutoff);
-                Some(LeSample {
-                    point: LightPoint::delta(s.position),
-                    ray: Ray {
-                        origin: s.position,
-                        direction,
-                    },
-                    beta: s.intensity * (falloff * solid_angle),
-                })
-            }
-            Light::Quad(q) => {
-                let (normal, sides) = if q.two_sided {
-                    let back = u_side >= 0.5;
-                    (if back { -q.quad.normal } else { q.quad.normal }, 2.0)
-                } else {
-                    (q.quad.normal, 1.0)
-                };
-                let point = q.quad.point(u_point.x, u_point.y);
-                let direction = cosine_hemisphere(normal, u_direction);
-                Some(LeSample {
-                    point: LightPoint::on_surface(point, q.quad.normal),
-                    ray: Ray {
-                        origin: offset_origin(point, normal, direction),
-                        direction,
-                    },
-                    // L·cos θ₀ / ((1/A)·(cos θ₀/(π·s))).
-                    beta: q.radiance * (q.quad.area() * PI * sides),
-                })
-            }
+            Light::Point(p) => Some(p.sample_le(u_direction)),
+            Light::Spot(s) => s.sample_le(u_direction),
+            Light::Quad(q) => Some(q.sample_le(u_point, u_direction, u_side)),
             Light::Directional(_) | Light::Sphere(_) | Light::Mesh(_) => None,
         }
     }
@@ -411,13 +327,7 @@ impl Light {
     /// delta) and for lights whose emission is not sampled.
     pub fn pdf_le(&self, direction: Vec3) -> f32 {
         match self {
-            Light::Quad(q) => {
-                if !(q.two_sided || direction.dot(q.quad.normal) > 0.0) {
-                    return 0.0;
-                }
-                let sides = if q.two_sided { 2.0 } else { 1.0 };
-                1.0 / (q.quad.area() * PI * sides)
-            }
+            Light::Quad(q) => q.pdf_le(direction),
             Light::Point(_)
             | Light::Spot(_)
             | Light::Directional(_)
@@ -432,34 +342,12 @@ impl Light {
     /// count `L·π·A` per emitting side (pbrt-v4's `DiffuseAreaLight::Phi`).
     pub fn power(&self, scene_radius: f32) -> Rgb {
         match self {
-            Light::Point(p) => p.intensity * (4.0 * PI),
-            // ∫ falloff dω over the cone, in closed form per profile.
-            Light::Spot(s) => {
-                let cos_c = s.cos_cutoff;
-                let integral = match s.profile {
-                    // 2π ∫ (1 − (1 − c)/(1 − c_c)) dc over [c_c, 1].
-                    SpotProfile::Linear => PI * (1.0 - cos_c),
-                    SpotProfile::Hard => 2.0 * PI * (1.0 - cos_c),
-                    // The smoothstep averages ½ over [c_c, c_i].
-                    SpotProfile::Smooth { cos_inner } => {
-                        2.0 * PI * ((1.0 - cos_inner) + 0.5 * (cos_inner - cos_c))
-                    }
-                };
-                s.intensity * integral
-            }
-            Light::Directional(d) => d.irradiance * (PI * scene_radius * scene_radius),
-            Light::Quad(q) => {
-                let sides = if q.two_sided { 2.0 } else { 1.0 };
-                q.radiance * (PI * q.quad.area() * sides)
-            }
-            Light::Sphere(s) => {
-                let sides = if s.two_sided { 2.0 } else { 1.0 };
-                s.radiance * (PI * s.area() * sides)
-            }
-            Light::Mesh(m) => {
-                let sides = if m.two_sided { 2.0 } else { 1.0 };
-                m.radiance * (PI * m.area() * sides)
-            }
+            Light::Point(p) => p.power(),
+            Light::Spot(s) => s.power(),
+            Light::Directional(d) => d.power(scene_radius),
+            Light::Quad(q) => q.power(),
+            Light::Sphere(s) => s.power(),
+            Light::Mesh(m) => m.power(),
         }
     }
 }
@@ -478,6 +366,7 @@ mod tests {
     use super::spot::tests::spot;
     use super::*;
     use crate::shapes::Quad;
+    use std::f32::consts::PI;
 
     /// The emitted rays' mean throughput is the light's power,
     /// `E[β] = ∫∫ Le·cos θ₀ dA dω = Φ`: checks `sample_le`'s weights

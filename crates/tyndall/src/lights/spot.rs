@@ -1,9 +1,12 @@
 //! Spotlights (the paper's §3.2): the cone, its intensity profile
 //! (eq. 4 and 5) and the part of a ray inside it.
 
+use super::{Incident, LeSample, LightPoint, towards};
 use crate::color::Rgb;
 use crate::ray::Ray;
-use glam::Vec3;
+use crate::sampling::uniform_cone;
+use glam::{Vec2, Vec3};
+use std::f32::consts::PI;
 
 /// How a spotlight's intensity falls off from its axis to its cutoff.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,6 +34,56 @@ pub struct SpotLight {
 }
 
 impl SpotLight {
+    /// Light reaching `x`: `I·falloff/d²`; `None` outside the cone (the
+    /// paper's cone test before the shadow ray) and at the position.
+    #[inline]
+    pub(super) fn incident(&self, x: Vec3) -> Option<Incident> {
+        let (direction, d2) = towards(x, self.position)?;
+        let falloff = self.falloff(-direction.dot(self.direction));
+        (falloff > 0.0).then(|| Incident {
+            direction,
+            distance: d2.sqrt(),
+            irradiance: self.intensity * (falloff / d2),
+            light_normal: None,
+        })
+    }
+
+    /// A ray leaving the light uniformly over its cone (from
+    /// `u_direction`), carrying `I·falloff·Ω_cone`; `None` where the
+    /// profile is 0 (at the cut).
+    pub(super) fn sample_le(&self, u_direction: Vec2) -> Option<LeSample> {
+        let direction = uniform_cone(self.direction, self.cos_cutoff, u_direction);
+        let falloff = self.falloff(direction.dot(self.direction));
+        if falloff <= 0.0 {
+            return None;
+        }
+        let solid_angle = 2.0 * PI * (1.0 - self.cos_cutoff);
+        Some(LeSample {
+            point: LightPoint::delta(self.position),
+            ray: Ray {
+                origin: self.position,
+                direction,
+            },
+            beta: self.intensity * (falloff * solid_angle),
+        })
+    }
+
+    /// Total emitted power: `I·∫ falloff dω` over the cone, in closed form
+    /// per profile.
+    pub(super) fn power(&self) -> Rgb {
+        let cos_c = self.cos_cutoff;
+        let integral = match self.profile {
+            // 2π ∫ (1 − (1 − c)/(1 − c_c)) dc over [c_c, 1].
+            SpotProfile::Linear => PI * (1.0 - cos_c),
+            SpotProfile::Hard => 2.0 * PI * (1.0 - cos_c),
+            // The smoothstep averages ½ over [c_c, c_i].
+            SpotProfile::Smooth { cos_inner } => {
+                2.0 * PI * ((1.0 - cos_inner) + 0.5 * (cos_inner - cos_c))
+            }
+        };
+        self.intensity * integral
+    }
+
     /// The profile factor for a direction at angle θ off the axis, given
     /// as `cos θ`: 0 outside the cone (the paper's eq. 4), else eq. 5 or
     /// its alternatives.

@@ -9,30 +9,47 @@
 //! applies to the emissive faces that follow (until the next `c`). A `c`
 //! that ends a block's fields could be either (`TrailingCutoff`).
 
+//! Phase 1 of reading a legacy file: its tokens read as statements —
+//! vertices, material blocks, faces, spheres, spotlight cutoffs, the
+//! background and the camera — each value checked as it is read, with
+//! its byte offset for errors. A `c` inside a material block that another
+//! field follows is that material's; one that ends a block's fields is
+//! kept as a [`TrailingCutoff`] for phase 2 ([`super::cutoffs`]) to read.
+
 use crate::source::{SceneError, SourceText};
 use glam::Vec3;
-use std::path::Path;
-use std::sync::Arc;
 use tyndall::camera::{CameraSpec, FieldOfView};
 use tyndall::color::{Rgb, srgb_to_linear};
-use tyndall::description::{LightDesc, Origin, SceneDesc, Sourced};
-use tyndall::glass::{Glass, GlassModel};
-use tyndall::lights::{SpotLight, SpotProfile};
 use tyndall::limits;
-use tyndall::materials::{Material, Surface};
-use tyndall::settings::{IntegratorKind, RenderSettings};
-use tyndall::shapes::{Bounds, Quad, Shape, Sphere, Triangle};
+use tyndall::shapes::Sphere;
 
-/// Options for loading legacy files.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct LegacyOptions {
-    /// Make quads two-sided (the course code's switch); one-sided by default.
-    pub two_sided: bool,
+/// Everything a legacy file states, in file order, before any `c` is
+/// disambiguated or any scene item is built.
+#[derive(Debug, Default)]
+pub(super) struct Statements {
+    /// The `v` positions, numbered from 1 by faces.
+    pub vertices: Vec<Vec3>,
+    /// The `material` blocks, numbered from 0 by `m`.
+    pub materials: Vec<LegacyMaterial>,
+    /// The `f` faces.
+    pub faces: Vec<Face>,
+    /// The `s` spheres.
+    pub spheres: Vec<SphereStatement>,
+    /// Every `c` read where a statement may stand, in file order.
+    pub cutoffs: Vec<Cutoff>,
+    /// `background_color`, decoded to linear radiance (black if absent).
+    pub background: Rgb,
+    /// The `PerspectiveCamera`, if the file has one.
+    pub camera: Option<CameraSpec>,
 }
 
-/// Loads a legacy .obj scene.
-pub fn load(path: &Path, options: LegacyOptions) -> Result<SceneDesc, SceneError> {
-    parse(&SourceText::read(path)?, options)
+/// An `s` statement: a sphere with the material active at it.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct SphereStatement {
+    pub sphere: Sphere,
+    pub material: usize,
+    /// Byte offset of its `s` token.
+    pub offset: usize,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -41,17 +58,26 @@ struct Token<'a> {
     offset: usize,
 }
 
-#[derive(Clone, Debug, Default)]
-struct LegacyMaterial {
-    diffuse: Rgb,
-    reflective: Rgb,
-    roughness: f32,
-    emitted: Rgb,
-    alpha: f32,
-    cutoff_deg: Option<f32>,
-    textured: bool,
+/// A `material` block's fields.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(super) struct LegacyMaterial {
+    pub diffuse: Rgb,
+    pub reflective: Rgb,
+    pub roughness: f32,
+    pub emitted: Rgb,
+    pub alpha: f32,
+    /// A `c` inside the block that another field follows.
+    pub cutoff_deg: Option<f32>,
+    pub textured: bool,
     /// Byte offset of its `material` token.
-    offset: usize,
+    pub offset: usize,
+}
+
+impl LegacyMaterial {
+    /// Whether the material emits (its faces are lights).
+    pub fn emits(&self) -> bool {
+        self.emitted.max_element() > 0.0
+    }
 }
 
 struct Parser<'a> {
@@ -244,33 +270,35 @@ fn describe(t: Option<Token>) -> String {
     })
 }
 
-struct Face {
-    vertices: [usize; 4],
-    material: usize,
-    /// The `c` statements written before the face (an index into the
-    /// parse's cutoff list: the first `statements` of them).
-    statements: usize,
-    token: usize,
+/// An `f` statement: four vertex indices (from 0) and the material active at it.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Face {
+    pub vertices: [usize; 4],
+    pub material: usize,
+    /// The `c` statements written before the face (an index into
+    /// [`Statements::cutoffs`]: the first `statements` of them).
+    pub statements: usize,
+    /// Byte offset of its `f` token.
+    pub offset: usize,
 }
 
 /// A spotlight cutoff `c` read where a statement may stand.
-struct Cutoff {
-    value: f32,
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Cutoff {
+    pub value: f32,
     /// `Some` for a `c` that ends the fields of a material block: it could
     /// be that block's field or a statement for the faces that follow.
-    trailing: Option<TrailingCutoff>,
+    pub trailing: Option<TrailingCutoff>,
 }
 
 /// A `c` right after the last field of material `material`'s block.
 /// Newlines do not separate statements, so only the material tells the
-/// two readings apart: the cutoff of an emissive material is that
-/// material's (it makes its faces spots); a non-emissive material has no
-/// use for a cutoff, so there it is the statement for the emissive faces
-/// that follow. Either reading is warned about, with the token's place,
-/// when the other would have given any face a different cutoff.
-struct TrailingCutoff {
-    material: usize,
-    offset: usize,
+/// two readings apart (phase 2, [`super::cutoffs`]).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct TrailingCutoff {
+    pub material: usize,
+    /// Byte offset of the `c` token.
+    pub offset: usize,
 }
 
 /// Block fields: names that continue an open `material` block.
@@ -281,48 +309,19 @@ fn is_block_field(token: &str) -> bool {
     )
 }
 
-/// The cutoff each face gets when `as_statement[i]` says how cutoff `i`
-/// is read: a material's own cutoff (its field, or a trailing `c` read
-/// as its field) wins over the last statement before the face, as in the
-/// paper's loader.
-fn face_cutoffs(
-    faces: &[Face],
-    materials: &[LegacyMaterial],
-    cutoffs: &[Cutoff],
-    as_statement: &[bool],
-) -> Vec<Option<f32>> {
-    let mut own: Vec<Option<f32>> = materials.iter().map(|m| m.cutoff_deg).collect();
-    for (c, statement) in cutoffs.iter().zip(as_statement) {
-        if let (Some(t), false) = (&c.trailing, statement) {
-            own[t.material] = Some(c.value);
-        }
-    }
-    faces
-        .iter()
-        .map(|f| {
-            own[f.material].or_else(|| {
-                (0..f.statements)
-                    .rev()
-                    .find(|&i| as_statement[i])
-                    .map(|i| cutoffs[i].value)
-            })
-        })
-        .collect()
-}
-
-/// Parses legacy text. Quads are one-sided unless `options.two_sided`.
-pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDesc, SceneError> {
+/// Phase 1: reads `source`'s statements; the first bad token is an error
+/// naming its line and column.
+pub(super) fn read(source: &SourceText) -> Result<Statements, SceneError> {
     let mut p = Parser::new(source);
     let mut vertices: Vec<Vec3> = Vec::new();
     let mut materials: Vec<LegacyMaterial> = Vec::new();
     let mut faces: Vec<Face> = Vec::new();
-    let mut spheres: Vec<(Sphere, usize, usize)> = Vec::new();
+    let mut spheres: Vec<SphereStatement> = Vec::new();
     let mut active: Option<usize> = None;
     let mut open_block = false;
     let mut cutoffs: Vec<Cutoff> = Vec::new();
     let mut background = Rgb::ZERO;
     let mut camera: Option<CameraSpec> = None;
-    let mut warnings = Vec::new();
 
     while let Some(tok) = p.bump() {
         let in_block = open_block;
@@ -419,7 +418,6 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDesc, S
                 });
             }
             "f" => {
-                let token = p.next - 1;
                 let material = active.ok_or_else(|| {
                     p.error(
                         Some(tok),
@@ -438,7 +436,7 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDesc, S
                     vertices: v,
                     material,
                     statements: cutoffs.len(),
-                    token,
+                    offset: tok.offset,
                 });
             }
             "s" => {
@@ -460,7 +458,11 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDesc, S
                         ),
                     ));
                 }
-                spheres.push((Sphere { center, radius }, material, tok.offset));
+                spheres.push(SphereStatement {
+                    sphere: Sphere { center, radius },
+                    material,
+                    offset: tok.offset,
+                });
             }
             "r" => {
                 return Err(p.error(
@@ -499,184 +501,15 @@ pub fn parse(source: &SourceText, options: LegacyOptions) -> Result<SceneDesc, S
         }
     }
 
-    // How each `c` is read, and warnings where the other reading differs.
-    let emissive = |m: usize| materials[m].emitted.max_element() > 0.0;
-    let as_statement: Vec<bool> = cutoffs
-        .iter()
-        .map(|c| c.trailing.as_ref().is_none_or(|t| !emissive(t.material)))
-        .collect();
-    let face_cutoff = face_cutoffs(&faces, &materials, &cutoffs, &as_statement);
-    let emissive_faces: Vec<usize> = (0..faces.len())
-        .filter(|&i| emissive(faces[i].material))
-        .collect();
-    for (i, c) in cutoffs.iter().enumerate() {
-        let Some(t) = &c.trailing else { continue };
-        let mut other = as_statement.clone();
-        other[i] = !other[i];
-        let other_cutoff = face_cutoffs(&faces, &materials, &cutoffs, &other);
-        let differ = emissive_faces
-            .iter()
-            .filter(|&&f| face_cutoff[f] != other_cutoff[f])
-            .count();
-        if differ == 0 {
-            continue;
-        }
-        let (line, column) = source.line_col(t.offset);
-        let reading = if as_statement[i] {
-            format!(
-                "material {} does not emit, so it is read as a statement for the emissive faces that follow",
-                t.material
-            )
-        } else {
-            format!(
-                "material {} emits, so it is read as that material's cutoff",
-                t.material
-            )
-        };
-        warnings.push(format!(
-            "{}:{line}:{column}: `c {}` ends the fields of material {}'s block; newlines do not separate statements, so it may be that material's cutoff or a statement: {reading}. The other reading would change {differ} emissive face(s). Write it after `m i` for a statement, or before the block's `emitted` for the material's",
-            source.path.display(),
-            c.value,
-            t.material,
-        ));
-    }
-
-    let camera = match camera {
-        Some(c) => c,
-        None => {
-            let camera = default_camera(&vertices, &spheres);
-            // Far from the origin a small scene's offset camera can round
-            // onto its target (issue 11: every ray NaN, a black image).
-            camera.check().map_err(|m| {
-                source.error(format!(
-                    "the default camera (the file has no `PerspectiveCamera`) cannot be placed: {m}; give a `PerspectiveCamera`"
-                ))
-            })?;
-            camera
-        }
-    };
-    let file: Arc<Path> = Arc::from(source.path.as_path());
-    let at = |offset: usize| {
-        let (line, column) = source.line_col(offset);
-        Origin::Location {
-            file: file.clone(),
-            line,
-            column,
-        }
-    };
-    let mut desc = SceneDesc::new(Sourced::new(
+    Ok(Statements {
+        vertices,
+        materials,
+        faces,
+        spheres,
+        cutoffs,
+        background,
         camera,
-        Origin::Element {
-            file: file.clone(),
-            path: "PerspectiveCamera".into(),
-        },
-    ));
-    desc.background = background;
-    desc.glass.model = GlassModel::Blend;
-    let one_sided = !options.two_sided;
-    let ids: Vec<u32> = materials
-        .iter()
-        .map(|m| {
-            let material = if m.emitted.max_element() > 0.0 {
-                Material::Emissive {
-                    radiance: m.emitted,
-                    two_sided: !one_sided,
-                }
-            } else if m.alpha < 1.0 {
-                Material::Glass(Glass {
-                    color: m.diffuse.min(Rgb::ONE),
-                    alpha: m.alpha,
-                })
-            } else {
-                Material::Opaque(Surface {
-                    diffuse: m.diffuse,
-                    specular: m.reflective,
-                    roughness: m.roughness,
-                })
-            };
-            desc.add_material(material, at(m.offset))
-        })
-        .collect();
-    if materials.iter().any(|m| m.textured) {
-        warnings.push(format!(
-            "{}: texture files are not supported; textured materials are drawn mid-grey",
-            source.path.display()
-        ));
-    }
-    // The lamp-face material of each emissive material used by spots.
-    let mut lamp_ids: Vec<Option<u32>> = vec![None; materials.len()];
-    for (face, cutoff) in faces.iter().zip(&face_cutoff) {
-        let m = &materials[face.material];
-        let c = face.vertices.map(|i| vertices[i]);
-        let offset = p.tokens[face.token].offset;
-        let quad = Quad::from_corners(c, one_sided);
-        if m.emitted.max_element() > 0.0 {
-            let quad = quad.map_err(|e| source.error_at(offset, format!("emissive face: {e}")))?;
-            match *cutoff {
-                Some(cutoff) => {
-                    // The spot's intensity is radiance × area (W/sr).
-                    let intensity = m.emitted * quad.area();
-                    limits::check_emission(
-                        "the spotlight's intensity (`emitted` × face area)",
-                        intensity,
-                    )
-                    .map_err(|e| source.error_at(offset, format!("emissive face: {e}")))?;
-                    // The quad is the lamp seen by the camera; the spot
-                    // carries its light into the scene (counted once).
-                    let lamp = *lamp_ids[face.material].get_or_insert_with(|| {
-                        let lamp = Material::LampFace {
-                            radiance: m.emitted,
-                        };
-                        desc.add_material(lamp, at(m.offset))
-                    });
-                    desc.add_shapes(vec![Shape::Quad(quad)], lamp, at(offset));
-                    let spot = SpotLight {
-                        position: quad.centroid(),
-                        direction: quad.normal,
-                        cos_cutoff: cutoff.to_radians().cos(),
-                        profile: SpotProfile::Linear,
-                        intensity,
-                    };
-                    desc.add_light(LightDesc::Spot(spot), at(offset));
-                }
-                None => desc.add_quad_light(quad, m.emitted, !one_sided, at(offset)),
-            }
-            continue;
-        }
-        match quad {
-            Ok(q) => desc.add_shapes(vec![Shape::Quad(q)], ids[face.material], at(offset)),
-            Err(_) => {
-                // A planar or non-planar general quad: two triangles.
-                let make = if one_sided {
-                    Triangle::new_one_sided
-                } else {
-                    Triangle::new
-                };
-                let tris = [make(c[0], c[1], c[2]), make(c[0], c[2], c[3])];
-                if tris.iter().all(Option::is_none) {
-                    return Err(source.error_at(
-                        offset,
-                        "the face has no area (its vertices are collinear or repeated)",
-                    ));
-                }
-                let triangles = tris.into_iter().flatten().map(Shape::Triangle).collect();
-                desc.add_shapes(triangles, ids[face.material], at(offset));
-            }
-        }
-    }
-    for &(sphere, material, offset) in &spheres {
-        desc.add_shapes(vec![Shape::Sphere(sphere)], ids[material], at(offset));
-    }
-    desc.settings = RenderSettings {
-        integrator: IntegratorKind::March,
-        ..RenderSettings::default()
-    };
-    if let Some(e) = source.locate_all(&desc.errors()) {
-        return Err(e);
-    }
-    warnings.extend(desc.lighting_warnings());
-    desc.warnings = warnings;
-    Ok(desc)
+    })
 }
 
 fn cutoff(p: &mut Parser) -> Result<f32, SceneError> {
@@ -743,22 +576,52 @@ fn perspective_camera(p: &mut Parser, tok: Token) -> Result<CameraSpec, SceneErr
     Ok(spec)
 }
 
-/// The legacy format (docs/scene-format.md): without a camera, look at the centre of the scene's
-/// bounds from 4 × its largest dimension along +z, 20° field of view.
-fn default_camera(vertices: &[Vec3], spheres: &[(Sphere, usize, usize)]) -> CameraSpec {
-    let bounds = vertices.iter().fold(Bounds::EMPTY, |b, v| b.include(*v));
-    let bounds = spheres
-        .iter()
-        .fold(bounds, |b, (s, _, _)| b.union(s.bounds()));
-    let (center, size) = if bounds.is_empty() {
-        (Vec3::ZERO, 1.0)
-    } else {
-        (bounds.center(), bounds.extent().max_element().max(1e-3))
-    };
-    CameraSpec {
-        position: center + Vec3::Z * (4.0 * size),
-        look_at: center,
-        up: Vec3::Y,
-        fov: FieldOfView::ShorterSide(20.0),
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read_text(text: &str) -> Result<Statements, SceneError> {
+        read(&SourceText::new("t.obj", text))
+    }
+
+    #[test]
+    fn statements_are_read_in_file_order_with_their_offsets() {
+        let s = read_text(
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\
+             material diffuse 0.5 0.5 0.5 c 30 alpha 0.5\n\
+             material emitted 1 1 1 c 20\n\
+             m 1 f 1 2 3 4\nc 45\nm 0 s 0 0 1 0.5\nbackground_color 0 0 0\n",
+        )
+        .expect("valid");
+        assert_eq!(s.vertices.len(), 4);
+        assert_eq!(s.materials.len(), 2);
+        // A `c` that another block field follows is the material's own.
+        assert_eq!(s.materials[0].cutoff_deg, Some(30.0));
+        assert_eq!(s.materials[0].alpha, 0.5);
+        assert!(s.materials[1].emits());
+        // A `c` that ends a block is left for phase 2; a `c` statement not.
+        assert_eq!(s.cutoffs.len(), 2);
+        let trailing = s.cutoffs[0].trailing.as_ref().expect("trailing");
+        assert_eq!(trailing.material, 1);
+        assert_eq!(s.cutoffs[0].value, 20.0);
+        assert!(s.cutoffs[1].trailing.is_none());
+        assert_eq!(s.faces.len(), 1);
+        assert_eq!(s.faces[0].vertices, [0, 1, 2, 3]);
+        assert_eq!(s.faces[0].material, 1);
+        assert_eq!(s.faces[0].statements, 1);
+        assert_eq!(s.faces[0].offset, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nmaterial diffuse 0.5 0.5 0.5 c 30 alpha 0.5\nmaterial emitted 1 1 1 c 20\nm 1 ".len());
+        assert_eq!(s.spheres.len(), 1);
+        assert_eq!(s.spheres[0].material, 0);
+        assert!(s.camera.is_none());
+    }
+
+    #[test]
+    fn a_bad_token_is_an_error_at_its_line_and_column() {
+        let e = read_text("v 0 0 0\n  bogus 1\n").expect_err("an error");
+        assert_eq!((e.line, e.column), (2, 3));
+        assert!(e.message.contains("unknown token `bogus`"), "{}", e.message);
+        let e = read_text("v 0 0 0\nf 1 2 3 4\n").expect_err("an error");
+        assert_eq!((e.line, e.column), (2, 1));
+        assert!(e.message.contains("active material"), "{}", e.message);
     }
 }

@@ -1,0 +1,214 @@
+// Direct light on a Lambertian surface: Σ ρ/π·E·cos θ·V·Tr_glass·T_fog,
+// one sample_incident per light (the CPU march's lambert_direct_lighting).
+fn direct_lighting(diffuse: vec3<f32>, x: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
+    if all(diffuse == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < params.light_count; i++) {
+        let light = lights[i];
+        let inc = sample_incident(light, x);
+        if !inc.valid {
+            continue;
+        }
+        let cos_theta = dot(normal, inc.direction);
+        if cos_theta <= 0.0 {
+            continue;
+        }
+        sum += light_arriving(i, light, x, true, normal, inc) * cos_theta;
+    }
+    return sum * diffuse / PI;
+}
+
+// The reflective layer's direction (tyndall::materials::Surface::reflect):
+// the mirror direction, or a normalised Phong lobe cosⁿ around it with
+// n = 2/r² − 2; zero vector when the drawn direction is below the surface.
+fn reflect_layer(roughness: f32, incoming: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
+    let mirror = incoming - 2.0 * dot(incoming, normal) * normal;
+    let u = vec2<f32>(next_1d(), next_1d());
+    if roughness <= 0.0 {
+        return mirror;
+    }
+    let r2 = max(roughness * roughness, 1e-6);
+    let exponent = max(2.0 / r2 - 2.0, 0.0);
+    let cos_t = pow(u.x, 1.0 / (exponent + 1.0));
+    let sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
+    let phi = 2.0 * PI * u.y;
+    let frame = orthonormal_pair(mirror);
+    let dir = normalize(frame[0] * (sin_t * cos(phi)) + frame[1] * (sin_t * sin(phi)) + mirror * cos_t);
+    if dot(dir, normal) > 0.0 {
+        return dir;
+    }
+    return vec3<f32>(0.0);
+}
+
+// The camera path of tyndall::integrators::camera_path::CameraPath::radiance for the
+// materials the GPU renders (no dielectrics: the host refuses them).
+//
+// Also leaves the in-scattered part of the result in `fog_radiance` and
+// the first segment's length (FAR_DEPTH if the camera ray escapes) in
+// `first_depth`, for interleave_resolve.
+var<private> fog_radiance: vec3<f32>;
+var<private> first_depth: f32;
+
+// The depth recorded for a camera ray that meets nothing: finite, so that
+// sums of it over frames stay finite.
+const FAR_DEPTH: f32 = 1.0e30;
+
+fn radiance(first: Ray, stratum: u32, strata: u32) -> vec3<f32> {
+    var ray = first;
+    fog_radiance = vec3<f32>(0.0);
+    first_depth = -1.0;
+    var result = vec3<f32>(0.0);
+    var throughput = vec3<f32>(1.0);
+    var bounces = 0u;
+    var crossings = 0u;
+    loop {
+        let hit = nearest_hit(ray);
+        if first_depth < 0.0 {
+            first_depth = select(FAR_DEPTH, hit.t, hit.found);
+        }
+        if has_fog() {
+            let in_scattered = throughput * fog_in_scattered(ray, hit.t, stratum, strata);
+            result += in_scattered;
+            fog_radiance += in_scattered;
+            var fog_t = 1.0;
+            let span = fog_interval(ray, 0.0, hit.t);
+            if span.z != 0.0 {
+                fog_t = transmittance(sigma_t(), span.y - span.x);
+            }
+            throughput *= fog_t;
+        }
+        if !hit.found {
+            return result + throughput * params.background_g.xyz;
+        }
+        if all(throughput == vec3<f32>(0.0)) {
+            return result;
+        }
+        let x = ray_at(ray, hit.t);
+        let gn = geometric_normal(hit.primitive, x);
+        let front = dot(gn, ray.direction) < 0.0;
+        let normal = select(-gn, gn, front);
+        let material = materials[primitives[hit.primitive].material];
+        var diffuse = material.color.xyz;
+        var specular = vec3<f32>(0.0);
+        if material.kind == MATERIAL_EMISSIVE || material.kind == MATERIAL_LAMP_FACE {
+            if front || (material.kind == MATERIAL_EMISSIVE && material.two_sided != 0u) {
+                result += throughput * material.color.xyz;
+            }
+            return result;
+        }
+        if material.kind == MATERIAL_GLASS && params.opaque_to_camera == 0u {
+            crossings++;
+            if crossings > MAX_GLASS_CROSSINGS {
+                return result;
+            }
+            throughput *= glass_filter_transmittance(material.color.xyz, material.alpha);
+            ray.origin = offset_origin(x, gn, ray.direction);
+            continue;
+        }
+        if material.kind == MATERIAL_OPAQUE {
+            specular = material.specular.xyz;
+        }
+        result += throughput * direct_lighting(diffuse, x, normal);
+        if all(specular == vec3<f32>(0.0)) || bounces >= params.max_bounces {
+            return result;
+        }
+        let direction = reflect_layer(material.roughness, ray.direction, normal);
+        if all(direction == vec3<f32>(0.0)) {
+            return result;
+        }
+        bounces++;
+        throughput *= specular;
+        ray = Ray(offset_origin(x, gn, direction), direction);
+    }
+    return result;
+}
+
+// Marks an invocation outside the image.
+const NO_PIXEL: u32 = 0xffffffffu;
+
+// The index of pixel id.xy in the image's arrays, or NO_PIXEL.
+fn pixel_index(id: vec3<u32>) -> u32 {
+    let width = u32(params.half_extent_resolution.z);
+    if id.x >= width || id.y >= u32(params.half_extent_resolution.w) {
+        return NO_PIXEL;
+    }
+    return id.y * width + id.x;
+}
+
+@compute @workgroup_size(8, 8)
+fn march_frame(@builtin(global_invocation_id) id: vec3<u32>) {
+    let index = pixel_index(id);
+    if index == NO_PIXEL {
+        return;
+    }
+    rng_state = pcg(index ^ pcg(params.seed ^ pcg(params.frame)));
+    let rotation = pcg(index ^ pcg(params.seed ^ 0x68e31da4u));
+    leading = r3_point(vec3<u32>(rotation, pcg(rotation), pcg(pcg(rotation))), params.frame);
+    leading_used = 0u;
+    // The film position, uniform over the pixel (a box filter), then the
+    // ray of tyndall::camera::Camera::ray.
+    let film = vec2<f32>(f32(id.x) + next_1d(), f32(id.y) + next_1d());
+    let ndc = 2.0 * film / params.half_extent_resolution.zw - vec2<f32>(1.0);
+    let direction = normalize(params.camera_forward.xyz
+        + params.camera_right.xyz * (ndc.x * params.half_extent_resolution.x)
+        - params.camera_up.xyz * (ndc.y * params.half_extent_resolution.y));
+    let n = max(params.interleave, 1u);
+    let stratum = interleaved_stratum(id.xy, n);
+    let l = radiance(Ray(params.camera_position.xyz, direction), stratum, n * n);
+    accumulation[index] += vec4<f32>(l, 1.0);
+    fog_accumulation[index] += vec4<f32>(fog_radiance, first_depth);
+}
+
+// Two mean first-hit depths belong to one surface (the discontinuity
+// buffer's test, Keller & Heidrich 2001): within DEPTH_TOLERANCE of
+// each other, relatively. Depth alone suffices for the first segment's
+// in-scattered light, most of it, which depends on the camera ray and
+// how far it runs, not on the surface's normal: it is continuous across
+// a crease at equal depth. (What a glossy surface reflects of the fog
+// does depend on the normal; across a crease it is blurred.)
+const DEPTH_TOLERANCE: f32 = 0.05;
+
+// The image of the frames so far with the in-scattered light of each
+// pixel averaged over the n×n window around it (which holds each stratum
+// of the interleaving tile once), over the window's pixels whose mean
+// first-hit depth matches this pixel's: Keller & Heidrich's discontinuity
+// buffer, which turns the tile's shared-out lattice cells back into one
+// full lattice per pixel. Surface light is not filtered. Dispatched by
+// the host only while the image is young (see GpuMarch::display_image).
+@compute @workgroup_size(8, 8)
+fn interleave_resolve(@builtin(global_invocation_id) id: vec3<u32>) {
+    let index = pixel_index(id);
+    if index == NO_PIXEL {
+        return;
+    }
+    let width = u32(params.half_extent_resolution.z);
+    let height = u32(params.half_extent_resolution.w);
+    let total = accumulation[index];
+    let own = fog_accumulation[index];
+    if !(total.w > 0.0) {
+        display[index] = vec4<f32>(0.0, 0.0, 0.0, 1.0);
+        return;
+    }
+    let n = i32(max(params.interleave, 1u));
+    let depth = own.w;
+    var fog = vec3<f32>(0.0);
+    var weight = 0.0;
+    for (var dy = 0; dy < n; dy++) {
+        for (var dx = 0; dx < n; dx++) {
+            let x = i32(id.x) + dx - n / 2;
+            let y = i32(id.y) + dy - n / 2;
+            if x < 0 || y < 0 || x >= i32(width) || y >= i32(height) {
+                continue;
+            }
+            let other = fog_accumulation[u32(y) * width + u32(x)];
+            if abs(other.w - depth) <= DEPTH_TOLERANCE * min(other.w, depth) {
+                fog += other.xyz;
+                weight += 1.0;
+            }
+        }
+    }
+    // The pixel itself always passes, so weight ≥ 1.
+    display[index] = vec4<f32>((total.xyz - own.xyz + fog / weight) / total.w, 1.0);
+}

@@ -1,0 +1,195 @@
+//! The camera path of the single-scattering integrators (`march` and
+//! `single`): followed through thin glass, dielectrics and specular
+//! reflections, with the fog's in-scattering on each segment and direct
+//! lighting where it ends.
+
+use super::lighting::{MediumQuery, TRACKING_STREAM, lambert_direct_lighting};
+use super::march;
+use super::single;
+use super::surfaces::{
+    MAX_GLASS_CROSSINGS, SolidDepth, SurfaceHit, SurfaceNormals, refract_or_reflect,
+};
+use crate::color::Rgb;
+use crate::materials::{Surface, SurfaceEvent};
+use crate::media::tracking::VolumeTracker;
+use crate::ray::{Ray, offset_origin};
+use crate::sampler::PixelSampler;
+use crate::scene::Scene;
+use crate::visibility::{RayCounts, Visibility};
+use glam::Vec3;
+
+/// The camera path the single-scattering integrators share: followed
+/// through thin glass, dielectrics and specular reflections (at most
+/// `max_bounces` of the latter two), adding on each fog segment the
+/// in-scattered radiance that the integrator estimates, and at the
+/// surface it ends on direct lighting.
+pub(super) struct CameraPath<'a> {
+    pub visibility: &'a Visibility,
+    pub max_bounces: u32,
+    pub in_scattering: InScattering,
+}
+
+/// How a single-scattering integrator estimates a fog segment's
+/// in-scattering (relative to the radiance at the segment's origin).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum InScattering {
+    /// The paper's ray march ([`march::in_scattered`]): its step length
+    /// and the pixel's interleaving stratum `(k, count)`.
+    March { step: f32, stratum: (u32, u32) },
+    /// Equiangular and distance sampling with MIS
+    /// ([`single::in_scattered`]): equiangular samples per light.
+    Single { volume_samples: u32 },
+}
+
+impl InScattering {
+    /// The in-scattered radiance of the segment `medium`.
+    #[inline]
+    fn estimate(
+        self,
+        medium: &MediumQuery,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+        tracker: &mut VolumeTracker,
+    ) -> Rgb {
+        match self {
+            InScattering::March { step, stratum } => {
+                march::in_scattered(medium, step, stratum, sampler, counts, tracker)
+            }
+            InScattering::Single { volume_samples } => {
+                single::in_scattered(medium, volume_samples, sampler, counts, tracker)
+            }
+        }
+    }
+}
+
+impl CameraPath<'_> {
+    /// Radiance arriving along `ray`.
+    pub fn radiance(
+        &self,
+        scene: &Scene,
+        mut ray: Ray,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+    ) -> Rgb {
+        let mut radiance = Rgb::ZERO;
+        let mut throughput = Rgb::ONE;
+        let (mut bounces, mut crossings) = (0u32, 0u32);
+        let mut solids = SolidDepth::default();
+        let mut tracker = VolumeTracker::new(sampler.stream(TRACKING_STREAM));
+        loop {
+            counts.camera += 1;
+            let hit = scene.geometry.intersect(&ray, f32::INFINITY);
+            let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
+            if let Some(fog) = &scene.fog
+                && !solids.inside()
+            {
+                let medium = MediumQuery {
+                    scene,
+                    visibility: self.visibility,
+                    fog,
+                    ray,
+                    t_hit,
+                };
+                radiance += throughput
+                    * self
+                        .in_scattering
+                        .estimate(&medium, sampler, counts, &mut tracker);
+                throughput *= fog.transmittance(&ray, 0.0, t_hit);
+            }
+            let Some(hit) = hit else {
+                return radiance + throughput * scene.background;
+            };
+            if throughput == Rgb::ZERO {
+                return radiance;
+            }
+            let SurfaceHit {
+                p,
+                geometric_normal,
+                normals,
+                front,
+            } = SurfaceHit::new(scene, &ray, &hit);
+            let event = scene
+                .material(hit.primitive)
+                .event(front, scene.glass.opaque_to_camera);
+            let surface = match event {
+                // Camera paths here have only specular events: they see
+                // lamps too.
+                SurfaceEvent::Emitter { emitted, .. } => {
+                    if let Some(le) = emitted {
+                        radiance += throughput * le;
+                    }
+                    return radiance;
+                }
+                SurfaceEvent::Pane { transmittance } => {
+                    crossings += 1;
+                    if crossings > MAX_GLASS_CROSSINGS {
+                        return radiance;
+                    }
+                    // Camera rays cross one pane at a time, so each
+                    // crossing multiplies by its transmittance; for a
+                    // single pane the blend model (eq. 6 from white) gives
+                    // the same value.
+                    throughput *= transmittance;
+                    ray.origin = offset_origin(p, geometric_normal, ray.direction);
+                    continue;
+                }
+                SurfaceEvent::Interface { ior } => {
+                    if bounces >= self.max_bounces {
+                        return radiance;
+                    }
+                    bounces += 1;
+                    ray = refract_or_reflect(&ray, p, geometric_normal, ior, sampler, &mut solids);
+                    continue;
+                }
+                // Glass drawn opaque is a diffuse surface of its colour.
+                SurfaceEvent::Reflector(surface) => scene.surface_at(surface, hit.primitive, p),
+            };
+            radiance += throughput
+                * self.direct_lighting(scene, &surface, p, normals, sampler, counts, &mut tracker);
+            if !surface.has_specular() || bounces >= self.max_bounces {
+                return radiance;
+            }
+            let Some(direction) =
+                surface.reflect(ray.direction, normals.shading, sampler.next_2d())
+            else {
+                return radiance;
+            };
+            if !normals.reflects(direction) {
+                return radiance;
+            }
+            bounces += 1;
+            throughput *= surface.specular;
+            ray = Ray {
+                origin: offset_origin(p, geometric_normal, direction),
+                direction,
+            };
+        }
+    }
+
+    /// Reflected radiance from direct lighting at surface point `p` with
+    /// `normals` facing the viewer: `Σ ρ/π · E · cos θ · V · Tr_glass ·
+    /// T_fog`, one sample per light.
+    #[allow(clippy::too_many_arguments)]
+    fn direct_lighting(
+        &self,
+        scene: &Scene,
+        surface: &Surface,
+        p: Vec3,
+        normals: SurfaceNormals,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+        tracker: &mut VolumeTracker,
+    ) -> Rgb {
+        lambert_direct_lighting(
+            scene,
+            self.visibility,
+            surface,
+            p,
+            normals,
+            sampler,
+            counts,
+            tracker,
+            |_, _| 1.0,
+        )
+    }
+}

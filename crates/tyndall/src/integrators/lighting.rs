@@ -1,0 +1,229 @@
+//! Light arriving at points of a path, shared by every integrator: light
+//! sampling, the in-scattered radiance of the paper's eq. 1
+//! ([`scattered_radiance`]), the visibility and media transmittance of a
+//! connection, and direct lighting of a Lambertian surface.
+
+use super::surfaces::SurfaceNormals;
+use crate::color::Rgb;
+use crate::lights::{Incident, Light, LightPoint};
+use crate::materials::Surface;
+use crate::media::Fog;
+use crate::media::tracking::VolumeTracker;
+use crate::ray::{Ray, offset_origin};
+use crate::sampler::PixelSampler;
+use crate::scene::Scene;
+use crate::visibility::{RayCounts, Visibility};
+use glam::{Vec2, Vec3};
+
+/// The [`PixelSampler::stream`] purpose of a path's tracking numbers.
+pub(crate) const TRACKING_STREAM: u64 = 1;
+
+/// A ray segment in fog and what estimating its in-scattering needs: the
+/// scene, the render's visibility, the fog, and the segment `(0, t_hit)`
+/// of `ray`.
+#[derive(Clone, Copy)]
+pub(crate) struct MediumQuery<'a> {
+    pub scene: &'a Scene,
+    pub visibility: &'a Visibility,
+    pub fog: &'a Fog,
+    pub ray: Ray,
+    pub t_hit: f32,
+}
+
+impl MediumQuery<'_> {
+    /// The phase function for light arriving as `incident` and leaving
+    /// towards the ray's origin. Light travels along −direction before
+    /// scattering and along −view after: cos θ = (−direction)·(−view).
+    #[inline]
+    pub fn phase(&self, incident: &Incident) -> f32 {
+        self.fog
+            .phase
+            .eval(incident.direction.dot(self.ray.direction))
+    }
+}
+
+/// The sample dimensions for choosing a point on `light`: two for an
+/// area light, none for a delta light (whose point is fixed).
+#[inline]
+fn light_sample_u(light: &Light, sampler: &mut PixelSampler) -> Vec2 {
+    if light.is_delta() {
+        Vec2::ZERO
+    } else {
+        sampler.next_2d()
+    }
+}
+
+/// The point on `light` a receiver connects to (the light's
+/// `sample_point`).
+#[inline]
+pub(super) fn light_point(light: &Light, sampler: &mut PixelSampler) -> Option<LightPoint> {
+    light.sample_point(light_sample_u(light, sampler))
+}
+
+/// Light reaching receiver `x` from `light` for next event estimation,
+/// with the solid-angle density of the light's point for MIS (the
+/// light's `sample_li`).
+#[inline]
+pub(crate) fn sample_light(
+    light: &Light,
+    x: Vec3,
+    sampler: &mut PixelSampler,
+) -> Option<(Incident, Option<f32>)> {
+    light.sample_li(x, light_sample_u(light, sampler))
+}
+
+/// Radiance scattered at fog point `x` of the query's ray towards the
+/// camera from light number `index` via its emitting point `y`, per unit
+/// length: the paper's eq. 1,
+/// `σs · p(θ) · I(dir)/d² · V · Tr_glass · exp(−σt·d)`.
+/// Zero without a visibility query outside a spotlight's cone.
+#[inline]
+pub(crate) fn scattered_radiance(
+    medium: &MediumQuery,
+    index: usize,
+    y: Option<LightPoint>,
+    x: Vec3,
+    counts: &mut RayCounts,
+    tracker: &mut VolumeTracker,
+) -> Rgb {
+    let Some(incident) = medium.scene.lights[index].incident(x, y) else {
+        return Rgb::ZERO;
+    };
+    medium.fog.sigma_s() * scattered_light(medium, index, x, &incident, counts, tracker)
+}
+
+/// Eq. 1 without σs: light from light number `index` arriving at fog
+/// point `x` as `incident` and scattered towards the query's origin,
+/// `p(θ) · E · V · Tr_glass · T_media`; zero when occluded. Every
+/// integrator evaluates in-scattering through this function.
+#[inline]
+pub(crate) fn scattered_light(
+    medium: &MediumQuery,
+    index: usize,
+    x: Vec3,
+    incident: &Incident,
+    counts: &mut RayCounts,
+    tracker: &mut VolumeTracker,
+) -> Rgb {
+    let arriving = light_arriving(
+        medium.scene,
+        medium.visibility,
+        index,
+        x,
+        None,
+        incident,
+        counts,
+        tracker,
+    );
+    arriving * medium.phase(incident)
+}
+
+/// Light from light number `index` arriving at `x` as `incident`, after
+/// everything on its way: `E · V · Tr_glass · T_fog · T_volumes` (the
+/// fog's in closed form, the volumes' by ratio tracking). `normal` is the
+/// receiving surface's, facing the light's side (`None` in a medium): the
+/// shadow ray starts just off it.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub(crate) fn light_arriving(
+    scene: &Scene,
+    visibility: &Visibility,
+    index: usize,
+    x: Vec3,
+    normal: Option<Vec3>,
+    incident: &Incident,
+    counts: &mut RayCounts,
+    tracker: &mut VolumeTracker,
+) -> Rgb {
+    let origin = normal.map_or(x, |n| offset_origin(x, n, incident.direction));
+    // The shadow ray leaves from `origin`, not `x`: the light is this far
+    // from there.
+    let from_origin = Incident {
+        distance: incident.distance - (origin - x).dot(incident.direction),
+        ..*incident
+    };
+    let glass = visibility.transmittance(scene, index, origin, normal, &from_origin, counts);
+    if glass == Rgb::ZERO {
+        return Rgb::ZERO;
+    }
+    let media = media_transmittance(
+        scene,
+        tracker,
+        x,
+        origin,
+        incident.direction,
+        incident.distance,
+    );
+    incident.irradiance * glass * media
+}
+
+/// Transmittance of the scene's media from `x` over `distance` along the
+/// unit `direction`: the fog's in closed form (from `x`), times the
+/// volumes' by ratio tracking (one estimate, along the ray from `origin`:
+/// `x` moved off a surface, where a shadow ray starts). Zero without
+/// tracking where the fog alone already blocks the light. Every
+/// connection to a light or the camera takes its transmittance here.
+pub(crate) fn media_transmittance(
+    scene: &Scene,
+    tracker: &mut VolumeTracker,
+    x: Vec3,
+    origin: Vec3,
+    direction: Vec3,
+    distance: f32,
+) -> Rgb {
+    let fog_t = scene
+        .fog
+        .as_ref()
+        .map_or(1.0, |fog| fog.transmittance_along(x, direction, distance));
+    if fog_t == 0.0 {
+        return Rgb::ZERO;
+    }
+    let ray = Ray { origin, direction };
+    tracker.transmittance(&scene.volumes, &ray, 0.0, distance) * fog_t
+}
+
+/// Direct lighting of the Lambertian lobe of `surface` at point `p` with
+/// `normals` facing the viewer, one sample per light:
+/// `Σ ρ/π · E · cos θ · V · Tr_glass · T_media · w` (θ from the shading
+/// normal; light from below the geometric surface does not count), where
+/// `w = weight(p_light, ω)` is the caller's MIS weight given the light
+/// sample's solid-angle density (`None` for delta lights) and unit
+/// direction ω towards it.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn lambert_direct_lighting(
+    scene: &Scene,
+    visibility: &Visibility,
+    surface: &Surface,
+    p: Vec3,
+    normals: SurfaceNormals,
+    sampler: &mut PixelSampler,
+    counts: &mut RayCounts,
+    tracker: &mut VolumeTracker,
+    weight: impl Fn(Option<f32>, Vec3) -> f32,
+) -> Rgb {
+    if surface.diffuse == Rgb::ZERO {
+        return Rgb::ZERO;
+    }
+    let mut sum = Rgb::ZERO;
+    for (index, light) in scene.lights.iter().enumerate() {
+        let Some((incident, p_light)) = sample_light(light, p, sampler) else {
+            continue;
+        };
+        if !normals.reflects(incident.direction) {
+            continue;
+        }
+        let cos = normals.shading.dot(incident.direction);
+        let arriving = light_arriving(
+            scene,
+            visibility,
+            index,
+            p,
+            Some(normals.geometric),
+            &incident,
+            counts,
+            tracker,
+        );
+        sum += arriving * (cos * weight(p_light, incident.direction));
+    }
+    sum * surface.diffuse_brdf()
+}

@@ -1,0 +1,126 @@
+//! The per-pixel sums of a part of a render — a tile, a sample range, a
+//! checkpoint — and the share of each pass's light paths a band of rows
+//! traces.
+
+use crate::color::Rgb;
+use crate::exact_sum::ExactRgb;
+use crate::film::Image;
+use crate::region::{PixelRect, RenderRegion};
+use glam::DVec3;
+
+/// The unnormalised per-pixel sums of a part of a render: what a tile, a
+/// sample range or a checkpoint holds. [`Accumulation::resolve`] turns it
+/// into an image.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Accumulation {
+    /// Width of the full image, in pixels.
+    pub width: u32,
+    /// Height of the full image, in pixels.
+    pub height: u32,
+    /// The pixels held, and the sample indices summed so far.
+    pub region: RenderRegion,
+    /// Per pixel of `region.rect` (row-major), the sum of the camera-path
+    /// radiance estimates of samples `region.samples` (non-finite
+    /// estimates count as zero and are reported in [`RenderStats`]).
+    pub camera: Vec<DVec3>,
+    /// Per pixel of the *full* image (row-major), the exact sum of the
+    /// light-path splats (radiance times the number of paths) of this
+    /// part's share of each pass's light paths (see the module docs), for
+    /// renders that trace them (`volpath` with caustics); `None` otherwise.
+    pub light: Option<Vec<ExactRgb>>,
+}
+
+impl Accumulation {
+    /// No samples yet of `rect`, starting at sample index `first_sample`.
+    pub fn new(
+        (width, height): (u32, u32),
+        rect: PixelRect,
+        first_sample: u32,
+        light: bool,
+    ) -> Self {
+        Self {
+            width,
+            height,
+            region: RenderRegion {
+                rect,
+                samples: first_sample..first_sample,
+            },
+            camera: vec![DVec3::ZERO; rect.area()],
+            light: light.then(|| vec![ExactRgb::ZERO; width as usize * height as usize]),
+        }
+    }
+
+    /// Samples per pixel summed.
+    pub fn passes(&self) -> u32 {
+        self.region.samples.len() as u32
+    }
+
+    /// This part's light paths per pass: one per pixel of its rows.
+    pub fn light_paths_per_pass(&self) -> u64 {
+        let share = light_share(self.width, self.region.rect);
+        share.end - share.start
+    }
+
+    /// The image of the rectangle: each pixel the mean of its camera
+    /// samples plus its light splats over the light paths this part traced
+    /// (for a tile, an estimate from its share of the paths; for the whole
+    /// image, the render); black before the first pass.
+    pub fn resolve(&self) -> Image {
+        let n = self.passes();
+        let rect = self.region.rect;
+        if n == 0 {
+            return Image::from_pixels(rect.width(), rect.height(), vec![Rgb::ZERO; rect.area()]);
+        }
+        let light_scale = 1.0 / (self.light_paths_per_pass() as f64 * n as f64);
+        let width = rect.width() as usize;
+        let pixels = self
+            .camera
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                let mut p = (*c / n as f64).as_vec3();
+                if let Some(light) = &self.light {
+                    let (x, y) = (rect.x0 as usize + i % width, rect.y0 as usize + i / width);
+                    let full = y * self.width as usize + x;
+                    p += (light[full].to_dvec3() * light_scale).as_vec3();
+                }
+                p
+            })
+            .collect();
+        Image::from_pixels(rect.width(), rect.height(), pixels)
+    }
+
+    /// Adds the sums of `next`, the same pixels for the sample indices
+    /// that follow this one's.
+    pub fn append(&mut self, next: &Accumulation) -> Result<(), String> {
+        if (self.width, self.height) != (next.width, next.height)
+            || self.region.rect != next.region.rect
+            || self.light.is_some() != next.light.is_some()
+        {
+            return Err("the parts hold different images or pixels".into());
+        }
+        if next.region.samples.start != self.region.samples.end {
+            return Err(format!(
+                "samples {:?} do not follow samples {:?}",
+                next.region.samples, self.region.samples
+            ));
+        }
+        for (a, b) in self.camera.iter_mut().zip(&next.camera) {
+            *a += *b;
+        }
+        if let (Some(a), Some(b)) = (&mut self.light, &next.light) {
+            for (a, b) in a.iter_mut().zip(b) {
+                a.add_exact(b);
+            }
+        }
+        self.region.samples.end = next.region.samples.end;
+        Ok(())
+    }
+}
+
+/// The in-pass indices of the light paths that a band of whole rows
+/// (`rect`, in an image `width` wide) traces: one per pixel of its rows,
+/// `y0·W .. y1·W`. Bands that partition the image partition the paths.
+pub fn light_share(width: u32, rect: PixelRect) -> std::ops::Range<u64> {
+    rect.y0 as u64 * width as u64..rect.y1 as u64 * width as u64
+}

@@ -1,0 +1,285 @@
+//! The render loop: whole passes of samples, pixels in parallel.
+//!
+//! A render is a sequence of passes; pass `s` computes sample `s` of every
+//! pixel (rows distributed over a rayon pool of the requested size) and,
+//! for `volpath` in a scene with caustics, the light paths
+//! `s·W·H .. (s+1)·W·H` of [`light_tracer`]. Each pixel's sample `s` comes
+//! from its own sequence (`sampler`) keyed by (seed, pixel, `s`)
+//! alone, and every pixel adds its samples to f64 sums in increasing
+//! order; light-path splats, which land anywhere in the image, add to exact
+//! fixed-point sums ([`ExactRgb`]) that no order or grouping changes. Hence:
+//! - the image is the same, bit for bit, for any thread count and
+//!   scheduling;
+//! - a tile ([`RenderRegion::rect`], a band of rows `y0..y1`) computes
+//!   exactly the single render's camera sums for its pixels, and traces
+//!   its share of each pass's light paths — in-pass indices `y0·W .. y1·W`,
+//!   as many as it has pixels — whose splats it keeps for the whole image;
+//!   the tiles' shares partition the paths, so merged tiles (camera sums
+//!   placed, light sums added exactly) are bit-identical to the single
+//!   render;
+//! - a sample range ([`RenderRegion::samples`]) computes the sums of its
+//!   indices; adding the sums of consecutive ranges differs from the single
+//!   render only by f64 rounding;
+//! - a render stopped after any pass and resumed from its sums
+//!   ([`Accumulation`], a checkpoint) continues the same additions, so the
+//!   final image is bit-identical to an uninterrupted render's.
+mod accumulation;
+mod checks;
+mod error;
+
+pub use accumulation::{Accumulation, light_share};
+pub use checks::{LOSSLESS_FOG_DEPTH, MAX_RENDER_BYTES, traces_light_paths};
+pub use error::RenderError;
+
+use crate::camera::Camera;
+use crate::exact_sum::ExactRgb;
+use crate::film::Image;
+use crate::integrators::light_tracer::{self, LightPaths};
+use crate::integrators::{Integrator, LightSubpaths, PixelPosition};
+use crate::region::{PixelRect, RegionError, RenderRegion};
+use crate::sampler::PixelSampler;
+use crate::scene::Scene;
+use crate::settings::RenderSettings;
+use crate::visibility::{RayCounts, Visibility};
+use glam::{DVec3, Vec2};
+use rayon::prelude::*;
+use std::ops::ControlFlow;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+/// What a render did, for the end-of-run report.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RenderStats {
+    /// Wall time of the whole render, shadow maps included.
+    pub elapsed: Duration,
+    /// Wall time spent rendering shadow maps (zero with shadow rays).
+    pub maps: Duration,
+    pub samples: u64,
+    pub rays: RayCounts,
+    /// Samples whose radiance was NaN or infinite and were dropped, camera
+    /// samples and light-path connections alike (a bug if ever non-zero;
+    /// reported, never hidden).
+    pub invalid_samples: u64,
+}
+
+impl RenderStats {
+    /// Rays (camera and shadow) per second of wall time.
+    pub fn rays_per_second(&self) -> f64 {
+        self.rays.total() as f64 / self.elapsed.as_secs_f64().max(1e-9)
+    }
+}
+
+/// A finished render.
+pub struct Render {
+    pub image: Image,
+    pub stats: RenderStats,
+}
+
+/// Renders `scene`. `progress` is called with the number of rows finished
+/// so far, counting each row once per pass (from worker threads, in no
+/// particular order; `height·spp` in all).
+pub fn render(
+    scene: &Scene,
+    settings: &RenderSettings,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Render, RenderError> {
+    let region = RenderRegion::full(settings.width, settings.height, settings.spp);
+    let (accumulation, stats) =
+        render_region(scene, settings, &region, None, progress, &mut |_, _| {
+            ControlFlow::Continue(())
+        })?;
+    Ok(Render {
+        image: accumulation.resolve(),
+        stats,
+    })
+}
+
+/// Renders the passes `region.samples` of the pixels `region.rect` (its
+/// `settings.spp` is not used), continuing `resume` if given (the sums of
+/// the passes `region.samples.start .. resume.region.samples.end`, from a
+/// checkpoint). After each pass, `after_pass` gets the sums so far and the
+/// pass's wall time; it may write a checkpoint, or stop the render after
+/// that pass by returning `Break` (a time limit). `progress` counts rows
+/// finished, each once per pass, this run's passes only.
+pub fn render_region(
+    scene: &Scene,
+    settings: &RenderSettings,
+    region: &RenderRegion,
+    resume: Option<Accumulation>,
+    progress: &(dyn Fn(u64) + Sync),
+    after_pass: &mut dyn FnMut(&Accumulation, Duration) -> ControlFlow<()>,
+) -> Result<(Accumulation, RenderStats), RenderError> {
+    settings.validate(scene)?;
+    region.check(settings.width, settings.height)?;
+    // An unlimited depth in endless lossless fog is bounded here, once,
+    // for every integrator and pass (see `path_depth`).
+    let settings = &RenderSettings {
+        max_depth: settings.path_depth(scene),
+        ..*settings
+    };
+    let size = (settings.width, settings.height);
+    let light = traces_light_paths(scene, settings);
+    if light && (region.rect.x0, region.rect.x1) != (0, settings.width) {
+        return Err(RenderError::Region(RegionError::NotBand(region.rect)));
+    }
+    let mut accumulation = match resume {
+        None => Accumulation::new(size, region.rect, region.samples.start, light),
+        Some(saved) => checks::check_resume(saved, size, region, light)?,
+    };
+    let pool = {
+        let mut builder = rayon::ThreadPoolBuilder::new();
+        if let Some(n) = settings.worker_threads() {
+            builder = builder.num_threads(n);
+        }
+        builder
+            .build()
+            .map_err(|e| RenderError::ThreadPool(e.to_string()))?
+    };
+    let start = Instant::now();
+    let visibility = pool.install(|| Visibility::new(scene, settings.visibility));
+    let maps = start.elapsed();
+    let camera = Camera::new(&scene.camera, settings.width, settings.height);
+    let rect = region.rect;
+    let full_width = settings.width as u64;
+    let counters = PassCounters::default();
+    let mut passes = 0u64;
+    for s in accumulation.region.samples.end..region.samples.end {
+        let pass_start = Instant::now();
+        let mut subpath_counts = RayCounts::default();
+        let pixels = full_width * settings.height as u64;
+        let light_subpaths = pool
+            .install(|| LightSubpaths::for_pass(scene, settings, pixels, s, &mut subpath_counts));
+        counters
+            .camera_rays
+            .fetch_add(subpath_counts.camera, Ordering::Relaxed);
+        let integrator = Integrator::new(settings, &visibility, &light_subpaths);
+        pool.install(|| {
+            camera_pass(
+                scene,
+                settings,
+                &camera,
+                &integrator,
+                rect,
+                s,
+                &mut accumulation.camera,
+                &counters,
+                progress,
+            )
+        });
+        if let Some(sums) = &mut accumulation.light {
+            pool.install(|| light_pass(scene, settings, &camera, rect, s, sums, &counters));
+        }
+        accumulation.region.samples.end = s + 1;
+        passes += 1;
+        if after_pass(&accumulation, pass_start.elapsed()).is_break() {
+            break;
+        }
+    }
+    let stats = RenderStats {
+        elapsed: start.elapsed(),
+        maps,
+        samples: rect.area() as u64 * passes,
+        rays: RayCounts {
+            camera: counters.camera_rays.into_inner(),
+            shadow: counters.shadow_rays.into_inner(),
+            map_lookups: counters.lookups.into_inner(),
+        },
+        invalid_samples: counters.invalid.into_inner(),
+    };
+    Ok((accumulation, stats))
+}
+
+/// What the passes of a render counted, added to from worker threads.
+#[derive(Default)]
+struct PassCounters {
+    rows_done: AtomicU64,
+    camera_rays: AtomicU64,
+    shadow_rays: AtomicU64,
+    lookups: AtomicU64,
+    invalid: AtomicU64,
+}
+
+/// Pass `s` of the camera paths: sample `s` of every pixel of `rect`,
+/// rows in parallel on the current pool, each pixel's estimate added to
+/// its sum in `sums` (row-major over `rect`; non-finite estimates
+/// counted as invalid and dropped).
+#[allow(clippy::too_many_arguments)]
+fn camera_pass(
+    scene: &Scene,
+    settings: &RenderSettings,
+    camera: &Camera,
+    integrator: &Integrator,
+    rect: PixelRect,
+    s: u32,
+    sums: &mut [DVec3],
+    counters: &PassCounters,
+    progress: &(dyn Fn(u64) + Sync),
+) {
+    let full_width = settings.width as u64;
+    sums.par_chunks_mut(rect.width() as usize)
+        .enumerate()
+        .for_each(|(row, sums)| {
+            let y = rect.y0 + row as u32;
+            let mut counts = RayCounts::default();
+            let mut bad = 0u64;
+            for (i, sum) in sums.iter_mut().enumerate() {
+                let x = rect.x0 + i as u32;
+                let index = y as u64 * full_width + x as u64;
+                let mut sampler = PixelSampler::new(settings.seed, index, s);
+                let film = Vec2::new(x as f32, y as f32) + sampler.next_2d();
+                let ray = camera.ray(film);
+                let pixel = PixelPosition { x, y };
+                let l = integrator.radiance(scene, ray, pixel, &mut sampler, &mut counts);
+                if l.is_finite() {
+                    *sum += l.as_dvec3();
+                } else {
+                    bad += 1;
+                }
+            }
+            counters
+                .camera_rays
+                .fetch_add(counts.camera, Ordering::Relaxed);
+            counters
+                .shadow_rays
+                .fetch_add(counts.shadow, Ordering::Relaxed);
+            counters
+                .lookups
+                .fetch_add(counts.map_lookups, Ordering::Relaxed);
+            counters.invalid.fetch_add(bad, Ordering::Relaxed);
+            progress(counters.rows_done.fetch_add(1, Ordering::Relaxed) + 1);
+        });
+}
+
+/// Pass `s` of the light tracer: light focused by dielectrics from point
+/// and spot lights, one light path per pixel per pass (see
+/// [`light_tracer`]), of which the band `rect` traces its share, splatted
+/// into `sums` (the full image).
+fn light_pass(
+    scene: &Scene,
+    settings: &RenderSettings,
+    camera: &Camera,
+    rect: PixelRect,
+    s: u32,
+    sums: &mut [ExactRgb],
+    counters: &PassCounters,
+) {
+    let first = s as u64 * settings.width as u64 * settings.height as u64;
+    let share = light_share(settings.width, rect);
+    let (counts, dropped) = light_tracer::trace_paths(
+        scene,
+        camera,
+        settings.width,
+        first + share.start..first + share.end,
+        settings.seed,
+        settings.max_depth,
+        LightPaths::Caustic,
+        sums,
+    );
+    counters
+        .camera_rays
+        .fetch_add(counts.camera, Ordering::Relaxed);
+    counters
+        .shadow_rays
+        .fetch_add(counts.shadow, Ordering::Relaxed);
+    counters.invalid.fetch_add(dropped, Ordering::Relaxed);
+}
