@@ -27,7 +27,7 @@
 //! emission grid by a majorant floor the volume adds where the grid is
 //! positive ([`super::volume::Volume::with_emission`]).
 
-use super::volume::Density;
+use super::density::Density;
 use crate::color::Rgb;
 use crate::color::blackbody::BlackbodyTable;
 use glam::Vec3;

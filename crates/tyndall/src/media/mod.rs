@@ -15,6 +15,7 @@
 //!   tracking against per-cell majorants), and may emit light
 //!   ([`emission`]). `volpath` renders them.
 
+pub mod density;
 pub mod emission;
 pub mod emitters;
 pub mod grid;

@@ -13,10 +13,8 @@
 //! tracking ([`super::tracking`]) take steps sized to the local density
 //! instead of the global maximum.
 
+pub use super::density::Density;
 use super::emission::{Emission, EmissionEval};
-use super::grid::VoxelGrid;
-use super::noise::SmokeNoise;
-use super::sparse::SparseDensity;
 use crate::accel::{Geometry, Primitive};
 use crate::color::Rgb;
 use crate::phase::PhaseFunction;
@@ -25,64 +23,9 @@ use crate::shapes::{Bounds, Shape, Triangle};
 use glam::{IVec3, UVec3, Vec3};
 use std::ops::ControlFlow;
 
-/// Majorant cells per axis over a procedural density's box.
-const NOISE_MAJORANT_CELLS: u32 = 16;
-
-/// Voxels per majorant cell along each axis of a grid (a brick of 8³).
-/// On the smoke scene (`tyndall bench --only smoke`) bricks of 2³ and 16³
-/// were 20–30% slower; 4³ and 8³ were within the machine's noise.
-const GRID_BRICK: u32 = 8;
-
 /// Extra width, in cells, added around each majorant cell when bounding
 /// it, so that a sample rounded across a cell face is still bounded.
 const MAJORANT_MARGIN: f32 = 1e-3;
-
-/// The dimensionless density field scaled by a volume's `sigma_t`.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Density {
-    /// 1 everywhere: a homogeneous medium.
-    Uniform,
-    /// Procedural smoke in [0, 1].
-    Noise(SmokeNoise),
-    /// A voxel grid read from a `.tgrid` file.
-    Grid(VoxelGrid),
-    /// A sparse voxel grid (an OpenVDB float grid), placed in the box.
-    Sparse(Box<SparseDensity>),
-}
-
-impl Density {
-    /// Density at `u` in the unit cube.
-    #[inline]
-    pub fn eval(&self, u: Vec3) -> f32 {
-        match self {
-            Density::Uniform => 1.0,
-            Density::Noise(noise) => noise.eval(u),
-            Density::Grid(grid) => grid.eval(u),
-            Density::Sparse(sparse) => sparse.eval(u),
-        }
-    }
-
-    /// An upper bound of the density over the box `[lo, hi]` of the unit
-    /// cube.
-    pub fn max_in(&self, lo: Vec3, hi: Vec3) -> f32 {
-        match self {
-            Density::Uniform => 1.0,
-            Density::Noise(noise) => noise.max_in(lo, hi),
-            Density::Grid(grid) => grid.max_in(lo, hi),
-            Density::Sparse(sparse) => sparse.max_in(lo, hi),
-        }
-    }
-
-    /// Majorant grid resolution suited to the field.
-    fn majorant_cells(&self) -> UVec3 {
-        match self {
-            Density::Uniform => UVec3::ONE,
-            Density::Noise(_) => UVec3::splat(NOISE_MAJORANT_CELLS),
-            Density::Grid(grid) => grid.size().map(|n| n.div_ceil(GRID_BRICK)),
-            Density::Sparse(sparse) => sparse.majorant_cells(),
-        }
-    }
-}
 
 /// Where a volume is.
 #[derive(Debug)]
