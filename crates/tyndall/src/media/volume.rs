@@ -461,6 +461,7 @@ pub(crate) struct RegionScratch {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::media::noise::SmokeNoise;
 
     fn ray(origin: Vec3, direction: Vec3) -> Ray {
         Ray {
