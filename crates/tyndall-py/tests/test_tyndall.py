@@ -215,7 +215,7 @@ def test_frame_picks_the_file_of_a_sequence(tmp_path):
     described = tyndall.Scene.from_dict(
         {"camera": {"position": [0, 2, 8], "look_at": [0, 1.95, 0], "fov_y_deg": 36},
          "render": {"integrator": "volpath"},
-         "media": [{"sigma_t": 9.0, "box": {"min": [-1.2, 0, -1.2], "max": [1.2, 4, 1.2]},
+         "media": [{"sigma_t": 9.0, "albedo": 0.9, "box": {"min": [-1.2, 0, -1.2], "max": [1.2, 4, 1.2]},
                     "density": "grid", "file": "cache/plume_####.tgrid"}]},
         base_dir=tmp_path,
         frame=12,
