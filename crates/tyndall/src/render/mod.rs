@@ -199,6 +199,16 @@ struct PassCounters {
     invalid: AtomicU64,
 }
 
+impl PassCounters {
+    /// Adds the rays and map lookups of `counts`.
+    fn add(&self, counts: &RayCounts) {
+        self.camera_rays.fetch_add(counts.camera, Ordering::Relaxed);
+        self.shadow_rays.fetch_add(counts.shadow, Ordering::Relaxed);
+        self.lookups
+            .fetch_add(counts.map_lookups, Ordering::Relaxed);
+    }
+}
+
 /// Pass `s` of the camera paths: sample `s` of every pixel of `rect`,
 /// rows in parallel on the current pool, each pixel's estimate added to
 /// its sum in `sums` (row-major over `rect`; non-finite estimates
@@ -236,15 +246,7 @@ fn camera_pass(
                     bad += 1;
                 }
             }
-            counters
-                .camera_rays
-                .fetch_add(counts.camera, Ordering::Relaxed);
-            counters
-                .shadow_rays
-                .fetch_add(counts.shadow, Ordering::Relaxed);
-            counters
-                .lookups
-                .fetch_add(counts.map_lookups, Ordering::Relaxed);
+            counters.add(&counts);
             counters.invalid.fetch_add(bad, Ordering::Relaxed);
             progress(counters.rows_done.fetch_add(1, Ordering::Relaxed) + 1);
         });
@@ -275,11 +277,6 @@ fn light_pass(
         LightPaths::Caustic,
         sums,
     );
-    counters
-        .camera_rays
-        .fetch_add(counts.camera, Ordering::Relaxed);
-    counters
-        .shadow_rays
-        .fetch_add(counts.shadow, Ordering::Relaxed);
+    counters.add(&counts);
     counters.invalid.fetch_add(dropped, Ordering::Relaxed);
 }
