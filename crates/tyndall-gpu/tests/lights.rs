@@ -13,13 +13,19 @@
 
 mod support;
 
-use glam::{DVec3, Vec3};
-use tyndall::lights::{Light, SpotLight, SpotProfile};
+use glam::{DVec3, Vec2, Vec3};
+use tyndall::lights::{
+    DirectionalLight, Light, MeshLight, PointLight, QuadLight, SphereLight, SpotLight, SpotProfile,
+};
 use tyndall::ray::Ray;
+use tyndall::shapes::{Quad, Sphere, Triangle};
 use tyndall_gpu::formula_probe::{LightFormula, evaluate_lights};
 use tyndall_gpu::scene_buffers::gpu_lights;
 
 const EPS: f64 = f32::EPSILON as f64;
+
+/// WGSL's bound on `sin` and `cos` inside [−π, π]: absolute 2⁻¹¹.
+const SIN_COS_ABSOLUTE: f64 = 1.0 / 2048.0;
 
 /// The stand-in for an infinite distance on the GPU (`INFINITE` of
 /// `scene.wgsl`).
@@ -201,4 +207,314 @@ fn spot_reach_matches_clip_ray() {
         inside > 1000 && outside > 1000,
         "{inside} inside, {outside} outside"
     );
+}
+
+/// One light of each kind: a point, a spot of each profile, a sun, a
+/// rectangle (one-sided), a parallelogram (two-sided), a sphere of each
+/// sidedness and a mesh of three triangles of unequal areas (one-sided).
+fn lights_of_each_kind() -> Vec<Light> {
+    let rgb = Vec3::new(1.0, 2.0, 0.5);
+    let spot = |profile, position: Vec3, axis: Vec3| {
+        Light::Spot(SpotLight {
+            position,
+            direction: axis.normalize(),
+            cos_cutoff: 40f32.to_radians().cos(),
+            profile,
+            intensity: rgb,
+        })
+    };
+    let quad = |origin, u, v, two_sided| {
+        let quad = Quad::new(origin, u, v, false).expect("a quad");
+        Light::Quad(QuadLight::new(quad, rgb, two_sided))
+    };
+    let sphere = |center, radius, two_sided| {
+        Light::Sphere(SphereLight {
+            sphere: Sphere { center, radius },
+            radiance: rgb,
+            two_sided,
+        })
+    };
+    let triangle = |a, b, c| Triangle::new(a, b, c).expect("a triangle");
+    let mesh = MeshLight::new(
+        vec![
+            triangle(
+                Vec3::new(-1.0, 2.0, -1.0),
+                Vec3::new(1.0, 2.0, -1.0),
+                Vec3::new(0.0, 2.2, 1.0),
+            ),
+            triangle(
+                Vec3::new(1.0, 2.0, -1.0),
+                Vec3::new(1.3, 1.5, -0.8),
+                Vec3::new(0.0, 2.2, 1.0),
+            ),
+            triangle(
+                Vec3::new(-2.0, 0.0, 2.5),
+                Vec3::new(2.0, 0.3, 2.5),
+                Vec3::new(0.0, 3.0, 2.0),
+            ),
+        ],
+        rgb,
+        false,
+    )
+    .expect("a mesh light");
+    vec![
+        Light::Point(PointLight {
+            position: Vec3::new(0.3, 2.0, -0.5),
+            intensity: rgb,
+        }),
+        spot(SpotProfile::Linear, Vec3::new(0.0, 2.5, 0.0), -Vec3::Y),
+        spot(
+            SpotProfile::Hard,
+            Vec3::new(1.0, 2.0, 0.5),
+            Vec3::new(-0.3, -1.0, 0.2),
+        ),
+        spot(
+            SpotProfile::Smooth {
+                cos_inner: 25f32.to_radians().cos(),
+            },
+            Vec3::new(-1.0, 1.5, -1.0),
+            Vec3::new(0.4, -1.0, 0.3),
+        ),
+        Light::Directional(DirectionalLight {
+            direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
+            irradiance: rgb,
+        }),
+        quad(
+            Vec3::new(-0.5, 2.9, -0.5),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, 1.2),
+            false,
+        ),
+        quad(
+            Vec3::new(-2.9, 0.2, -1.0),
+            Vec3::new(0.0, 0.4, 1.5),
+            Vec3::new(0.3, 1.0, 0.2),
+            true,
+        ),
+        sphere(Vec3::new(1.5, 1.0, 1.5), 0.4, false),
+        sphere(Vec3::new(-1.5, 0.5, 1.0), 0.3, true),
+        Light::Mesh(mesh),
+    ]
+}
+
+/// How far the GPU's point of `light` for `u` may lie from the Rust
+/// one (m), and its normal (if any) from the Rust normal; `None` where
+/// a mesh's triangle is chosen by a `u.x` within rounding of the
+/// cumulative table, so the two sides may pick different triangles.
+/// A quad's point o + u·eu + v·ev: three roundings of its terms on
+/// each side (6ε of their norms). A sphere's: its direction from
+/// `uniform_cone`, whose cos φ and sin φ WGSL may miss by 2⁻¹¹ each,
+/// times r, plus the centre's rounding; its normal is that direction
+/// (Rust divides y − c by r: 4ε(|y| + |c|)/r more). A mesh's: `u.x`
+/// rescaled within the triangle's share `s` from the f32 table (each
+/// entry off by ε/2, so the fraction w by 2ε/s + 2ε), moving the point
+/// by |∂y/∂w|·Δw = (|e1| + |e2|)·min(Δw/(2√w), √Δw), plus 6ε of the
+/// corner and edges.
+fn point_tolerance(light: &Light, u: Vec2) -> Option<(f64, f64)> {
+    Some(match light {
+        Light::Quad(q) => {
+            let q = &q.quad;
+            (
+                6.0 * EPS * (d(q.origin).length() + d(q.edge_u).length() + d(q.edge_v).length()),
+                0.0,
+            )
+        }
+        Light::Sphere(s) => {
+            let n = 2.0 * SIN_COS_ABSOLUTE + 16.0 * EPS;
+            let (c, r) = (d(s.sphere.center).length(), f64::from(s.sphere.radius));
+            (
+                r * n + 4.0 * EPS * (c + r),
+                n + 4.0 * EPS * (2.0 * c + r) / r,
+            )
+        }
+        Light::Mesh(m) => {
+            let x = f64::from(u.x);
+            let cdf = m.selection_cdf();
+            if cdf.iter().any(|&c| (c - x).abs() <= 2.0 * EPS) {
+                return None;
+            }
+            let k = cdf.partition_point(|&c| c <= x).min(cdf.len() - 1);
+            let low = if k == 0 { 0.0 } else { cdf[k - 1] };
+            let share = cdf[k] - low;
+            let w = (x - low) / share;
+            let dw = 2.0 * EPS / share + 2.0 * EPS;
+            let t = &m.triangles()[k];
+            let edges = d(t.e1).length() + d(t.e2).length();
+            let moved = edges * (dw / (2.0 * w.sqrt())).min(dw.sqrt());
+            (moved + 6.0 * EPS * (d(t.v0).length() + edges), 0.0)
+        }
+        _ => (0.0, 0.0),
+    })
+}
+
+#[test]
+fn incident_matches_rust_for_each_kind_of_light() {
+    let Some(gpu) = support::gpu_or_skip("incident_matches_rust_for_each_kind_of_light") else {
+        return;
+    };
+    let lights = lights_of_each_kind();
+    let (gpu_lights, triangles) = gpu_lights(&lights);
+    let mut items = Vec::new();
+    let mut cases = Vec::new();
+    for l in 0..lights.len() {
+        for i in 0..1500 {
+            let x =
+                3.0 * Vec3::new(
+                    spread(3 * i) - 0.5,
+                    spread(3 * i + 1) - 0.5,
+                    spread(3 * i + 2) - 0.5,
+                ) * 2.0;
+            let u = Vec2::new(spread(5 * i + 7 * l + 1), spread(11 * i + 3 * l + 2));
+            items.push([[x.x, x.y, x.z, 0.0], [0.0; 4], [l as f32, u.x, u.y, 0.0]]);
+            cases.push((l, x, u));
+        }
+    }
+    let out = evaluate_lights(
+        &gpu,
+        LightFormula::Incident,
+        &gpu_lights,
+        &triangles,
+        &items,
+    )
+    .expect("GPU evaluation");
+    let mut compared = vec![0usize; lights.len()];
+    for ((l, x, u), o) in cases.iter().zip(&out) {
+        let light = &lights[*l];
+        let y = light.sample_point(*u);
+        let rust = light.incident(*x, y);
+        let gpu_valid = o[1][3] == 1.0;
+        let (gpu_dir, gpu_dist) = (Vec3::new(o[0][0], o[0][1], o[0][2]), o[0][3]);
+        let gpu_irr = Vec3::new(o[1][0], o[1][1], o[1][2]);
+        let context = format!("light #{l} {light:?}, x = {x}, u = {u}: GPU {o:?} vs Rust {rust:?}");
+        if let Light::Directional(sun) = light {
+            // Copied, not computed: exact.
+            assert!(
+                gpu_valid && gpu_dir == -sun.direction && gpu_dist == INFINITE,
+                "{context}"
+            );
+            assert_eq!(gpu_irr, sun.irradiance, "{context}");
+            compared[*l] += 1;
+            continue;
+        }
+        let Some((dy, dn)) = point_tolerance(light, *u) else {
+            continue;
+        };
+        let y = y.expect("a point").position;
+        // y − x: the points' error and a rounding of each coordinate on
+        // each side; its direction moves by 2δ/d, plus 6ε for the square
+        // root and division; its length by δ + 4ε·d.
+        let dist = d(y - *x).length();
+        let dto = dy + 2.0 * EPS * (d(*x).length() + d(y).length());
+        let ddir = 2.0 * dto / dist + 6.0 * EPS;
+        // The cosine the emission depends on (a spot's cos θ from its
+        // axis, an area light's cos θ_y), its error, and the range of the
+        // emission over that uncertainty (a spot's profile, rounding
+        // included as 4ε more of the cosine; |cos θ_y| itself), which also
+        // says where the two sides may disagree about any light at all.
+        let (scale, emission, demission) = match light {
+            Light::Point(p) => (p.intensity, 1.0, 0.0),
+            Light::Spot(s) => {
+                let c = -((y - *x) / dist as f32).dot(s.direction);
+                let dc =
+                    (ddir + 4.0 * EPS * (1.0 + f64::from(c.abs() + s.cos_cutoff.abs()))) as f32;
+                let f = s.falloff(c);
+                let range = [c - dc, c + dc]
+                    .map(|c| (s.falloff(c) - f).abs())
+                    .into_iter()
+                    .fold(0.0, f32::max);
+                (s.intensity, f64::from(f), f64::from(range) + 8.0 * EPS)
+            }
+            _ => {
+                let (radiance, normal, two_sided) = match light {
+                    Light::Quad(q) => (q.radiance, q.quad.normal, q.two_sided),
+                    Light::Sphere(s) => (
+                        s.radiance,
+                        (y - s.sphere.center) / s.sphere.radius,
+                        s.two_sided,
+                    ),
+                    Light::Mesh(m) => (
+                        m.radiance,
+                        light
+                            .sample_point(*u)
+                            .and_then(|p| p.normal)
+                            .expect("a normal"),
+                        m.two_sided,
+                    ),
+                    _ => unreachable!(),
+                };
+                let cos_y = -d(normal).dot(d(y - *x)) / dist;
+                let cos_y = if two_sided { cos_y.abs() } else { cos_y };
+                // L·A/d² with A = 1/(1/A) (two divisions); a mesh's
+                // density share/A_k from its f32 table: 1.5ε/share more.
+                let density = match light {
+                    Light::Mesh(m) => {
+                        let cdf = m.selection_cdf();
+                        let k = cdf
+                            .partition_point(|&c| c <= f64::from(u.x))
+                            .min(cdf.len() - 1);
+                        let share = cdf[k] - if k == 0 { 0.0 } else { cdf[k - 1] };
+                        1.5 * EPS / share + 8.0 * EPS
+                    }
+                    _ => 6.0 * EPS,
+                };
+                let area = f64::from(light.area());
+                (
+                    radiance * (area / (dist * dist)) as f32,
+                    cos_y.max(0.0),
+                    ddir + dn + 4.0 * EPS + cos_y.abs() * density,
+                )
+            }
+        };
+        let scale = match light {
+            Light::Point(_) | Light::Spot(_) => scale / (dist * dist) as f32,
+            _ => scale,
+        };
+        // I·e/d²: the emission's error, and e times the relative error of
+        // 1/d² (2δ/d for d, 8ε for the squares and divisions).
+        let dirr = |channel: f32| {
+            f64::from(channel) * (demission + emission * (2.0 * dto / dist + 8.0 * EPS))
+        };
+        match rust {
+            Some(inc) => {
+                if !gpu_valid {
+                    // Only where the emission is within its error of 0.
+                    assert!(emission <= demission, "{context}");
+                    continue;
+                }
+                assert!(
+                    d(gpu_dir - inc.direction).length() <= ddir,
+                    "{context} (direction, tolerance {ddir})"
+                );
+                let dd = dto + 4.0 * EPS * dist;
+                assert!(
+                    (f64::from(gpu_dist) - f64::from(inc.distance)).abs() <= dd,
+                    "{context} (distance, tolerance {dd})"
+                );
+                for c in 0..3 {
+                    let tol = dirr(scale[c]);
+                    assert!(
+                        (f64::from(gpu_irr[c]) - f64::from(inc.irradiance[c])).abs() <= tol,
+                        "{context} (irradiance {c}, tolerance {tol})"
+                    );
+                }
+                compared[*l] += 1;
+            }
+            None => {
+                if gpu_valid {
+                    assert!(demission >= emission, "{context}: only the GPU sees light");
+                    for c in 0..3 {
+                        assert!(
+                            f64::from(gpu_irr[c]) <= dirr(scale[c]),
+                            "{context} (irradiance {c} where Rust has none)"
+                        );
+                    }
+                }
+            }
+        }
+    }
+    // Every light is compared where it shines (a sixth of the receivers
+    // at least).
+    for (l, n) in compared.iter().enumerate() {
+        assert!(*n > 250, "light #{l}: {n} receivers lit");
+    }
 }
