@@ -129,6 +129,10 @@ pub enum LightFormula {
     /// _, [light, u.x, u.y, _]`; output `[direction.xyz, distance],
     /// [irradiance.rgb, valid]` with valid 1 or 0.
     Incident,
+    /// `sample_incident(light, x)` with its two random numbers `u =
+    /// k/2²⁴`: input `[x.xyz, _], [k.x, k.y, _, _], [light, _, _, _]`
+    /// (k integers below 2²⁴); output as [`LightFormula::Incident`].
+    SampleIncident,
 }
 
 impl LightFormula {
@@ -136,6 +140,7 @@ impl LightFormula {
         match self {
             LightFormula::SpotReach => "probe_spot_reach",
             LightFormula::Incident => "probe_incident",
+            LightFormula::SampleIncident => "probe_sample_incident",
         }
     }
 }
@@ -209,9 +214,9 @@ pub fn evaluate_lights(
             resource: output.as_entire_binding(),
         },
     ];
-    // Only incident reads mesh lights' triangles (an automatic layout
-    // holds the bindings its entry point uses).
-    if formula == LightFormula::Incident {
+    // Only the incident kernels read mesh lights' triangles (an
+    // automatic layout holds the bindings its entry point uses).
+    if formula != LightFormula::SpotReach {
         entries.push(wgpu::BindGroupEntry {
             binding: 14,
             resource: triangles.as_entire_binding(),

@@ -15,7 +15,8 @@ mod support;
 
 use glam::{DVec3, Vec2, Vec3};
 use tyndall::lights::{
-    DirectionalLight, Light, MeshLight, PointLight, QuadLight, SphereLight, SpotLight, SpotProfile,
+    DirectionalLight, Incident, Light, MeshLight, PointLight, QuadLight, SphereLight, SpotLight,
+    SpotProfile,
 };
 use tyndall::ray::Ray;
 use tyndall::shapes::{Quad, Sphere, Triangle};
@@ -380,141 +381,303 @@ fn incident_matches_rust_for_each_kind_of_light() {
     let mut compared = vec![0usize; lights.len()];
     for ((l, x, u), o) in cases.iter().zip(&out) {
         let light = &lights[*l];
-        let y = light.sample_point(*u);
-        let rust = light.incident(*x, y);
-        let gpu_valid = o[1][3] == 1.0;
-        let (gpu_dir, gpu_dist) = (Vec3::new(o[0][0], o[0][1], o[0][2]), o[0][3]);
-        let gpu_irr = Vec3::new(o[1][0], o[1][1], o[1][2]);
-        let context = format!("light #{l} {light:?}, x = {x}, u = {u}: GPU {o:?} vs Rust {rust:?}");
-        if let Light::Directional(sun) = light {
-            // Copied, not computed: exact.
-            assert!(
-                gpu_valid && gpu_dir == -sun.direction && gpu_dist == INFINITE,
-                "{context}"
-            );
-            assert_eq!(gpu_irr, sun.irradiance, "{context}");
+        let rust = light.incident(*x, light.sample_point(*u));
+        if check_incident(*l, light, x, u, rust, o) {
             compared[*l] += 1;
-            continue;
-        }
-        let Some((dy, dn)) = point_tolerance(light, *u) else {
-            continue;
-        };
-        let y = y.expect("a point").position;
-        // y − x: the points' error and a rounding of each coordinate on
-        // each side; its direction moves by 2δ/d, plus 6ε for the square
-        // root and division; its length by δ + 4ε·d.
-        let dist = d(y - *x).length();
-        let dto = dy + 2.0 * EPS * (d(*x).length() + d(y).length());
-        let ddir = 2.0 * dto / dist + 6.0 * EPS;
-        // The cosine the emission depends on (a spot's cos θ from its
-        // axis, an area light's cos θ_y), its error, and the range of the
-        // emission over that uncertainty (a spot's profile, rounding
-        // included as 4ε more of the cosine; |cos θ_y| itself), which also
-        // says where the two sides may disagree about any light at all.
-        let (scale, emission, demission) = match light {
-            Light::Point(p) => (p.intensity, 1.0, 0.0),
-            Light::Spot(s) => {
-                let c = -((y - *x) / dist as f32).dot(s.direction);
-                let dc =
-                    (ddir + 4.0 * EPS * (1.0 + f64::from(c.abs() + s.cos_cutoff.abs()))) as f32;
-                let f = s.falloff(c);
-                let range = [c - dc, c + dc]
-                    .map(|c| (s.falloff(c) - f).abs())
-                    .into_iter()
-                    .fold(0.0, f32::max);
-                (s.intensity, f64::from(f), f64::from(range) + 8.0 * EPS)
-            }
-            _ => {
-                let (radiance, normal, two_sided) = match light {
-                    Light::Quad(q) => (q.radiance, q.quad.normal, q.two_sided),
-                    Light::Sphere(s) => (
-                        s.radiance,
-                        (y - s.sphere.center) / s.sphere.radius,
-                        s.two_sided,
-                    ),
-                    Light::Mesh(m) => (
-                        m.radiance,
-                        light
-                            .sample_point(*u)
-                            .and_then(|p| p.normal)
-                            .expect("a normal"),
-                        m.two_sided,
-                    ),
-                    _ => unreachable!(),
-                };
-                let cos_y = -d(normal).dot(d(y - *x)) / dist;
-                let cos_y = if two_sided { cos_y.abs() } else { cos_y };
-                // L·A/d² with A = 1/(1/A) (two divisions); a mesh's
-                // density share/A_k from its f32 table: 1.5ε/share more.
-                let density = match light {
-                    Light::Mesh(m) => {
-                        let cdf = m.selection_cdf();
-                        let k = cdf
-                            .partition_point(|&c| c <= f64::from(u.x))
-                            .min(cdf.len() - 1);
-                        let share = cdf[k] - if k == 0 { 0.0 } else { cdf[k - 1] };
-                        1.5 * EPS / share + 8.0 * EPS
-                    }
-                    _ => 6.0 * EPS,
-                };
-                let area = f64::from(light.area());
-                (
-                    radiance * (area / (dist * dist)) as f32,
-                    cos_y.max(0.0),
-                    ddir + dn + 4.0 * EPS + cos_y.abs() * density,
-                )
-            }
-        };
-        let scale = match light {
-            Light::Point(_) | Light::Spot(_) => scale / (dist * dist) as f32,
-            _ => scale,
-        };
-        // I·e/d²: the emission's error, and e times the relative error of
-        // 1/d² (2δ/d for d, 8ε for the squares and divisions).
-        let dirr = |channel: f32| {
-            f64::from(channel) * (demission + emission * (2.0 * dto / dist + 8.0 * EPS))
-        };
-        match rust {
-            Some(inc) => {
-                if !gpu_valid {
-                    // Only where the emission is within its error of 0.
-                    assert!(emission <= demission, "{context}");
-                    continue;
-                }
-                assert!(
-                    d(gpu_dir - inc.direction).length() <= ddir,
-                    "{context} (direction, tolerance {ddir})"
-                );
-                let dd = dto + 4.0 * EPS * dist;
-                assert!(
-                    (f64::from(gpu_dist) - f64::from(inc.distance)).abs() <= dd,
-                    "{context} (distance, tolerance {dd})"
-                );
-                for c in 0..3 {
-                    let tol = dirr(scale[c]);
-                    assert!(
-                        (f64::from(gpu_irr[c]) - f64::from(inc.irradiance[c])).abs() <= tol,
-                        "{context} (irradiance {c}, tolerance {tol})"
-                    );
-                }
-                compared[*l] += 1;
-            }
-            None => {
-                if gpu_valid {
-                    assert!(demission >= emission, "{context}: only the GPU sees light");
-                    for c in 0..3 {
-                        assert!(
-                            f64::from(gpu_irr[c]) <= dirr(scale[c]),
-                            "{context} (irradiance {c} where Rust has none)"
-                        );
-                    }
-                }
-            }
         }
     }
     // Every light is compared where it shines (a sixth of the receivers
     // at least).
     for (l, n) in compared.iter().enumerate() {
         assert!(*n > 250, "light #{l}: {n} receivers lit");
+    }
+}
+
+/// Compares the GPU's `o` (direction and distance, irradiance and
+/// validity) with Rust's `rust` for light #`l` seen from `x` through its
+/// point for `u` (`Light::sample_point`); says whether it was lit and
+/// compared.
+fn check_incident(
+    l: usize,
+    light: &Light,
+    x: &Vec3,
+    u: &Vec2,
+    rust: Option<Incident>,
+    o: &[[f32; 4]; 2],
+) -> bool {
+    let y = light.sample_point(*u);
+    let gpu_valid = o[1][3] == 1.0;
+    let (gpu_dir, gpu_dist) = (Vec3::new(o[0][0], o[0][1], o[0][2]), o[0][3]);
+    let gpu_irr = Vec3::new(o[1][0], o[1][1], o[1][2]);
+    let context = format!("light #{l} {light:?}, x = {x}, u = {u}: GPU {o:?} vs Rust {rust:?}");
+    if let Light::Directional(sun) = light {
+        // Copied, not computed: exact.
+        assert!(
+            gpu_valid && gpu_dir == -sun.direction && gpu_dist == INFINITE,
+            "{context}"
+        );
+        assert_eq!(gpu_irr, sun.irradiance, "{context}");
+        return true;
+    }
+    let Some((dy, dn)) = point_tolerance(light, *u) else {
+        return false;
+    };
+    let y = y.expect("a point").position;
+    // y − x: the points' error and a rounding of each coordinate on
+    // each side; its direction moves by 2δ/d, plus 6ε for the square
+    // root and division; its length by δ + 4ε·d.
+    let dist = d(y - *x).length();
+    let dto = dy + 2.0 * EPS * (d(*x).length() + d(y).length());
+    let ddir = 2.0 * dto / dist + 6.0 * EPS;
+    // The cosine the emission depends on (a spot's cos θ from its
+    // axis, an area light's cos θ_y), its error, and the range of the
+    // emission over that uncertainty (a spot's profile, rounding
+    // included as 4ε more of the cosine; |cos θ_y| itself), which also
+    // says where the two sides may disagree about any light at all.
+    let (scale, emission, demission) = match light {
+        Light::Point(p) => (p.intensity, 1.0, 0.0),
+        Light::Spot(s) => {
+            let c = -((y - *x) / dist as f32).dot(s.direction);
+            let dc = (ddir + 4.0 * EPS * (1.0 + f64::from(c.abs() + s.cos_cutoff.abs()))) as f32;
+            let f = s.falloff(c);
+            let range = [c - dc, c + dc]
+                .map(|c| (s.falloff(c) - f).abs())
+                .into_iter()
+                .fold(0.0, f32::max);
+            (s.intensity, f64::from(f), f64::from(range) + 8.0 * EPS)
+        }
+        _ => {
+            let (radiance, normal, two_sided) = match light {
+                Light::Quad(q) => (q.radiance, q.quad.normal, q.two_sided),
+                Light::Sphere(s) => (
+                    s.radiance,
+                    (y - s.sphere.center) / s.sphere.radius,
+                    s.two_sided,
+                ),
+                Light::Mesh(m) => (
+                    m.radiance,
+                    light
+                        .sample_point(*u)
+                        .and_then(|p| p.normal)
+                        .expect("a normal"),
+                    m.two_sided,
+                ),
+                _ => unreachable!(),
+            };
+            let cos_y = -d(normal).dot(d(y - *x)) / dist;
+            let cos_y = if two_sided { cos_y.abs() } else { cos_y };
+            // L·A/d² with A = 1/(1/A) (two divisions); a mesh's
+            // density share/A_k from its f32 table: 1.5ε/share more.
+            let density = match light {
+                Light::Mesh(m) => {
+                    let cdf = m.selection_cdf();
+                    let k = cdf
+                        .partition_point(|&c| c <= f64::from(u.x))
+                        .min(cdf.len() - 1);
+                    let share = cdf[k] - if k == 0 { 0.0 } else { cdf[k - 1] };
+                    1.5 * EPS / share + 8.0 * EPS
+                }
+                _ => 6.0 * EPS,
+            };
+            let area = f64::from(light.area());
+            (
+                radiance * (area / (dist * dist)) as f32,
+                cos_y.max(0.0),
+                ddir + dn + 4.0 * EPS + cos_y.abs() * density,
+            )
+        }
+    };
+    let scale = match light {
+        Light::Point(_) | Light::Spot(_) => scale / (dist * dist) as f32,
+        _ => scale,
+    };
+    // I·e/d²: the emission's error, and e times the relative error of
+    // 1/d² (2δ/d for d, 8ε for the squares and divisions).
+    let dirr =
+        |channel: f32| f64::from(channel) * (demission + emission * (2.0 * dto / dist + 8.0 * EPS));
+    match rust {
+        Some(inc) => {
+            if !gpu_valid {
+                // Only where the emission is within its error of 0.
+                assert!(emission <= demission, "{context}");
+                return false;
+            }
+            assert!(
+                d(gpu_dir - inc.direction).length() <= ddir,
+                "{context} (direction, tolerance {ddir})"
+            );
+            let dd = dto + 4.0 * EPS * dist;
+            assert!(
+                (f64::from(gpu_dist) - f64::from(inc.distance)).abs() <= dd,
+                "{context} (distance, tolerance {dd})"
+            );
+            for c in 0..3 {
+                let tol = dirr(scale[c]);
+                assert!(
+                    (f64::from(gpu_irr[c]) - f64::from(inc.irradiance[c])).abs() <= tol,
+                    "{context} (irradiance {c}, tolerance {tol})"
+                );
+            }
+            return true;
+        }
+        None => {
+            if gpu_valid {
+                assert!(demission >= emission, "{context}: only the GPU sees light");
+                for c in 0..3 {
+                    assert!(
+                        f64::from(gpu_irr[c]) <= dirr(scale[c]),
+                        "{context} (irradiance {c} where Rust has none)"
+                    );
+                }
+            }
+        }
+    }
+    false
+}
+
+/// The light of a sphere sampled in the cone it subtends from `x`
+/// (`sample_incident` vs `SphereLight::sample_incident`): `None` where
+/// the receiver is within rounding of the threshold between cone and
+/// area sampling, or its axis of the orthonormal frame's switch (z = 0),
+/// where the sides may legitimately take different branches. Else the
+/// error bounds of one side, doubled: cos θmax = √(1 − r²/d²) off by
+/// 2ε/cos θmax + 2ε; cos θ = 1 − u(1 − cos θmax) by that and 3ε more; sin θ
+/// by min(Δ/(2 sin θ), √Δ) of Δ = 2Δcos θ + 2ε; the direction by sin θ·2⁻¹⁰
+/// (WGSL's sin and cos), the frame's and the axis's rounding and Δsin θ +
+/// Δcos θ, doubled by the normalisation; the distance d·cos − √(r² −
+/// d² sin²) by d·Δc and the root's own min(Δ/(2√·), √Δ); the light
+/// L·2π(1 − cos θmax), which the GPU forms by a difference the CPU
+/// avoids, by Δcos θmax/(1 − cos θmax) + 8ε relatively.
+fn sphere_cone_check(s: &SphereLight, x: Vec3, u: Vec2, o: &[[f32; 4]; 2]) -> Option<()> {
+    let (c, r) = (d(s.sphere.center), f64::from(s.sphere.radius));
+    let xd = d(x);
+    let dist = (c - xd).length();
+    let ratio = dist * dist / (r * r);
+    if (ratio - (1.0 + 1e-4)).abs() <= 1e-5 || ratio < 1.0 + 1e-4 {
+        return None;
+    }
+    let axis = (c - xd) / dist;
+    let daxis = 4.0 * EPS * (xd.length() + c.length()) / dist + 4.0 * EPS;
+    if axis.z.abs() <= daxis {
+        return None;
+    }
+    let (rust, _) = s.sample_incident(x, u).expect("a sample from outside");
+    let cos_max = (1.0 - 1.0 / ratio).sqrt();
+    let dcos_max = 2.0 * EPS / cos_max + 2.0 * EPS;
+    let cos_t = 1.0 - f64::from(u.x) * (1.0 - cos_max);
+    let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+    let dcos = dcos_max + 3.0 * EPS;
+    let dsq = 2.0 * dcos + 2.0 * EPS;
+    let dsin = (dsq / (2.0 * sin_t)).min(dsq.sqrt());
+    let dframe = 4.0 * daxis;
+    let ddir = 2.0
+        * (2.0
+            * (sin_t * 2.0 * SIN_COS_ABSOLUTE + dsin + dcos + sin_t * dframe + daxis + 6.0 * EPS)
+            + 4.0 * EPS);
+    let dc = ddir + daxis + 3.0 * EPS;
+    let cc = d(rust.direction).dot(axis).min(1.0);
+    let arg = (r * r - dist * dist * (1.0 - cc * cc)).max(0.0);
+    let darg = dist * dist * 2.0 * dc + 4.0 * EPS * (r * r + dist * dist);
+    let droot = if arg > 0.0 {
+        (darg / (2.0 * arg.sqrt())).min(darg.sqrt())
+    } else {
+        darg.sqrt()
+    };
+    let ddist = 2.0 * (dist * dc + droot + 4.0 * EPS * dist);
+    let rel = 2.0 * (dcos_max / (1.0 - cos_max) + 8.0 * EPS);
+    let context = format!("sphere {s:?}, x = {x}, u = {u}: GPU {o:?} vs Rust {rust:?}");
+    assert!(o[1][3] == 1.0, "{context}: no GPU sample");
+    let gpu_dir = Vec3::new(o[0][0], o[0][1], o[0][2]);
+    assert!(
+        d(gpu_dir - rust.direction).length() <= ddir,
+        "{context} (direction, tolerance {ddir})"
+    );
+    assert!(
+        (f64::from(o[0][3]) - f64::from(rust.distance)).abs() <= ddist,
+        "{context} (distance, tolerance {ddist})"
+    );
+    for (k, &gpu) in o[1][..3].iter().enumerate() {
+        let tol = rel * f64::from(rust.irradiance[k]);
+        assert!(
+            (f64::from(gpu) - f64::from(rust.irradiance[k])).abs() <= tol,
+            "{context} (irradiance {k}, tolerance {tol})"
+        );
+    }
+    Some(())
+}
+
+#[test]
+fn sample_incident_matches_sample_li() {
+    let Some(gpu) = support::gpu_or_skip("sample_incident_matches_sample_li") else {
+        return;
+    };
+    let lights = lights_of_each_kind();
+    let (gpu_lights, triangles) = gpu_lights(&lights);
+    let mut items = Vec::new();
+    let mut cases = Vec::new();
+    let scale = 16_777_216.0f32;
+    for (l, light) in lights.iter().enumerate() {
+        // A rectangle is sampled in its solid angle: its spherical
+        // rectangle is probed in tests/formulas.rs, not here.
+        if matches!(light, Light::Quad(q) if q.is_rectangle()) {
+            continue;
+        }
+        for i in 0..1500 {
+            let mut x = 6.0
+                * Vec3::new(
+                    spread(3 * i) - 0.5,
+                    spread(3 * i + 1) - 0.5,
+                    spread(3 * i + 2) - 0.5,
+                );
+            // A third of a sphere's receivers near it (inside, and out to
+            // 3r), where its cone is widest and area sampling takes over.
+            if let Light::Sphere(s) = light
+                && i % 3 == 0
+            {
+                x = s.sphere.center
+                    + direction(i) * s.sphere.radius * (0.5 + 2.5 * spread(13 * i + 5));
+            }
+            let k = [spread(5 * i + 7 * l + 1), spread(11 * i + 3 * l + 2)]
+                .map(|v| (v * scale).floor());
+            items.push([
+                [x.x, x.y, x.z, 0.0],
+                [k[0], k[1], 0.0, 0.0],
+                [l as f32, 0.0, 0.0, 0.0],
+            ]);
+            cases.push((l, x, Vec2::new(k[0] / scale, k[1] / scale)));
+        }
+    }
+    let out = evaluate_lights(
+        &gpu,
+        LightFormula::SampleIncident,
+        &gpu_lights,
+        &triangles,
+        &items,
+    )
+    .expect("GPU evaluation");
+    let mut compared = vec![0usize; lights.len()];
+    for ((l, x, u), o) in cases.iter().zip(&out) {
+        let light = &lights[*l];
+        let lit = match light {
+            Light::Sphere(s)
+                if (s.sphere.center - *x).length_squared()
+                    > s.sphere.radius.powi(2) * (1.0 + 1e-4) =>
+            {
+                sphere_cone_check(s, *x, *u, o).is_some()
+            }
+            _ => check_incident(*l, light, x, u, light.sample_li(*x, *u).map(|(i, _)| i), o),
+        };
+        if lit {
+            compared[*l] += 1;
+        }
+    }
+    for (l, light) in lights.iter().enumerate() {
+        if !matches!(light, Light::Quad(q) if q.is_rectangle()) {
+            assert!(
+                compared[l] > 250,
+                "light #{l}: {} receivers lit",
+                compared[l]
+            );
+        }
     }
 }

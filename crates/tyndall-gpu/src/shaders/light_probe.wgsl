@@ -40,3 +40,21 @@ fn probe_incident(@builtin(global_invocation_id) id: vec3<u32>) {
     probe_outputs[2u * i] = vec4<f32>(inc.direction, inc.distance);
     probe_outputs[2u * i + 1u] = vec4<f32>(inc.irradiance, select(0.0, 1.0, inc.valid));
 }
+
+// in0 = (x.xyz, _), in1 = (k.x, k.y) integers below 2²⁴, in2 = (light
+// index) → sample_incident(light, x) drawing u = k/2²⁴ (next_1d's first
+// two numbers, set through the R₃ slots it reads first): out0 =
+// (direction, distance), out1 = (irradiance, valid)
+@compute @workgroup_size(64)
+fn probe_sample_incident(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= probe_count() { return; }
+    let a = probe_inputs[3u * i];
+    let b = probe_inputs[3u * i + 1u];
+    let c = probe_inputs[3u * i + 2u];
+    leading = vec3<u32>(u32(b.x) << 8u, u32(b.y) << 8u, 0u);
+    leading_used = 0u;
+    let inc = sample_incident(lights[u32(c.x)], a.xyz);
+    probe_outputs[2u * i] = vec4<f32>(inc.direction, inc.distance);
+    probe_outputs[2u * i + 1u] = vec4<f32>(inc.irradiance, select(0.0, 1.0, inc.valid));
+}
