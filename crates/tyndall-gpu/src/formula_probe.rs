@@ -1,9 +1,13 @@
 //! Evaluates the WGSL physics functions (`shaders/formulas.wgsl`) on the
 //! GPU for a list of inputs, so tests can compare them with the Rust
-//! functions they transcribe ("one formula, two languages", issue 14).
+//! functions they transcribe ("one formula, two languages", issue 14),
+//! and the scene-dependent light functions of `shaders/lights.wgsl` on
+//! lights as the march uploads them (issue 26).
 
 use crate::device::{Gpu, GpuError, compute_pipelines};
+use crate::march::params::wgsl_prelude;
 use crate::readback::read_buffer;
+use crate::scene_buffers::{GpuLight, GpuLightTriangle};
 use crate::shaders;
 use wgpu::util::DeviceExt;
 
@@ -100,6 +104,128 @@ pub fn evaluate(
                 resource: output.as_entire_binding(),
             },
         ],
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.dispatch_workgroups((items.len() as u32).div_ceil(64), 1, 1);
+    }
+    gpu.queue.submit([encoder.finish()]);
+    let bytes = read_buffer(gpu, &output, size)?;
+    Ok(bytemuck::pod_collect_to_vec(&bytes))
+}
+
+/// A scene-dependent WGSL function of `lights.wgsl` that
+/// [`evaluate_lights`] can run on a light of the uploaded list.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LightFormula {
+    /// `spot_reach(light, ray, t0, t1)`: input `[origin.xyz, t0],
+    /// [direction.xyz, t1], [light, _, _, _]`; output `[lo, hi, 1, _]`,
+    /// or 0 where the ray misses the cone, then `0`.
+    SpotReach,
+    /// `incident(light, x, light_point_at(light, u))`: input `[x.xyz, _],
+    /// _, [light, u.x, u.y, _]`; output `[direction.xyz, distance],
+    /// [irradiance.rgb, valid]` with valid 1 or 0.
+    Incident,
+    /// `sample_incident(light, x)` with its two random numbers `u =
+    /// k/2²⁴`: input `[x.xyz, _], [k.x, k.y, _, _], [light, _, _, _]`
+    /// (k integers below 2²⁴); output as [`LightFormula::Incident`].
+    SampleIncident,
+}
+
+impl LightFormula {
+    fn entry_point(self) -> &'static str {
+        match self {
+            LightFormula::SpotReach => "probe_spot_reach",
+            LightFormula::Incident => "probe_incident",
+            LightFormula::SampleIncident => "probe_sample_incident",
+        }
+    }
+}
+
+/// Runs `formula` on the GPU for each item (three input vec4s each, the
+/// light's index in `lights` the first number of the third) with `lights`
+/// and their emissive triangles bound as the march binds them, and
+/// returns two output vec4s per item.
+pub fn evaluate_lights(
+    gpu: &Gpu,
+    formula: LightFormula,
+    lights: &[GpuLight],
+    triangles: &[GpuLightTriangle],
+    items: &[[[f32; 4]; 3]],
+) -> Result<Vec<[[f32; 4]; 2]>, GpuError> {
+    if items.is_empty() {
+        return Ok(Vec::new());
+    }
+    let device = &gpu.device;
+    let [pipeline] = compute_pipelines(
+        gpu,
+        "light probe",
+        &shaders::light_probe(&wgsl_prelude()),
+        None,
+        [formula.entry_point()],
+    )?;
+    let init = |label, contents: &[u8]| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents,
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+    };
+    let one_light = [GpuLight::default()];
+    let one_triangle = [GpuLightTriangle::default()];
+    let lights = init(
+        "probe lights",
+        bytemuck::cast_slice(if lights.is_empty() {
+            &one_light
+        } else {
+            lights
+        }),
+    );
+    let triangles = init(
+        "probe light triangles",
+        bytemuck::cast_slice(if triangles.is_empty() {
+            &one_triangle
+        } else {
+            triangles
+        }),
+    );
+    let input = init("probe inputs", bytemuck::cast_slice(items));
+    let size = (items.len() * 32) as u64;
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("probe outputs"),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let mut entries = vec![
+        wgpu::BindGroupEntry {
+            binding: 3,
+            resource: lights.as_entire_binding(),
+        },
+        wgpu::BindGroupEntry {
+            binding: 20,
+            resource: input.as_entire_binding(),
+        },
+        wgpu::BindGroupEntry {
+            binding: 21,
+            resource: output.as_entire_binding(),
+        },
+    ];
+    // Only the incident kernels read mesh lights' triangles (an
+    // automatic layout holds the bindings its entry point uses).
+    if formula != LightFormula::SpotReach {
+        entries.push(wgpu::BindGroupEntry {
+            binding: 14,
+            resource: triangles.as_entire_binding(),
+        });
+    }
+    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
     });
     let mut encoder = device.create_command_encoder(&Default::default());
     {

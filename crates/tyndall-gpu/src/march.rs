@@ -16,7 +16,7 @@ use tyndall::settings::{IntegratorKind, VisibilityMode};
 use tyndall::{Image, RenderSettings, Rgb, Scene};
 use wgpu::util::DeviceExt;
 
-mod params;
+pub(crate) mod params;
 mod update;
 
 use params::{ESTIMATOR_MARCH, Params};

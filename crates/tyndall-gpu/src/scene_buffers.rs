@@ -209,6 +209,14 @@ impl SceneBuffers {
     }
 }
 
+/// `lights` as the GPU holds them, with the triangles of their emissive
+/// meshes (what [`SceneBuffers::new`] uploads of a scene's lights).
+pub fn gpu_lights(lights: &[Light]) -> (Vec<GpuLight>, Vec<GpuLightTriangle>) {
+    let mut triangles = Vec::new();
+    let lights = lights.iter().map(|l| light(l, &mut triangles)).collect();
+    (lights, triangles)
+}
+
 /// Most panes a ray keeps on the GPU: a blend-model shadow ray, to apply
 /// them in order, and a shadow-map texel, as its layers
 /// (`MAX_BLEND_PANES` in `march.wgsl`, `MAX_MAP_LAYERS` in `maps.wgsl`).

@@ -5,6 +5,7 @@
 
 const FORMULAS: &str = include_str!("shaders/formulas.wgsl");
 const FORMULA_PROBE: &str = include_str!("shaders/formula_probe.wgsl");
+const LIGHT_PROBE: &str = include_str!("shaders/light_probe.wgsl");
 const MAPS: &str = include_str!("shaders/maps.wgsl");
 
 /// The modules of the march kernels, in the order they are assembled:
@@ -41,4 +42,10 @@ pub fn march(prelude: &str) -> String {
     }
     source.push_str(MAPS);
     source
+}
+
+/// The light test kernels after the march module (the same source, so
+/// the very functions the march runs), after `prelude`.
+pub fn light_probe(prelude: &str) -> String {
+    format!("{}\n{LIGHT_PROBE}", march(prelude))
 }

@@ -1,0 +1,60 @@
+// Kernels that evaluate the scene-dependent functions of lights.wgsl on a
+// list of inputs, for tests/lights.rs ("one formula, two languages",
+// issue 26). Appended to the whole march module, so they run the very
+// functions the march runs, on `lights` and `light_triangles` as
+// scene_buffers.rs uploads them. Each item has three input vec4s and two
+// output vec4s.
+
+@group(0) @binding(20) var<storage, read> probe_inputs: array<vec4<f32>>;
+@group(0) @binding(21) var<storage, read_write> probe_outputs: array<vec4<f32>>;
+
+fn probe_count() -> u32 {
+    return arrayLength(&probe_outputs) / 2u;
+}
+
+// in0 = (origin.xyz, t0), in1 = (direction.xyz, t1), in2 = (light index)
+// → out0 = spot_reach (lo, hi, 1) or 0
+@compute @workgroup_size(64)
+fn probe_spot_reach(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= probe_count() { return; }
+    let a = probe_inputs[3u * i];
+    let b = probe_inputs[3u * i + 1u];
+    let c = probe_inputs[3u * i + 2u];
+    let light = lights[u32(c.x)];
+    probe_outputs[2u * i] = vec4<f32>(spot_reach(light, Ray(a.xyz, b.xyz), a.w, b.w), 0.0);
+    probe_outputs[2u * i + 1u] = vec4<f32>(0.0);
+}
+
+// in0 = (x.xyz, _), in2 = (light index, u.x, u.y) → the light's point
+// y = light_point_at(u) and incident(light, x, y): out0 = (direction,
+// distance), out1 = (irradiance, valid)
+@compute @workgroup_size(64)
+fn probe_incident(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= probe_count() { return; }
+    let a = probe_inputs[3u * i];
+    let c = probe_inputs[3u * i + 2u];
+    let light = lights[u32(c.x)];
+    let inc = incident(light, a.xyz, light_point_at(light, c.yz));
+    probe_outputs[2u * i] = vec4<f32>(inc.direction, inc.distance);
+    probe_outputs[2u * i + 1u] = vec4<f32>(inc.irradiance, select(0.0, 1.0, inc.valid));
+}
+
+// in0 = (x.xyz, _), in1 = (k.x, k.y) integers below 2²⁴, in2 = (light
+// index) → sample_incident(light, x) drawing u = k/2²⁴ (next_1d's first
+// two numbers, set through the R₃ slots it reads first): out0 =
+// (direction, distance), out1 = (irradiance, valid)
+@compute @workgroup_size(64)
+fn probe_sample_incident(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= probe_count() { return; }
+    let a = probe_inputs[3u * i];
+    let b = probe_inputs[3u * i + 1u];
+    let c = probe_inputs[3u * i + 2u];
+    leading = vec3<u32>(u32(b.x) << 8u, u32(b.y) << 8u, 0u);
+    leading_used = 0u;
+    let inc = sample_incident(lights[u32(c.x)], a.xyz);
+    probe_outputs[2u * i] = vec4<f32>(inc.direction, inc.distance);
+    probe_outputs[2u * i + 1u] = vec4<f32>(inc.irradiance, select(0.0, 1.0, inc.valid));
+}
