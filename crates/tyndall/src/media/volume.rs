@@ -131,21 +131,30 @@ pub struct MajorantGrid {
     floor: Vec<f32>,
 }
 
+/// The box in the unit cube of each cell of a `cells` majorant grid, x
+/// fastest, widened by [`MAJORANT_MARGIN`] of a cell on every side (and
+/// clamped to the cube), so that a bound over it holds for points rounded
+/// across a cell face.
+fn majorant_cell_boxes(cells: UVec3) -> impl Iterator<Item = (Vec3, Vec3)> {
+    let n = cells.as_vec3();
+    (0..cells.z).flat_map(move |z| {
+        (0..cells.y).flat_map(move |y| {
+            (0..cells.x).map(move |x| {
+                let c = UVec3::new(x, y, z).as_vec3();
+                let lo = ((c - MAJORANT_MARGIN) / n).max(Vec3::ZERO);
+                let hi = ((c + 1.0 + MAJORANT_MARGIN) / n).min(Vec3::ONE);
+                (lo, hi)
+            })
+        })
+    })
+}
+
 impl MajorantGrid {
     fn new(density: &Density) -> Self {
         let cells = density.majorant_cells();
-        let n = cells.as_vec3();
-        let mut max = Vec::with_capacity(cells.element_product() as usize);
-        for z in 0..cells.z {
-            for y in 0..cells.y {
-                for x in 0..cells.x {
-                    let c = UVec3::new(x, y, z).as_vec3();
-                    let lo = ((c - MAJORANT_MARGIN) / n).max(Vec3::ZERO);
-                    let hi = ((c + 1.0 + MAJORANT_MARGIN) / n).min(Vec3::ONE);
-                    max.push(density.max_in(lo, hi));
-                }
-            }
-        }
+        let max = majorant_cell_boxes(cells)
+            .map(|(lo, hi)| density.max_in(lo, hi))
+            .collect();
         Self {
             cells,
             max,
@@ -156,20 +165,15 @@ impl MajorantGrid {
     /// Sets a majorant floor of `rate` (1/scene unit) in every cell where
     /// `field` may be positive.
     fn add_floor(&mut self, field: &Density, rate: f32) {
-        let n = self.cells.as_vec3();
-        let mut floor = Vec::with_capacity(self.max.len());
-        for z in 0..self.cells.z {
-            for y in 0..self.cells.y {
-                for x in 0..self.cells.x {
-                    let c = UVec3::new(x, y, z).as_vec3();
-                    let lo = ((c - MAJORANT_MARGIN) / n).max(Vec3::ZERO);
-                    let hi = ((c + 1.0 + MAJORANT_MARGIN) / n).min(Vec3::ONE);
-                    let positive = field.max_in(lo, hi) > 0.0;
-                    floor.push(if positive { rate } else { 0.0 });
+        self.floor = majorant_cell_boxes(self.cells)
+            .map(|(lo, hi)| {
+                if field.max_in(lo, hi) > 0.0 {
+                    rate
+                } else {
+                    0.0
                 }
-            }
-        }
-        self.floor = floor;
+            })
+            .collect();
     }
 
     /// Appends the segments of `[t0, t1]` along `ray` (inside `bounds`,
@@ -336,20 +340,13 @@ impl Volume {
             return None;
         };
         let cells = self.majorants.cells;
-        let n = cells.as_vec3();
         let sigma_a_max = (self.sigma_t * (Rgb::ONE - self.albedo)).max_element();
-        let mut weights = Vec::with_capacity(cells.element_product() as usize);
-        for z in 0..cells.z {
-            for y in 0..cells.y {
-                for x in 0..cells.x {
-                    let c = UVec3::new(x, y, z).as_vec3();
-                    let lo = ((c - MAJORANT_MARGIN) / n).max(Vec3::ZERO);
-                    let hi = ((c + 1.0 + MAJORANT_MARGIN) / n).min(Vec3::ONE);
-                    let w = emission.bound(lo, hi, &self.density, sigma_a_max);
-                    weights.push(if w.is_finite() { w.max(0.0) } else { 0.0 });
-                }
-            }
-        }
+        let weights = majorant_cell_boxes(cells)
+            .map(|(lo, hi)| {
+                let w = emission.bound(lo, hi, &self.density, sigma_a_max);
+                if w.is_finite() { w.max(0.0) } else { 0.0 }
+            })
+            .collect();
         Some((bounds, cells, weights))
     }
 
