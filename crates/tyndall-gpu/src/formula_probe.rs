@@ -105,16 +105,7 @@ pub fn evaluate(
             },
         ],
     });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups((items.len() as u32).div_ceil(64), 1, 1);
-    }
-    gpu.queue.submit([encoder.finish()]);
-    let bytes = read_buffer(gpu, &output, size)?;
-    Ok(bytemuck::pod_collect_to_vec(&bytes))
+    run_probe(gpu, &pipeline, &bind_group, items.len(), &output, size)
 }
 
 /// A scene-dependent WGSL function of `lights.wgsl` that
@@ -227,14 +218,27 @@ pub fn evaluate_lights(
         layout: &pipeline.get_bind_group_layout(0),
         entries: &entries,
     });
-    let mut encoder = device.create_command_encoder(&Default::default());
+    run_probe(gpu, &pipeline, &bind_group, items.len(), &output, size)
+}
+
+/// Runs a probe kernel over `count` cases (workgroups of 64) and reads
+/// back its `size`-byte `output` buffer as `T`s.
+fn run_probe<T: bytemuck::Pod>(
+    gpu: &Gpu,
+    pipeline: &wgpu::ComputePipeline,
+    bind_group: &wgpu::BindGroup,
+    count: usize,
+    output: &wgpu::Buffer,
+    size: u64,
+) -> Result<Vec<T>, GpuError> {
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
     {
         let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups((items.len() as u32).div_ceil(64), 1, 1);
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.dispatch_workgroups((count as u32).div_ceil(64), 1, 1);
     }
     gpu.queue.submit([encoder.finish()]);
-    let bytes = read_buffer(gpu, &output, size)?;
+    let bytes = read_buffer(gpu, output, size)?;
     Ok(bytemuck::pod_collect_to_vec(&bytes))
 }
