@@ -78,6 +78,19 @@ fn core_module_graph() -> BTreeMap<String, BTreeSet<String>> {
     graph
 }
 
+/// Fails naming the first import cycle of `graph`, if any.
+fn assert_no_cycle(graph: &BTreeMap<String, BTreeSet<String>>) {
+    for module in graph.keys() {
+        let mut path = vec![module.clone()];
+        let cycle = cycle_from(graph, module, module, &mut path, &mut BTreeSet::new());
+        assert!(
+            cycle.is_none(),
+            "import cycle: {}",
+            cycle.unwrap().join(" → ")
+        );
+    }
+}
+
 /// A cycle through `start`, if any, as the path of modules.
 fn cycle_from(
     graph: &BTreeMap<String, BTreeSet<String>>,
@@ -112,15 +125,7 @@ fn core_modules_import_no_cycle() {
         "{:?}",
         graph["render"]
     );
-    for module in graph.keys() {
-        let mut path = vec![module.clone()];
-        let cycle = cycle_from(&graph, module, module, &mut path, &mut BTreeSet::new());
-        assert!(
-            cycle.is_none(),
-            "import cycle: {}",
-            cycle.unwrap().join(" → ")
-        );
-    }
+    assert_no_cycle(&graph);
     // The settings are a leaf the loaders may use.
     assert!(graph["settings"].is_empty(), "{:?}", graph["settings"]);
 }
@@ -317,15 +322,7 @@ fn core_submodules_import_no_cycle() {
         );
         graph.get_mut(*a).expect("present").remove(*b);
     }
-    for module in graph.keys() {
-        let mut path = vec![module.clone()];
-        let cycle = cycle_from(&graph, module, module, &mut path, &mut BTreeSet::new());
-        assert!(
-            cycle.is_none(),
-            "import cycle: {}",
-            cycle.unwrap().join(" → ")
-        );
-    }
+    assert_no_cycle(&graph);
 }
 
 #[test]
