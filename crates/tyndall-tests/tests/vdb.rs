@@ -7,6 +7,7 @@ mod common;
 
 use glam::{IVec3, Vec3};
 use std::path::{Path, PathBuf};
+use tyndall::media::sparse::Precision;
 use tyndall::media::tracking::VolumeTracker;
 use tyndall::media::volume::Volume;
 use tyndall::ray::Ray;
@@ -292,11 +293,21 @@ fn vdb_plume_matches_the_tgrid_plume() {
 
 /// The half-float sphere (`saveFloatAsHalf`, type `Tree_float_5_4_3_HalfFloat`)
 /// holds the float sphere rounded to half precision: voxel by voxel the
-/// two differ by at most half an ulp of a half, 2^-11 relative.
+/// two differ by at most half an ulp of a half, 2^-11 relative. The half
+/// grid stays half floats in memory: the same bricks in half the bytes.
 #[test]
 fn half_float_grid_is_the_float_grid_rounded_to_halves() {
     let full = read_grid(&data("sphere.vdb"), "density").expect("float");
     let half = read_grid(&data("half.vdb"), "density").expect("half");
+    assert_eq!(full.precision(), Precision::Full);
+    assert_eq!(half.precision(), Precision::Half);
+    let (bricks, _) = full.brick_counts();
+    assert_eq!(half.brick_counts(), full.brick_counts());
+    assert_eq!(
+        full.storage_bytes() - half.storage_bytes(),
+        bricks * 512 * 2,
+        "two bytes fewer a voxel, the rest alike"
+    );
     assert_eq!(full.active_bounds(), half.active_bounds());
     assert_eq!(full.index_to_world(), half.index_to_world());
     let (lo, hi) = full.active_bounds().expect("not empty");

@@ -49,7 +49,7 @@ use header::{Descriptor, meta_bool, meta_string};
 use std::path::Path;
 use stream::Stream;
 use tree::{Item, LEAF, NODE2, slot};
-use tyndall::media::sparse::SparseGrid;
+use tyndall::media::sparse::{Precision, SparseGrid};
 
 /// The most 8³ bricks that active tiles may fill (2^21 bricks: 1024³
 /// voxels, some 60 MB of map entries).
@@ -334,7 +334,13 @@ pub fn read_grid_from_bytes(path: &Path, bytes: &[u8], name: &str) -> Result<Spa
 fn density_grid(path: &Path, file: &File, name: &str) -> Result<SparseGrid, String> {
     let what = format!("{}: grid \"{name}\"", path.display());
     let mut grid = locate(file, name, Want::Density).map_err(|e| format!("{what} {e}"))?;
-    let mut sparse = SparseGrid::new(grid.index_to_world);
+    // Half-float grids stay half floats: 2 bytes a voxel, exact.
+    let precision = if grid.codec.half {
+        Precision::Half
+    } else {
+        Precision::Full
+    };
+    let mut sparse = SparseGrid::with_precision(grid.index_to_world, precision);
     let mut tile_bricks = 0u64;
     let mut sink = |item: Item| -> Result<(), String> {
         match item {
@@ -343,12 +349,13 @@ fn density_grid(path: &Path, file: &File, name: &str) -> Result<SparseGrid, Stri
                 mask,
                 values,
             } => {
-                for (n, &v) in values.iter().enumerate().filter(|&(n, _)| bit(mask, n)) {
-                    let i = origin + slot(n, 3);
-                    sparse
-                        .set_voxel(i, v)
-                        .map_err(|e| format!("voxel {i}: {e}"))?;
-                }
+                let (Ok(mask), Ok(values)) = (mask.try_into(), values.try_into()) else {
+                    return Err(format!(
+                        "the leaf at {origin} holds {} values, not {LEAF}³",
+                        values.len()
+                    ));
+                };
+                sparse.insert_leaf(origin, mask, values)?;
             }
             Item::Tile {
                 origin,
@@ -387,6 +394,7 @@ fn density_grid(path: &Path, file: &File, name: &str) -> Result<SparseGrid, Stri
             background[0]
         ));
     }
+    sparse.shrink_to_fit();
     Ok(sparse)
 }
 

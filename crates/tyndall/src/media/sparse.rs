@@ -8,16 +8,22 @@
 //! a volume's unit cube into index space.
 //!
 //! Memory is proportional to the active leaves: a brick of voxels is
-//! 2 KiB, a constant brick a map entry.
+//! 2 KiB of `f32` or, for grids saved as half floats (as Blender's and
+//! Houdini's caches are), 1 KiB of IEEE 754 binary16 values, kept as the
+//! file held them and widened on each read; a constant brick is a map
+//! entry.
 
 use glam::{IVec3, Mat4, Vec3};
+use half::f16;
 use std::collections::HashMap;
 
 /// log₂ of a brick's side in voxels.
 const BRICK_LOG2: i32 = 3;
 /// A brick's side in voxels (OpenVDB's leaf node).
 pub const BRICK: i32 = 1 << BRICK_LOG2;
-const BRICK_VOXELS: usize = (BRICK * BRICK * BRICK) as usize;
+/// Voxels in a brick, in the order of [`SparseGrid::insert_leaf`]'s
+/// values: x slowest, z fastest (OpenVDB's leaf slot order).
+pub const BRICK_VOXELS: usize = (BRICK * BRICK * BRICK) as usize;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Brick {
@@ -27,12 +33,85 @@ enum Brick {
     Constant(f32),
 }
 
+/// The precision a grid stores its voxel bricks in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Precision {
+    /// `f32`: 4 bytes a voxel.
+    Full,
+    /// IEEE 754 binary16: 2 bytes a voxel, values rounded to the nearest
+    /// half (exact for values read from a half-float file).
+    Half,
+}
+
+/// The voxel bricks, in one precision, by slot.
+#[derive(Clone, Debug, PartialEq)]
+enum BrickValues {
+    Full(Vec<[f32; BRICK_VOXELS]>),
+    /// Bit patterns of binary16 values.
+    Half(Vec<[u16; BRICK_VOXELS]>),
+}
+
+impl BrickValues {
+    fn len(&self) -> usize {
+        match self {
+            Self::Full(v) => v.len(),
+            Self::Half(v) => v.len(),
+        }
+    }
+
+    /// `value` as this storage holds it.
+    fn stored(&self, value: f32) -> f32 {
+        match self {
+            Self::Full(_) => value,
+            Self::Half(_) => f16::from_f32(value).to_f32(),
+        }
+    }
+
+    fn push(&mut self, fill: f32) {
+        match self {
+            Self::Full(v) => v.push([fill; BRICK_VOXELS]),
+            Self::Half(v) => v.push([f16::from_f32(fill).to_bits(); BRICK_VOXELS]),
+        }
+    }
+
+    /// Stores `value`, already [`Self::stored`], at voxel `n` of brick `slot`.
+    #[inline]
+    fn set(&mut self, slot: usize, n: usize, value: f32) {
+        match self {
+            Self::Full(v) => v[slot][n] = value,
+            Self::Half(v) => v[slot][n] = f16::from_f32(value).to_bits(),
+        }
+    }
+
+    #[inline]
+    fn get(&self, slot: usize, n: usize) -> f32 {
+        match self {
+            Self::Full(v) => v[slot][n],
+            Self::Half(v) => f16::from_bits(v[slot][n]).to_f32(),
+        }
+    }
+
+    fn bytes(&self) -> usize {
+        match self {
+            Self::Full(v) => std::mem::size_of_val(v.as_slice()),
+            Self::Half(v) => std::mem::size_of_val(v.as_slice()),
+        }
+    }
+
+    fn shrink_to_fit(&mut self) {
+        match self {
+            Self::Full(v) => v.shrink_to_fit(),
+            Self::Half(v) => v.shrink_to_fit(),
+        }
+    }
+}
+
 /// A sparse grid of non-negative densities in index space, background 0.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SparseGrid {
     /// Brick coordinate (voxel index >> 3) → contents.
     bricks: HashMap<IVec3, Brick>,
-    voxels: Vec<[f32; BRICK_VOXELS]>,
+    voxels: BrickValues,
     /// Largest value of each voxel brick, by slot.
     voxel_brick_max: Vec<f32>,
     index_to_world: Mat4,
@@ -42,11 +121,20 @@ pub struct SparseGrid {
 }
 
 impl SparseGrid {
-    /// An empty grid (all background) with its index-to-world transform.
+    /// An empty grid (all background) of `f32` voxels with its
+    /// index-to-world transform.
     pub fn new(index_to_world: Mat4) -> Self {
+        Self::with_precision(index_to_world, Precision::Full)
+    }
+
+    /// An empty grid (all background) storing its voxels in `precision`.
+    pub fn with_precision(index_to_world: Mat4, precision: Precision) -> Self {
         Self {
             bricks: HashMap::new(),
-            voxels: Vec::new(),
+            voxels: match precision {
+                Precision::Full => BrickValues::Full(Vec::new()),
+                Precision::Half => BrickValues::Half(Vec::new()),
+            },
             voxel_brick_max: Vec::new(),
             index_to_world,
             active_min: IVec3::MAX,
@@ -54,12 +142,28 @@ impl SparseGrid {
         }
     }
 
-    fn check(value: f32) -> Result<(), String> {
-        if value.is_finite() && value >= 0.0 {
-            Ok(())
-        } else {
-            Err(format!("densities must be finite and ≥ 0, found {value}"))
+    /// The precision of the voxel bricks.
+    pub fn precision(&self) -> Precision {
+        match self.voxels {
+            BrickValues::Full(_) => Precision::Full,
+            BrickValues::Half(_) => Precision::Half,
         }
+    }
+
+    /// `value` as stored, or why it cannot be a density.
+    fn checked(&self, value: f32) -> Result<f32, String> {
+        if !(value.is_finite() && value >= 0.0) {
+            return Err(format!("densities must be finite and ≥ 0, found {value}"));
+        }
+        let stored = self.voxels.stored(value);
+        if !stored.is_finite() {
+            return Err(format!(
+                "{value} exceeds the largest half float ({})",
+                f16::MAX
+            ));
+        }
+        // −0 is stored as +0.
+        Ok(if stored == 0.0 { 0.0 } else { stored })
     }
 
     fn local(i: IVec3) -> usize {
@@ -67,35 +171,117 @@ impl SparseGrid {
         (l.x + BRICK * (l.y + BRICK * l.z)) as usize
     }
 
-    /// Sets the value of voxel `i`.
-    pub fn set_voxel(&mut self, i: IVec3, value: f32) -> Result<(), String> {
-        Self::check(value)?;
-        let key = i >> BRICK_LOG2;
-        let slot = match self.bricks.get(&key) {
+    /// The slot of the voxel brick at brick coordinate `key`, made (from
+    /// the tile there, or background) if there is none.
+    fn voxel_slot(&mut self, key: IVec3) -> usize {
+        match self.bricks.get(&key) {
             Some(Brick::Voxels(slot)) => *slot as usize,
             other => {
                 let fill = match other {
                     Some(Brick::Constant(c)) => *c,
                     _ => 0.0,
                 };
-                self.voxels.push([fill; BRICK_VOXELS]);
+                self.voxels.push(fill);
                 self.voxel_brick_max.push(fill);
                 let slot = self.voxels.len() - 1;
                 self.bricks.insert(key, Brick::Voxels(slot as u32));
                 slot
             }
-        };
-        self.voxels[slot][Self::local(i)] = value;
+        }
+    }
+
+    /// Sets the value of voxel `i` (rounded to the grid's precision).
+    pub fn set_voxel(&mut self, i: IVec3, value: f32) -> Result<(), String> {
+        let value = self.checked(value)?;
+        let slot = self.voxel_slot(i >> BRICK_LOG2);
+        self.voxels.set(slot, Self::local(i), value);
         self.voxel_brick_max[slot] = self.voxel_brick_max[slot].max(value);
         self.active_min = self.active_min.min(i);
         self.active_max = self.active_max.max(i);
         Ok(())
     }
 
+    /// Sets the active voxels of the brick at `origin` (a multiple of 8)
+    /// at once, as an OpenVDB leaf holds them: `values` in slot order
+    /// (voxel `origin + (x, y, z)` at `64x + 8y + z`), voxel `n` active
+    /// where bit `n % 64` of `mask[n / 64]` is set. Inactive voxels keep
+    /// what the brick held. On an error nothing is set; it names the
+    /// voxel.
+    pub fn insert_leaf(
+        &mut self,
+        origin: IVec3,
+        mask: &[u64; BRICK_VOXELS / 64],
+        values: &[f32; BRICK_VOXELS],
+    ) -> Result<(), String> {
+        if origin % BRICK != IVec3::ZERO {
+            return Err(format!(
+                "a leaf's origin must be a multiple of {BRICK}, got {origin}"
+            ));
+        }
+        let active = |n: usize| mask[n / 64] >> (n % 64) & 1 == 1;
+        // OpenVDB's slot n = 64x + 8y + z; a brick's local index is x + 8y + 64z.
+        let voxel = |n: usize| IVec3::new((n >> 6) as i32, (n >> 3 & 7) as i32, (n & 7) as i32);
+        let mut stored = [0.0f32; BRICK_VOXELS];
+        let (mut lo, mut hi) = (IVec3::splat(BRICK), IVec3::splat(-1));
+        let mut max = 0.0f32;
+        for n in (0..BRICK_VOXELS).filter(|&n| active(n)) {
+            let v = self
+                .checked(values[n])
+                .map_err(|e| format!("voxel {}: {e}", origin + voxel(n)))?;
+            stored[n] = v;
+            max = max.max(v);
+            lo = lo.min(voxel(n));
+            hi = hi.max(voxel(n));
+        }
+        if hi.x < 0 {
+            return Ok(());
+        }
+        let slot = self.voxel_slot(origin >> BRICK_LOG2);
+        for n in (0..BRICK_VOXELS).filter(|&n| active(n)) {
+            self.voxels.set(slot, Self::local(voxel(n)), stored[n]);
+        }
+        self.voxel_brick_max[slot] = self.voxel_brick_max[slot].max(max);
+        self.active_min = self.active_min.min(origin + lo);
+        self.active_max = self.active_max.max(origin + hi);
+        Ok(())
+    }
+
+    /// Releases the spare capacity that growing the grid left: call when
+    /// every brick is in.
+    pub fn shrink_to_fit(&mut self) {
+        self.bricks.shrink_to_fit();
+        self.voxels.shrink_to_fit();
+        self.voxel_brick_max.shrink_to_fit();
+    }
+
+    /// Voxels of non-zero value, in voxel bricks and in constant bricks.
+    pub fn nonzero_voxels(&self) -> u64 {
+        let in_bricks: usize = match &self.voxels {
+            BrickValues::Full(v) => v.iter().flatten().filter(|&&x| x != 0.0).count(),
+            // +0 is the only zero stored (`checked` turns −0 into +0).
+            BrickValues::Half(v) => v.iter().flatten().filter(|&&x| x != 0).count(),
+        };
+        let tiles = self
+            .bricks
+            .values()
+            .filter(|b| matches!(b, Brick::Constant(c) if *c != 0.0))
+            .count();
+        in_bricks as u64 + (tiles * BRICK_VOXELS) as u64
+    }
+
+    /// Bytes held by the voxel bricks, their maxima and the brick map
+    /// (its entries and control bytes, at its capacity).
+    pub fn storage_bytes(&self) -> usize {
+        let entry = std::mem::size_of::<(IVec3, Brick)>() + 1;
+        self.voxels.bytes()
+            + std::mem::size_of_val(self.voxel_brick_max.as_slice())
+            + self.bricks.capacity() * entry
+    }
+
     /// Sets every voxel of the cube of side `size` (a multiple of 8) from
     /// `origin` (a multiple of 8) to `value`: an OpenVDB tile.
     pub fn fill_tile(&mut self, origin: IVec3, size: i32, value: f32) -> Result<(), String> {
-        Self::check(value)?;
+        let value = self.checked(value)?;
         if size <= 0 || size % BRICK != 0 || origin % BRICK != IVec3::ZERO {
             return Err(format!(
                 "a tile must be whole bricks of {BRICK}³ voxels, got size {size} at {origin}"
@@ -120,7 +306,7 @@ impl SparseGrid {
     #[inline]
     pub fn value(&self, i: IVec3) -> f32 {
         match self.bricks.get(&(i >> BRICK_LOG2)) {
-            Some(Brick::Voxels(slot)) => self.voxels[*slot as usize][Self::local(i)],
+            Some(Brick::Voxels(slot)) => self.voxels.get(*slot as usize, Self::local(i)),
             Some(Brick::Constant(c)) => *c,
             None => 0.0,
         }
@@ -152,10 +338,16 @@ impl SparseGrid {
             return match self.bricks.get(&(i >> BRICK_LOG2)) {
                 None => 0.0,
                 Some(Brick::Constant(c)) => *c,
-                Some(Brick::Voxels(slot)) => {
-                    let voxels = &self.voxels[*slot as usize];
-                    trilinear(&|j| voxels[Self::local(j)])
-                }
+                Some(Brick::Voxels(slot)) => match &self.voxels {
+                    BrickValues::Full(v) => {
+                        let voxels = &v[*slot as usize];
+                        trilinear(&|j| voxels[Self::local(j)])
+                    }
+                    BrickValues::Half(v) => {
+                        let voxels = &v[*slot as usize];
+                        trilinear(&|j| f16::from_bits(voxels[Self::local(j)]).to_f32())
+                    }
+                },
             };
         }
         trilinear(&|j| self.value(j))
@@ -305,5 +497,73 @@ mod tests {
         assert_eq!(g.max_in_index(Vec3::splat(40.0), Vec3::splat(50.0)), 0.0);
         assert_eq!(g.active_bounds(), Some((IVec3::splat(8), IVec3::splat(23))));
         assert!(g.set_voxel(IVec3::ZERO, f32::NAN).is_err());
+    }
+
+    #[test]
+    fn a_leaf_inserted_at_once_is_its_voxels_set_one_by_one() {
+        let origin = IVec3::new(-8, 16, 24);
+        let mut mask = [0u64; BRICK_VOXELS / 64];
+        let mut values = [0.0f32; BRICK_VOXELS];
+        for n in (0..BRICK_VOXELS).filter(|n| n % 3 != 1) {
+            mask[n / 64] |= 1 << (n % 64);
+            values[n] = 0.01 * n as f32;
+        }
+        for precision in [Precision::Full, Precision::Half] {
+            let mut bulk = SparseGrid::with_precision(Mat4::IDENTITY, precision);
+            bulk.insert_leaf(origin, &mask, &values).unwrap();
+            let mut single = SparseGrid::with_precision(Mat4::IDENTITY, precision);
+            for n in (0..BRICK_VOXELS).filter(|n| n % 3 != 1) {
+                let local = IVec3::new(n as i32 >> 6, n as i32 >> 3 & 7, n as i32 & 7);
+                single.set_voxel(origin + local, values[n]).unwrap();
+            }
+            assert_eq!(bulk, single, "{precision:?}");
+            // Active are n ≢ 1 (mod 3), so voxel n = 0 and n = 511 are.
+            assert_eq!(bulk.active_bounds(), Some((origin, origin + 7)));
+            assert_eq!(
+                bulk.nonzero_voxels(),
+                (1..BRICK_VOXELS).filter(|n| n % 3 != 1).count() as u64
+            );
+        }
+        // Half storage rounds to the nearest half: 0.01·3 = 0.03 is not one.
+        let mut half = SparseGrid::with_precision(Mat4::IDENTITY, Precision::Half);
+        half.insert_leaf(origin, &mask, &values).unwrap();
+        let v = half.value(origin + IVec3::new(0, 0, 3));
+        assert_eq!(v, f16::from_f32(0.03).to_f32());
+        assert!((v - 0.03).abs() <= 0.03 * 2f32.powi(-11), "{v}");
+        assert_eq!(
+            half.storage_bytes() - SparseGrid::new(Mat4::IDENTITY).storage_bytes(),
+            BRICK_VOXELS * 2
+                + 4
+                + half.bricks.capacity() * (std::mem::size_of::<(IVec3, Brick)>() + 1),
+            "1 KiB of halves, the brick's maximum and the map"
+        );
+    }
+
+    #[test]
+    fn bad_values_are_refused_and_leave_the_grid_unchanged() {
+        let mut mask = [0u64; BRICK_VOXELS / 64];
+        mask[1] = 1 << 5; // voxel n = 69: local (1, 0, 5)
+        let mut values = [0.0f32; BRICK_VOXELS];
+        values[69] = -1.0;
+        let mut g = SparseGrid::with_precision(Mat4::IDENTITY, Precision::Half);
+        let e = g.insert_leaf(IVec3::ZERO, &mask, &values).unwrap_err();
+        assert!(e.contains("voxel [1, 0, 5]") && e.contains("≥ 0"), "{e}");
+        values[69] = 1e6;
+        let e = g.insert_leaf(IVec3::ZERO, &mask, &values).unwrap_err();
+        assert!(e.contains("largest half float"), "{e}");
+        // Inactive voxels are not read, bad or not.
+        values[70] = f32::NAN;
+        values[69] = 2.0;
+        g.insert_leaf(IVec3::ZERO, &mask, &values).unwrap();
+        assert_eq!(g.value(IVec3::new(1, 0, 5)), 2.0);
+        assert_eq!(g.value(IVec3::new(1, 0, 6)), 0.0);
+        let e = g
+            .insert_leaf(IVec3::new(4, 0, 0), &mask, &values)
+            .unwrap_err();
+        assert!(e.contains("multiple of 8"), "{e}");
+        assert_eq!(g.brick_counts(), (1, 0));
+        // −0 is stored as +0 and is no non-zero voxel.
+        g.set_voxel(IVec3::new(0, 0, 1), -0.0).unwrap();
+        assert_eq!(g.nonzero_voxels(), 1);
     }
 }

@@ -264,3 +264,68 @@ fn for_each_volume(volumes: &[Volume], mut mask: u32, mut visit: impl FnMut(usiz
         mask &= mask - 1;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::media::density::Density;
+    use crate::media::sparse::{BRICK_VOXELS, Precision, SparseDensity, SparseGrid};
+    use crate::media::volume::VolumeRegion;
+    use crate::phase::PhaseFunction;
+    use crate::shapes::Bounds;
+    use glam::{IVec3, Mat4, Vec3};
+
+    /// Sparse traversal: tentative collisions are drawn only on segments
+    /// of positive majorant, and a majorant cell is positive only where
+    /// trilinear interpolation reads a stored brick. Two half-float
+    /// bricks 72 voxels apart along x, with seven empty bricks between
+    /// them: of the eleven majorant cells (one brick wide, centred on
+    /// the voxel centres' half-voxel offset) the ray crosses, exactly the
+    /// two at each occupied brick (its own, and its neighbour that
+    /// interpolates towards it) carry samples.
+    #[test]
+    fn empty_bricks_cost_no_samples() {
+        let mut grid = SparseGrid::with_precision(Mat4::IDENTITY, Precision::Half);
+        let full = [u64::MAX; BRICK_VOXELS / 64];
+        for x in [0, 80] {
+            grid.insert_leaf(IVec3::new(x, 0, 0), &full, &[0.5; BRICK_VOXELS])
+                .unwrap();
+        }
+        assert_eq!(grid.brick_counts(), (2, 0));
+        // World x ∈ [0, 88] is index x − 0.5: voxel centres at half-integers.
+        let unit_to_index =
+            Mat4::from_translation(Vec3::splat(-0.5)) * Mat4::from_scale(Vec3::new(88.0, 8.0, 8.0));
+        let density = Density::Sparse(Box::new(SparseDensity {
+            grid,
+            unit_to_index,
+        }));
+        let region = VolumeRegion::Box(Bounds::new(Vec3::ZERO, Vec3::new(88.0, 8.0, 8.0)));
+        let volume = Volume::new(
+            Rgb::splat(2.0),
+            Rgb::splat(0.5),
+            PhaseFunction::Isotropic,
+            density,
+            region,
+        )
+        .unwrap();
+        let ray = Ray {
+            origin: Vec3::new(-5.0, 4.0, 4.0),
+            direction: Vec3::X,
+        };
+        let mut tracker = VolumeTracker::new(RandomStream::new(1));
+        let volumes = [volume];
+        tracker.collect(&volumes, &ray, 0.0, 200.0);
+        // World x = t − 5; cells 0–1 are x ∈ [0, 16], cells 9–10 x ∈ [72, 88].
+        let sampled: Vec<(f32, f32)> = tracker.segments.iter().map(|s| (s.t0, s.t1)).collect();
+        let covered: f32 = sampled.iter().map(|(a, b)| b - a).sum();
+        assert!((covered - 32.0).abs() < 1e-3, "segments {sampled:?}");
+        for &(a, b) in &sampled {
+            let inside = |lo: f32, hi: f32| a >= lo - 1e-3 && b <= hi + 1e-3;
+            assert!(
+                inside(5.0, 21.0) || inside(77.0, 93.0),
+                "a segment [{a}, {b}] samples the empty bricks"
+            );
+        }
+        assert!(tracker.segments.iter().all(|s| s.majorant > 0.0));
+    }
+}
