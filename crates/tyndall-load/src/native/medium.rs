@@ -10,7 +10,7 @@ use glam::Vec3;
 use serde_spanned::Spanned;
 use tyndall::color::Rgb;
 use tyndall::description::{MediumDesc, RegionDesc};
-use tyndall::media::emission::{Blackbody, Emission};
+use tyndall::media::emission::{Blackbody, BlackbodyLaw, Emission};
 use tyndall::media::noise::SmokeNoise;
 use tyndall::media::sparse::{SparseDensity, SparseGrid};
 use tyndall::media::volume::Density;
@@ -64,6 +64,8 @@ impl Loader<'_> {
             ("temperature_scale", m.temperature_scale.is_some()),
             ("temperature_offset", m.temperature_offset.is_some()),
             ("blackbody_intensity", m.blackbody_intensity.is_some()),
+            ("blackbody_law", m.blackbody_law.is_some()),
+            ("blackbody_tint", m.blackbody_tint.is_some()),
         ] {
             if given && m.temperature_grid.is_none() {
                 return Err(self.err(
@@ -215,12 +217,36 @@ impl Loader<'_> {
                 Some(name) => Some(field("emission_grid", name)?),
                 None => None,
             };
+            let law = match (m.blackbody_law.as_deref(), m.blackbody_tint) {
+                (None | Some("kirchhoff"), None) => BlackbodyLaw::Kirchhoff,
+                (None | Some("kirchhoff"), Some(_)) => {
+                    return Err(self.err(
+                        &span,
+                        "blackbody_tint",
+                        "`blackbody_tint` applies to `blackbody_law = \"cycles\"` (Kirchhoff's law has no tint: its colour is the absorption's)",
+                    ));
+                }
+                (Some("cycles"), tint) => BlackbodyLaw::Cycles {
+                    tint: match tint {
+                        Some(c) => self.emission(&span, "blackbody_tint", c)?,
+                        None => Rgb::ONE,
+                    },
+                },
+                (Some(other), _) => {
+                    return Err(self.err(
+                        &span,
+                        "blackbody_law",
+                        format!("unknown blackbody law \"{other}\": expected \"kirchhoff\" (σa·B(T), the default) or \"cycles\" (Cycles' Principled Volume)"),
+                    ));
+                }
+            };
             let blackbody = match &m.temperature_grid {
                 Some(name) => Some(Blackbody {
                     temperature: field("temperature_grid", name)?,
                     scale: m.temperature_scale.unwrap_or(1.0),
                     offset: m.temperature_offset.unwrap_or(0.0),
                     intensity: m.blackbody_intensity.unwrap_or(1.0),
+                    law,
                 }),
                 None => None,
             };

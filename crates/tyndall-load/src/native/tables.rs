@@ -64,6 +64,8 @@ pub(super) struct MediumTable {
     pub(super) temperature_scale: Option<f32>,
     pub(super) temperature_offset: Option<f32>,
     pub(super) blackbody_intensity: Option<f32>,
+    pub(super) blackbody_law: Option<String>,
+    pub(super) blackbody_tint: Option<ColorValue>,
 }
 
 #[derive(Deserialize)]

@@ -8,18 +8,19 @@
 //! * [`xyz`]: CIE 1931 tristimulus values `X = ∫ L_λ x̄(λ) dλ` (and Y, Z),
 //!   in W·sr⁻¹·m⁻² — radiometric, not photometric: without the 683 lm/W
 //!   of luminance, so `Y` is the radiance weighted by the luminous
-//!   efficiency ȳ ≤ 1. The matching functions are the multi-lobe Gaussian
-//!   fit of Wyman, Sloan & Shirley, "Simple Analytic Approximations to the
-//!   CIE XYZ Color Matching Functions", JCGT 2(2), 2013 (their eq. 2),
-//!   integrated by the midpoint rule at 1 nm over 360–830 nm.
+//!   efficiency ȳ ≤ 1. The matching functions are the CIE's own table of
+//!   the 1931 2° observer ([`super::cie1931`]), summed at its 1 nm steps
+//!   over 360–830 nm as CIE 015:2004 §7.1 prescribes.
 //! * [`rgb`]: those XYZ values in linear Rec. 709 (IEC 61966-2-1's XYZ →
 //!   linear sRGB matrix), the radiance a blackbody's colour has in
 //!   Tyndall's RGB (docs/physics.md §1.2), unnormalised: 1 K and 6500 K
 //!   differ by the factor Planck's law gives them.
-//! * [`BlackbodyTable`]: [`rgb`] tabulated in temperature, linearly
+//! * [`unit_luminance_rgb`]: the same colour scaled to luminance 1, the
+//!   normalisation Cycles' blackbody colour has (docs/physics.md §2.5).
+//! * [`BlackbodyTable`]: a function of temperature tabulated and linearly
 //!   interpolated, for evaluation at every tracking step.
 
-use super::Rgb;
+use super::{Rgb, cie1931};
 
 /// Planck's constant h, J·s.
 pub const PLANCK: f64 = 6.626_070_15e-34;
@@ -28,8 +29,13 @@ pub const LIGHT_SPEED: f64 = 299_792_458.0;
 /// Boltzmann's constant k_B, J/K.
 pub const BOLTZMANN: f64 = 1.380_649e-23;
 
-/// Shortest and longest wavelength of the colour integral, nm.
-const LAMBDA_RANGE_NM: (u32, u32) = (360, 830);
+/// The Stefan–Boltzmann constant σ = 2π⁵k_B⁴/(15h³c²), W·m⁻²·K⁻⁴
+/// (5.670374419·10⁻⁸, CODATA 2018), from the constants above: a
+/// blackbody's radiance over all wavelengths is σT⁴/π.
+pub fn stefan_boltzmann() -> f64 {
+    use std::f64::consts::PI;
+    2.0 * PI.powi(5) * BOLTZMANN.powi(4) / (15.0 * PLANCK.powi(3) * LIGHT_SPEED.powi(2))
+}
 
 /// Planck's law: the spectral radiance of a blackbody at `kelvin` at
 /// wavelength `lambda_m` (metres), in W·sr⁻¹·m⁻² per metre of wavelength
@@ -42,35 +48,15 @@ pub fn spectral_radiance(lambda_m: f64, kelvin: f64) -> f64 {
     2.0 * PLANCK * LIGHT_SPEED * LIGHT_SPEED / lambda_m.powi(5) / x.exp_m1()
 }
 
-/// Piecewise Gaussian of Wyman et al. 2013: width `below` left of `mu`,
-/// `above` right of it (all in nm).
-fn lobe(lambda_nm: f64, mu: f64, below: f64, above: f64) -> f64 {
-    let s = if lambda_nm < mu { below } else { above };
-    let t = (lambda_nm - mu) / s;
-    (-0.5 * t * t).exp()
-}
-
-/// The CIE 1931 2° colour matching functions x̄, ȳ, z̄ at `lambda_nm`
-/// (Wyman, Sloan & Shirley 2013, multi-lobe fit).
-pub fn cie_1931(lambda_nm: f64) -> [f64; 3] {
-    let l = lambda_nm;
-    [
-        1.056 * lobe(l, 599.8, 37.9, 31.0) + 0.362 * lobe(l, 442.0, 16.0, 26.7)
-            - 0.065 * lobe(l, 501.1, 20.4, 26.2),
-        0.821 * lobe(l, 568.8, 46.9, 40.5) + 0.286 * lobe(l, 530.9, 16.3, 31.1),
-        1.217 * lobe(l, 437.0, 11.8, 36.0) + 0.681 * lobe(l, 459.0, 26.0, 13.8),
-    ]
-}
-
-/// CIE 1931 XYZ of a blackbody at `kelvin`: `∫ L_λ(T)·{x̄, ȳ, z̄} dλ` over
-/// 360–830 nm, W·sr⁻¹·m⁻² (radiometric: no 683 lm/W).
+/// CIE 1931 XYZ of a blackbody at `kelvin`: `Σ L_λ(T)·{x̄, ȳ, z̄}·Δλ` over
+/// the table's wavelengths, 360–830 nm at Δλ = 1 nm, W·sr⁻¹·m⁻²
+/// (radiometric: no 683 lm/W).
 pub fn xyz(kelvin: f64) -> [f64; 3] {
     let mut sum = [0.0f64; 3];
-    for nm in LAMBDA_RANGE_NM.0..LAMBDA_RANGE_NM.1 {
-        let l = nm as f64 + 0.5;
-        // dλ = 1 nm = 1e-9 m.
-        let radiance = spectral_radiance(l * 1e-9, kelvin) * 1e-9;
-        let cmf = cie_1931(l);
+    for (row, cmf) in cie1931::CMF.iter().enumerate() {
+        let nm = (cie1931::FIRST_NM as usize + row) as f64;
+        // Δλ = 1 nm = 1e-9 m.
+        let radiance = spectral_radiance(nm * 1e-9, kelvin) * 1e-9;
         for k in 0..3 {
             sum[k] += radiance * cmf[k];
         }
@@ -97,40 +83,82 @@ pub fn rgb(kelvin: f64) -> Rgb {
     Rgb::new(r.max(0.0) as f32, g.max(0.0) as f32, b.max(0.0) as f32)
 }
 
-/// [`rgb`] on `[0, max_kelvin]` at [`BlackbodyTable::ENTRIES`] evenly
-/// spaced temperatures, linearly interpolated (clamped past the ends):
-/// the colour integral costs 470 exponentials, a lookup two loads. The
-/// interpolation error is about `(ΔT)²/8` times the second derivative of
-/// Planck's law in T: with ΔT ≤ 2 K (tables up to 4000 K) below 10⁻³
-/// relative from 800 K up, where the radiance is not negligible (the unit
-/// test checks this).
+/// Below this temperature [`unit_luminance_rgb`] keeps the colour it has
+/// here, K: the light is negligible there (Planck's Y at 800 K is 10⁻⁸
+/// of 1500 K's), and the ratio of two vanishing integrals is not worth
+/// computing.
+pub const UNIT_LUMINANCE_FLOOR_K: f64 = 800.0;
+
+/// The blackbody's colour at `kelvin` scaled to luminance 1 — [`rgb`]
+/// divided by its Y — in linear Rec. 709, dimensionless: Cycles'
+/// normalisation of its blackbody colour (docs/physics.md §2.5). Below
+/// [`UNIT_LUMINANCE_FLOOR_K`] the colour there. Channels below 0 are
+/// clipped to 0 (after the division, so Y is the unclipped colour's).
+pub fn unit_luminance_rgb(kelvin: f64) -> Rgb {
+    let t = kelvin.max(UNIT_LUMINANCE_FLOOR_K);
+    let xyz = xyz(t);
+    rgb(t) / xyz[1] as f32
+}
+
+/// A function of temperature, RGB-valued, tabulated on `[0, max_kelvin]`
+/// at [`BlackbodyTable::ENTRIES`] evenly spaced temperatures and linearly
+/// interpolated (clamped past the ends): the colour integral costs 471
+/// exponentials, a lookup two loads. For [`rgb`] the interpolation error
+/// is about `(ΔT)²/8` times the second derivative of Planck's law in T:
+/// with ΔT ≤ 2 K (tables up to 4000 K) below 10⁻³ relative from 800 K up,
+/// where the radiance is not negligible (the unit test checks this).
 #[derive(Clone, Debug, PartialEq)]
 pub struct BlackbodyTable {
     step: f32,
     values: Vec<Rgb>,
+    /// Largest channel of any entry up to each entry.
+    running_max: Vec<f32>,
 }
 
 impl BlackbodyTable {
     /// Entries of a table.
     pub const ENTRIES: usize = 2049;
 
-    /// The table up to `max_kelvin` (> 0, finite).
+    /// [`rgb`] up to `max_kelvin` (> 0, finite).
     pub fn new(max_kelvin: f32) -> Self {
-        let max = max_kelvin.max(1.0);
-        let step = max / (Self::ENTRIES - 1) as f32;
-        let values = (0..Self::ENTRIES)
-            .map(|i| rgb(i as f64 * step as f64))
-            .collect();
-        Self { step, values }
+        Self::of(max_kelvin, rgb)
     }
 
-    /// The blackbody's linear Rec. 709 radiance at `kelvin` (W·sr⁻¹·m⁻²).
+    /// `f` (of kelvin) up to `max_kelvin` (> 0, finite).
+    pub fn of(max_kelvin: f32, f: impl Fn(f64) -> Rgb) -> Self {
+        let max = max_kelvin.max(1.0);
+        let step = max / (Self::ENTRIES - 1) as f32;
+        let values: Vec<Rgb> = (0..Self::ENTRIES)
+            .map(|i| f(i as f64 * step as f64))
+            .collect();
+        let running_max = values
+            .iter()
+            .scan(0.0f32, |m, v| {
+                *m = m.max(v.max_element());
+                Some(*m)
+            })
+            .collect();
+        Self {
+            step,
+            values,
+            running_max,
+        }
+    }
+
+    /// The tabulated function at `kelvin`.
     #[inline]
     pub fn eval(&self, kelvin: f32) -> Rgb {
         let x = (kelvin / self.step).clamp(0.0, (Self::ENTRIES - 1) as f32);
         let i = (x as usize).min(Self::ENTRIES - 2);
         let f = x - i as f32;
         self.values[i] * (1.0 - f) + self.values[i + 1] * f
+    }
+
+    /// An upper bound of every channel of [`Self::eval`] at temperatures
+    /// up to `kelvin`.
+    pub fn max_up_to(&self, kelvin: f32) -> f32 {
+        let x = (kelvin / self.step).clamp(0.0, (Self::ENTRIES - 1) as f32);
+        self.running_max[(x.ceil() as usize).min(Self::ENTRIES - 1)]
     }
 }
 

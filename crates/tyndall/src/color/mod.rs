@@ -6,6 +6,7 @@
 //! its colour in linear Rec. 709.
 
 pub mod blackbody;
+pub mod cie1931;
 
 /// A linear-RGB triple: radiance (W·sr⁻¹·m⁻²), intensity (W/sr), irradiance
 /// (W/m²) or a dimensionless reflectance/transmittance, per channel.

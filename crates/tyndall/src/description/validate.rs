@@ -15,7 +15,7 @@ use crate::color::Rgb;
 use crate::limits;
 use crate::materials::{Material, Surface};
 use crate::media::Fog;
-use crate::media::emission::Emission;
+use crate::media::emission::{BlackbodyLaw, Emission};
 use crate::media::tracking::MAX_VOLUMES;
 use crate::media::volume::Density;
 use crate::phase::PhaseFunction;
@@ -532,6 +532,18 @@ impl MediumDesc {
         finite_at_least("temperature_scale", b.scale, 0.0, true)?;
         finite_at_least("temperature_offset", b.offset, 0.0, false)?;
         finite_at_least("blackbody_intensity", b.intensity, 0.0, false)?;
+        if let BlackbodyLaw::Cycles { tint } = b.law {
+            if b.intensity > 1.0 {
+                return item.fail(
+                    "blackbody_intensity",
+                    format!(
+                        "`blackbody_intensity` mixes Cycles' constant and T⁴ terms and must lie in [0, 1], got {}",
+                        b.intensity
+                    ),
+                );
+            }
+            item.emission("blackbody_tint", tint)?;
+        }
         let hottest = b.scale * b.temperature.max_in(Vec3::ZERO, Vec3::ONE) + b.offset;
         if !(hottest.is_finite() && hottest <= limits::MAX_TEMPERATURE_K) {
             return item.fail(

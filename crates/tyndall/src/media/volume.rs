@@ -14,7 +14,7 @@
 //! instead of the global maximum.
 
 pub use super::density::Density;
-use super::emission::{Emission, EmissionEval};
+use super::emission::{Emission, EmissionEval, EmitsUnabsorbed};
 use crate::accel::{Geometry, Primitive};
 use crate::color::Rgb;
 use crate::phase::PhaseFunction;
@@ -162,18 +162,17 @@ impl MajorantGrid {
         }
     }
 
-    /// Sets a majorant floor of `rate` (1/scene unit) in every cell where
-    /// `field` may be positive.
+    /// Raises the majorant floor to `rate` (1/scene unit) in every cell
+    /// where `field` may be positive.
     fn add_floor(&mut self, field: &Density, rate: f32) {
-        self.floor = majorant_cell_boxes(self.cells)
-            .map(|(lo, hi)| {
-                if field.max_in(lo, hi) > 0.0 {
-                    rate
-                } else {
-                    0.0
-                }
-            })
-            .collect();
+        if self.floor.is_empty() {
+            self.floor = vec![0.0; self.max.len()];
+        }
+        for ((lo, hi), floor) in majorant_cell_boxes(self.cells).zip(&mut self.floor) {
+            if field.max_in(lo, hi) > 0.0 {
+                *floor = floor.max(rate);
+            }
+        }
     }
 
     /// Appends the segments of `[t0, t1]` along `ray` (inside `bounds`,
@@ -322,9 +321,20 @@ impl Volume {
         } else {
             None
         };
-        if let Some(field) = colour_field {
-            let cell = self.field_box.extent() / self.majorants.cells.as_vec3();
-            self.majorants.add_floor(&field, 1.0 / cell.min_element());
+        // Cycles' blackbody law emits wherever the temperature is
+        // positive, and everywhere below intensity 1.
+        let hot_field = emission
+            .blackbody
+            .as_ref()
+            .and_then(|b| match b.emits_unabsorbed() {
+                EmitsUnabsorbed::Nowhere => None,
+                EmitsUnabsorbed::WhereHot => Some(b.temperature.clone()),
+                EmitsUnabsorbed::Everywhere => Some(Density::Uniform),
+            });
+        let cell = self.field_box.extent() / self.majorants.cells.as_vec3();
+        let rate = 1.0 / cell.min_element();
+        for field in [colour_field, hot_field].into_iter().flatten() {
+            self.majorants.add_floor(&field, rate);
         }
         self.emission = Some(EmissionEval::new(emission));
         Ok(self)
