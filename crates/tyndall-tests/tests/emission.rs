@@ -201,8 +201,10 @@ fn fire_vdb_emission_matches_the_formula_and_quadrature() {
 /// §2.5): at voxel centres of the fire, `j = tint·(σ_SB·10⁻⁶/π)·T⁴·ĉ(T)`
 /// with σ_SB = 5.670374419·10⁻⁸ W·m⁻²·K⁻⁴ (CODATA 2018, written here)
 /// and ĉ the blackbody colour at luminance 1 — its Rec. 709 luminance,
-/// weighed here with the matrix's Y row, is 1 wherever no channel is
-/// clipped — independent of density; and tracking finds it against
+/// weighed here with the matrix's Y row, is 1 (to the 10⁻⁴ the 4-digit
+/// matrices are inverse to; no channel is clipped) — independent of
+/// density; between voxels the law at the voxels interpolated, as
+/// Cycles' stochastic lookups average it; and tracking finds it against
 /// quadrature, with extinction and without (σt = 0: the majorant floor
 /// where the temperature grid is positive is all that samples it).
 #[test]
@@ -228,10 +230,8 @@ fn cycles_blackbody_law_matches_its_formula_and_quadrature() {
         let x = Vec3::new(-0.6, 0.0, -0.6) + (index.as_vec3() + 0.5) * 0.04;
         let kelvin = 2000.0 * temperature.value(index) as f64;
         let colour = blackbody::unit_luminance_rgb(kelvin);
-        if colour.min_element() > 0.0 {
-            let y = 0.2126 * colour.x + 0.7152 * colour.y + 0.0722 * colour.z;
-            assert!((y - 1.0).abs() < 1e-3, "{kelvin} K: luminance {y}");
-        }
+        let y = 0.2126 * colour.x + 0.7152 * colour.y + 0.0722 * colour.z;
+        assert!((y - 1.0).abs() < 1e-3, "{kelvin} K: luminance {y}");
         let power = SIGMA * 1e-6 / std::f64::consts::PI * kelvin.powi(4);
         let expected = tint * colour * power as f32;
         let j = volume.emission_at(x);
@@ -244,6 +244,30 @@ fn cycles_blackbody_law_matches_its_formula_and_quadrature() {
         checked += usize::from(kelvin > 2000.0);
     }
     assert!(checked >= 2, "the voxels must be hot");
+    // Halfway between two voxel centres along x, at 1286 K and 1938 K:
+    // the mean of the law at the two, not the law at their mean
+    // temperature (T⁴ is convex: they differ by a fifth here).
+    let (a, b) = (IVec3::new(12, 5, 15), IVec3::new(13, 5, 15));
+    let centre = |i: IVec3| Vec3::new(-0.6, 0.0, -0.6) + (i.as_vec3() + 0.5) * 0.04;
+    let law = |i: IVec3| {
+        let kelvin = 2000.0 * temperature.value(i) as f64;
+        let power = SIGMA * 1e-6 / std::f64::consts::PI * kelvin.powi(4);
+        tint * blackbody::unit_luminance_rgb(kelvin) * power as f32
+    };
+    let expected = (law(a) + law(b)) * 0.5;
+    let mean_kelvin = 1000.0 * (temperature.value(a) + temperature.value(b)) as f64;
+    let at_mean_kelvin = tint
+        * blackbody::unit_luminance_rgb(mean_kelvin)
+        * (SIGMA * 1e-6 / std::f64::consts::PI * mean_kelvin.powi(4)) as f32;
+    let j = volume.emission_at((centre(a) + centre(b)) * 0.5);
+    assert!(
+        (j - expected).abs().max_element() < 2e-3 * expected.max_element(),
+        "between voxels {a} and {b}: j = {j}, expected {expected}"
+    );
+    assert!(
+        (at_mean_kelvin - expected).abs().max_element() > 0.1 * expected.max_element(),
+        "the two readings must differ here: {at_mean_kelvin} vs {expected}"
+    );
     for sigma_t in [6.0, 0.0] {
         let loaded = load("cycles-law", &scene_text(&medium(sigma_t))).expect("scene");
         let volume = &loaded.scene.volumes()[0];

@@ -55,7 +55,8 @@ fn integrators_converge_to_references() {
 /// `volpath` against the multiple-scattering references (Mitsuba 3,
 /// scenes/reference/REFERENCE-README.md): surface interreflection in a Cornell-like
 /// box (unlimited, and one indirect bounce), and a fog-filled room
-/// (unlimited, and two scattering events).
+/// (unlimited, and two scattering events); and against Cycles 5 on an
+/// emitting, scattering flame (scenes/reference/fire-cycles/).
 ///
 /// Rendered at a quarter of the references' resolution: a reference pixel
 /// is the box-filtered mean over its footprint, so the mean of each 4×4
@@ -78,6 +79,10 @@ fn volpath_converges_to_multiple_scattering_references() {
         ("cornell-surfaces-depth3", Some(2), 16),
         ("fog-room-multi", None, 16),
         ("fog-room-depth2", Some(2), 16),
+        // Cycles 5's Principled Volume blackbody on the fire's half-float
+        // grids (scenes/reference/fire-cycles/), under Tyndall's
+        // `blackbody_law = "cycles"`.
+        ("fire-cycles/fire-cycles", None, 1024),
     ];
     let dir = repo().join("scenes/reference");
     for (name, max_depth, spp) in scenes {

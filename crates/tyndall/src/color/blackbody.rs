@@ -89,15 +89,17 @@ pub fn rgb(kelvin: f64) -> Rgb {
 /// computing.
 pub const UNIT_LUMINANCE_FLOOR_K: f64 = 800.0;
 
-/// The blackbody's colour at `kelvin` scaled to luminance 1 — [`rgb`]
-/// divided by its Y — in linear Rec. 709, dimensionless: Cycles'
+/// The blackbody's colour at `kelvin` scaled to luminance 1 — its XYZ
+/// divided by Y, in linear Rec. 709 — dimensionless: Cycles'
 /// normalisation of its blackbody colour (docs/physics.md §2.5). Below
-/// [`UNIT_LUMINANCE_FLOOR_K`] the colour there. Channels below 0 are
-/// clipped to 0 (after the division, so Y is the unclipped colour's).
+/// [`UNIT_LUMINANCE_FLOOR_K`] the colour there. Not clipped: outside the
+/// Rec. 709 gamut (blue below about 1900 K, green below about 1000 K) a
+/// channel is negative, as Cycles' Principled Volume leaves it.
 pub fn unit_luminance_rgb(kelvin: f64) -> Rgb {
     let t = kelvin.max(UNIT_LUMINANCE_FLOOR_K);
-    let xyz = xyz(t);
-    rgb(t) / xyz[1] as f32
+    let [x, y, z] = xyz(t);
+    let [r, g, b] = xyz_to_rec709([x / y, 1.0, z / y]);
+    Rgb::new(r as f32, g as f32, b as f32)
 }
 
 /// A function of temperature, RGB-valued, tabulated on `[0, max_kelvin]`

@@ -5,7 +5,7 @@
 
 use super::grid::VoxelGrid;
 use super::noise::SmokeNoise;
-use super::sparse::SparseDensity;
+use super::sparse::{Interpolant, SparseDensity};
 use glam::{UVec3, Vec3};
 
 /// Majorant cells per axis over a procedural density's box.
@@ -38,6 +38,18 @@ impl Density {
             Density::Noise(noise) => noise.eval(u),
             Density::Grid(grid) => grid.eval(u),
             Density::Sparse(sparse) => sparse.eval(u),
+        }
+    }
+
+    /// `map` of the field at `u`, where the field is voxels: the voxels'
+    /// `map` interpolated ([`super::sparse::SparseGrid::interpolate_mapped`],
+    /// as a renderer that interpolates a shader's inputs stochastically
+    /// sees it); elsewhere `map` of [`Self::eval`].
+    #[inline]
+    pub fn eval_mapped<V: Interpolant>(&self, u: Vec3, map: impl Fn(f32) -> V) -> V {
+        match self {
+            Density::Sparse(sparse) => sparse.eval_mapped(u, map),
+            _ => map(self.eval(u)),
         }
     }
 

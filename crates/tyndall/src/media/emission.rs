@@ -175,7 +175,14 @@ impl EmissionEval {
                     j += sigma_a * table.eval(kelvin()) * b.intensity;
                 }
                 BlackbodyLaw::Kirchhoff => {}
-                BlackbodyLaw::Cycles { tint } => j += tint * table.eval(kelvin()),
+                // Cycles reads voxels by stochastic one-tap interpolation
+                // (kernel/util/texture_3d.h): its mean is the law at the
+                // voxels, interpolated.
+                BlackbodyLaw::Cycles { tint } => {
+                    j += tint
+                        * b.temperature
+                            .eval_mapped(u, |v| table.eval(b.scale * v + b.offset));
+                }
             }
         }
         j

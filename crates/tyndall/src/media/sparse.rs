@@ -316,41 +316,39 @@ impl SparseGrid {
     /// point `g`.
     #[inline]
     pub fn eval_index(&self, g: Vec3) -> f32 {
+        self.interpolate_mapped(g, |v| v)
+    }
+
+    /// Trilinear interpolation between the voxels around index-space
+    /// point `g` of `map` of their values (background voxels: `map(0)`):
+    /// the mean of `map` at one voxel drawn with the trilinear weights,
+    /// which is what a renderer that interpolates stochastically (one
+    /// tap, as Cycles does) computes for a shader `map` of the grid.
+    #[inline]
+    pub fn interpolate_mapped<V: Interpolant>(&self, g: Vec3, map: impl Fn(f32) -> V) -> V {
         let base = g.floor();
         let f = g - base;
         let i = base.as_ivec3();
-        let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
-        let trilinear = |at: &dyn Fn(IVec3) -> f32| {
-            let plane = |dz: i32| {
-                let row = |dy: i32| {
-                    lerp(
-                        at(i + IVec3::new(0, dy, dz)),
-                        at(i + IVec3::new(1, dy, dz)),
-                        f.x,
-                    )
-                };
-                lerp(row(0), row(1), f.y)
-            };
-            lerp(plane(0), plane(1), f.z)
-        };
         // Most points have all eight neighbours in one brick: one lookup.
         if (i & (BRICK - 1)).cmplt(IVec3::splat(BRICK - 1)).all() {
             return match self.bricks.get(&(i >> BRICK_LOG2)) {
-                None => 0.0,
-                Some(Brick::Constant(c)) => *c,
+                None => map(0.0),
+                Some(Brick::Constant(c)) => map(*c),
                 Some(Brick::Voxels(slot)) => match &self.voxels {
                     BrickValues::Full(v) => {
                         let voxels = &v[*slot as usize];
-                        trilinear(&|j| voxels[Self::local(j)])
+                        trilinear(i, f, |j| map(voxels[Self::local(j)]))
                     }
                     BrickValues::Half(v) => {
                         let voxels = &v[*slot as usize];
-                        trilinear(&|j| f16::from_bits(voxels[Self::local(j)]).to_f32())
+                        trilinear(i, f, |j| {
+                            map(f16::from_bits(voxels[Self::local(j)]).to_f32())
+                        })
                     }
                 },
             };
         }
-        trilinear(&|j| self.value(j))
+        trilinear(i, f, |j| map(self.value(j)))
     }
 
     /// An upper bound of [`Self::eval_index`] over the index-space box
@@ -406,6 +404,40 @@ impl SparseGrid {
     }
 }
 
+/// A value trilinear interpolation can weigh: a density (`f32`) or a
+/// colour.
+pub trait Interpolant:
+    Copy
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<f32, Output = Self>
+{
+}
+
+impl<V> Interpolant for V where
+    V: Copy
+        + std::ops::Add<Output = V>
+        + std::ops::Sub<Output = V>
+        + std::ops::Mul<f32, Output = V>
+{
+}
+
+/// Trilinear interpolation at fraction `f` of the cell whose lowest corner
+/// is voxel `i`, the corners' values given by `at`.
+#[inline]
+fn trilinear<V: Interpolant>(i: IVec3, f: Vec3, at: impl Fn(IVec3) -> V) -> V {
+    let lerp = |a: V, b: V, t: f32| a + (b - a) * t;
+    let row = |dy: i32, dz: i32| {
+        lerp(
+            at(i + IVec3::new(0, dy, dz)),
+            at(i + IVec3::new(1, dy, dz)),
+            f.x,
+        )
+    };
+    let plane = |dz: i32| lerp(row(0, dz), row(1, dz), f.y);
+    lerp(plane(0), plane(1), f.z)
+}
+
 /// A sparse grid as a volume's density field: `unit_to_index` maps the
 /// volume's unit cube (its field box) into the grid's index space.
 #[derive(Clone, Debug, PartialEq)]
@@ -419,6 +451,13 @@ impl SparseDensity {
     #[inline]
     pub fn eval(&self, u: Vec3) -> f32 {
         self.grid.eval_index(self.unit_to_index.transform_point3(u))
+    }
+
+    /// [`SparseGrid::interpolate_mapped`] at `u` in the unit cube.
+    #[inline]
+    pub fn eval_mapped<V: Interpolant>(&self, u: Vec3, map: impl Fn(f32) -> V) -> V {
+        self.grid
+            .interpolate_mapped(self.unit_to_index.transform_point3(u), map)
     }
 
     /// An upper bound of the density over the unit-cube box `[lo, hi]`:
