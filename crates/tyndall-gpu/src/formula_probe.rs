@@ -2,9 +2,11 @@
 //! GPU for a list of inputs, so tests can compare them with the Rust
 //! functions they transcribe ("one formula, two languages", issue 14),
 //! and the scene-dependent light functions of `shaders/lights.wgsl` on
-//! lights as the march uploads them (issue 26).
+//! lights as the march uploads them, or in a whole scene as a
+//! [`GpuMarch`] binds it (issue 26).
 
 use crate::device::{Gpu, GpuError, compute_pipelines};
+use crate::march::GpuMarch;
 use crate::march::params::wgsl_prelude;
 use crate::readback::read_buffer;
 use crate::scene_buffers::{GpuLight, GpuLightTriangle};
@@ -218,6 +220,75 @@ pub fn evaluate_lights(
         layout: &pipeline.get_bind_group_layout(0),
         entries: &entries,
     });
+    run_probe(gpu, &pipeline, &bind_group, items.len(), &output, size)
+}
+
+/// A WGSL function of `lights.wgsl` that reads the whole scene — fog,
+/// geometry for shadow rays, lights — which [`evaluate_in_scene`] runs
+/// with a [`GpuMarch`]'s own bindings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SceneFormula {
+    /// `scattered_radiance(i, light, light_point_at(light, u), x, view)`:
+    /// input `[x.xyz, _], [view.xyz, _], [light, u.x, u.y, _]`; output
+    /// `[radiance.rgb, _]`, then `0`.
+    ScatteredRadiance,
+    /// `light_arriving(i, light, x, on_surface, normal, inc)` with `inc =
+    /// incident(light, x, light_point_at(light, u))`: input `[x.xyz,
+    /// on_surface (0 or 1)], [normal.xyz, _], [light, u.x, u.y, _]`;
+    /// output `[arriving.rgb, valid]` with valid 1 where `inc` is (0 and
+    /// no light otherwise), then `0`.
+    LightArriving,
+}
+
+impl SceneFormula {
+    fn entry_point(self) -> &'static str {
+        match self {
+            SceneFormula::ScatteredRadiance => "probe_scattered_radiance",
+            SceneFormula::LightArriving => "probe_light_arriving",
+        }
+    }
+}
+
+/// Runs `formula` on the GPU for each item (three input vec4s, the light's
+/// index the first number of the third) in the scene `march` has
+/// uploaded, bound as the march binds it, and returns two output vec4s
+/// per item.
+pub fn evaluate_in_scene(
+    gpu: &Gpu,
+    march: &GpuMarch,
+    formula: SceneFormula,
+    items: &[[[f32; 4]; 3]],
+) -> Result<Vec<[[f32; 4]; 2]>, GpuError> {
+    if items.is_empty() {
+        return Ok(Vec::new());
+    }
+    let device = &gpu.device;
+    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("probe inputs"),
+        contents: bytemuck::cast_slice(items),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let size = (items.len() * 32) as u64;
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("probe outputs"),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let (layout, bind_group) =
+        march.bindings_with(gpu, &[(20, &input, false), (21, &output, true)]);
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("scene probe"),
+        bind_group_layouts: &[Some(&layout)],
+        immediate_size: 0,
+    });
+    let [pipeline] = compute_pipelines(
+        gpu,
+        "scene probe",
+        &shaders::light_probe(&wgsl_prelude()),
+        Some(&pipeline_layout),
+        [formula.entry_point()],
+    )?;
     run_probe(gpu, &pipeline, &bind_group, items.len(), &output, size)
 }
 

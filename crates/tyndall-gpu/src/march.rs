@@ -210,7 +210,16 @@ fn pixel_buffers(gpu: &Gpu, width: u32, height: u32) -> [(usize, wgpu::Buffer); 
 }
 
 fn bind_group_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
+    bind_group_layout_with(gpu, &[])
+}
+
+/// The march's layout (bindings 0–14) and, after it, storage bindings
+/// `extra` (number, read-write).
+fn bind_group_layout_with(gpu: &Gpu, extra: &[(u32, bool)]) -> wgpu::BindGroupLayout {
+    let read_write =
+        |binding: u32| READ_WRITE_BINDINGS.contains(&binding) || extra.contains(&(binding, true));
     let entries: Vec<_> = (0..15u32)
+        .chain(extra.iter().map(|&(binding, _)| binding))
         .map(|binding| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -223,7 +232,7 @@ fn bind_group_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
             } else {
                 wgpu::BindingType::Buffer {
                     ty: wgpu::BufferBindingType::Storage {
-                        read_only: !READ_WRITE_BINDINGS.contains(&binding),
+                        read_only: !read_write(binding),
                     },
                     has_dynamic_offset: false,
                     min_binding_size: None,
@@ -438,6 +447,29 @@ impl GpuMarch {
         Ok(())
     }
 
+    /// A layout and bind group of the march's bindings and, after them,
+    /// the storage buffers `extra` (binding number, buffer, read-write):
+    /// for kernels appended to the march module
+    /// ([`crate::formula_probe::evaluate_in_scene`]).
+    pub(crate) fn bindings_with(
+        &self,
+        gpu: &Gpu,
+        extra: &[(u32, &wgpu::Buffer, bool)],
+    ) -> (wgpu::BindGroupLayout, wgpu::BindGroup) {
+        let kinds: Vec<_> = extra.iter().map(|&(b, _, rw)| (b, rw)).collect();
+        let buffers: Vec<_> = extra.iter().map(|&(b, buffer, _)| (b, buffer)).collect();
+        let layout = bind_group_layout_with(gpu, &kinds);
+        let group = make_bind_group_with(
+            gpu,
+            &layout,
+            &self.params_buffer,
+            &self.buffers,
+            &self.layers,
+            &buffers,
+        );
+        (layout, group)
+    }
+
     fn dispatch(&self, gpu: &Gpu, pipeline: &wgpu::ComputePipeline, groups: (u32, u32, u32)) {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         {
@@ -593,14 +625,29 @@ fn make_bind_group(
     buffers: &[wgpu::Buffer],
     layers: &wgpu::Buffer,
 ) -> wgpu::BindGroup {
+    make_bind_group_with(gpu, layout, params, buffers, layers, &[])
+}
+
+/// [`make_bind_group`] with the buffers `extra` (binding number, buffer)
+/// after it.
+fn make_bind_group_with(
+    gpu: &Gpu,
+    layout: &wgpu::BindGroupLayout,
+    params: &wgpu::Buffer,
+    buffers: &[wgpu::Buffer],
+    layers: &wgpu::Buffer,
+    extra: &[(u32, &wgpu::Buffer)],
+) -> wgpu::BindGroup {
     let all = std::iter::once(params)
         .chain(&buffers[..8])
         .chain(std::iter::once(layers))
         .chain(&buffers[8..]);
     let entries: Vec<_> = all
         .enumerate()
-        .map(|(i, b)| wgpu::BindGroupEntry {
-            binding: i as u32,
+        .map(|(i, b)| (i as u32, b))
+        .chain(extra.iter().copied())
+        .map(|(binding, b)| wgpu::BindGroupEntry {
+            binding,
             resource: b.as_entire_binding(),
         })
         .collect();

@@ -74,6 +74,7 @@ pub mod ray_march {
 #[doc(hidden)]
 pub mod testing {
     pub use crate::integrators::light_tracer::{self, LightPaths, has_caustics};
+    pub use crate::integrators::lighting::twins;
     pub use crate::integrators::march::interleaved_stratum;
     pub use crate::integrators::{Integrator, LightSubpaths, PixelPosition};
     pub use crate::sampler::{PixelSampler, RandomStream};

@@ -58,3 +58,42 @@ fn probe_sample_incident(@builtin(global_invocation_id) id: vec3<u32>) {
     probe_outputs[2u * i] = vec4<f32>(inc.direction, inc.distance);
     probe_outputs[2u * i + 1u] = vec4<f32>(inc.irradiance, select(0.0, 1.0, inc.valid));
 }
+
+// Bound with the march's own bindings (formula_probe::evaluate_in_scene).
+// in0 = (x.xyz, _), in1 = (view.xyz, _), in2 = (light index, u.x, u.y)
+// → out0 = scattered_radiance(i, light, light_point_at(light, u), x, view)
+@compute @workgroup_size(64)
+fn probe_scattered_radiance(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= probe_count() { return; }
+    let a = probe_inputs[3u * i];
+    let b = probe_inputs[3u * i + 1u];
+    let c = probe_inputs[3u * i + 2u];
+    let index = u32(c.x);
+    let light = lights[index];
+    let radiance = scattered_radiance(index, light, light_point_at(light, c.yz), a.xyz, b.xyz);
+    probe_outputs[2u * i] = vec4<f32>(radiance, 0.0);
+    probe_outputs[2u * i + 1u] = vec4<f32>(0.0);
+}
+
+// in0 = (x.xyz, on_surface 0 or 1), in1 = (normal.xyz, _), in2 = (light
+// index, u.x, u.y) → inc = incident(light, x, light_point_at(light, u));
+// out0 = (light_arriving(i, light, x, on_surface, normal, inc), 1) where
+// inc is valid, else 0
+@compute @workgroup_size(64)
+fn probe_light_arriving(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= probe_count() { return; }
+    let a = probe_inputs[3u * i];
+    let b = probe_inputs[3u * i + 1u];
+    let c = probe_inputs[3u * i + 2u];
+    let index = u32(c.x);
+    let light = lights[index];
+    let inc = incident(light, a.xyz, light_point_at(light, c.yz));
+    var out0 = vec4<f32>(0.0);
+    if inc.valid {
+        out0 = vec4<f32>(light_arriving(index, light, a.xyz, a.w != 0.0, b.xyz, inc), 1.0);
+    }
+    probe_outputs[2u * i] = out0;
+    probe_outputs[2u * i + 1u] = vec4<f32>(0.0);
+}

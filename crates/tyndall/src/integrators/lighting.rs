@@ -227,3 +227,65 @@ pub(crate) fn lambert_direct_lighting(
     }
     sum * surface.diffuse_brdf()
 }
+
+/// [`scattered_radiance`] and [`light_arriving`] with their scratch made
+/// here, for the tests that check their WGSL twins (`lights.wgsl` of
+/// crate `tyndall-gpu`) against them.
+pub mod twins {
+    use super::*;
+    use crate::sampler::RandomStream;
+
+    fn tracker() -> VolumeTracker {
+        VolumeTracker::new(RandomStream::new(0))
+    }
+
+    /// [`scattered_radiance`] at fog point `x` of a ray along unit `view`
+    /// from light `index` via its point `y`, in `scene`'s fog (none: 0).
+    pub fn scattered_radiance(
+        scene: &Scene,
+        visibility: &Visibility,
+        index: usize,
+        y: Option<LightPoint>,
+        x: Vec3,
+        view: Vec3,
+    ) -> Rgb {
+        let Some(fog) = scene.fog() else {
+            return Rgb::ZERO;
+        };
+        let medium = MediumQuery {
+            scene,
+            visibility,
+            fog,
+            ray: Ray {
+                origin: x - view,
+                direction: view,
+            },
+            t_hit: 1.0,
+        };
+        let mut counts = RayCounts::default();
+        super::scattered_radiance(&medium, index, y, x, &mut counts, &mut tracker())
+    }
+
+    /// [`light_arriving`] at `x` (on a surface of unit `normal`, or in
+    /// fog) from light `index` as `incident`.
+    pub fn light_arriving(
+        scene: &Scene,
+        visibility: &Visibility,
+        index: usize,
+        x: Vec3,
+        normal: Option<Vec3>,
+        incident: &Incident,
+    ) -> Rgb {
+        let mut counts = RayCounts::default();
+        super::light_arriving(
+            scene,
+            visibility,
+            index,
+            x,
+            normal,
+            incident,
+            &mut counts,
+            &mut tracker(),
+        )
+    }
+}

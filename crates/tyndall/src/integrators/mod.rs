@@ -25,7 +25,7 @@
 mod camera_path;
 pub mod integrator;
 pub mod light_tracer;
-mod lighting;
+pub(crate) mod lighting;
 pub mod march;
 mod scatterer;
 pub mod single;

@@ -1,0 +1,413 @@
+//! One formula, two languages for the in-scattering of `shaders/lights.wgsl`
+//! (issue 26): `scattered_radiance` (the paper's eq. 1, σs·p(θ)·E·V·
+//! Tr_glass·T_fog) and `light_arriving` (E·V·Tr_glass·T_fog) run by compute
+//! kernels appended to the march module, bound as the march binds a whole
+//! scene (`formula_probe::evaluate_in_scene`), against their Rust twins
+//! `tyndall::integrators::lighting::{scattered_radiance, light_arriving}`
+//! (through `tyndall::testing::twins`), in a fog box lit by every kind of
+//! light, with a glass pane and an opaque card in the way of some of them.
+//!
+//! Tolerances: the result is a product of factors, so its relative error
+//! is the sum of theirs, each bounded from f32 rounding (ε = 2⁻²³) on each
+//! side and from its sensitivity to the inputs' rounding, computed in f64
+//! from the case; `incident` itself is checked alone by tests/lights.rs.
+//! Cases where the two sides may legitimately disagree outright — a
+//! receiver within rounding of a spot's cone, of an emitter's plane, or a
+//! shadow ray within rounding of an occluder's edge — are left out, by a
+//! criterion computed here, and the test asserts that most cases remain.
+
+mod support;
+
+use glam::{DVec3, Vec2, Vec3};
+use tyndall::Scene;
+use tyndall::lights::Light;
+use tyndall::settings::VisibilityMode;
+use tyndall::testing::{Visibility, twins};
+use tyndall::{RenderSettings, SceneDesc};
+use tyndall_gpu::formula_probe::{SceneFormula, evaluate_in_scene};
+use tyndall_gpu::{GpuMarch, MarchSettings};
+
+const EPS: f64 = f32::EPSILON as f64;
+
+/// The scene: fog σt 0.35 in a box, g 0.4; a point light, spots of the
+/// three profiles, a quad light and a sun; a glass pane (filter model)
+/// and an opaque card below the lights.
+const SCENE: &str = r#"
+[camera]
+position = [0, 0, 9]
+look_at = [0, 0, 0]
+fov_y_deg = 40
+
+[render]
+width = 4
+height = 4
+integrator = "single"
+
+[fog]
+sigma_t = 0.35
+albedo = [0.9, 0.7, 0.5]
+g = 0.4
+box = { min = [-4, -4, -4], max = [4, 4, 4] }
+
+[materials.pane]
+type = "glass"
+color = [0.9, 0.3, 0.2]
+alpha = 0.8
+
+[materials.card]
+type = "diffuse"
+reflectance = 0.5
+
+[[shapes]]
+type = "quad"
+corners = [[-1.5, 1.0, -1.5], [-1.5, 1.0, 0.5], [0.5, 1.0, 0.5], [0.5, 1.0, -1.5]]
+material = "pane"
+
+[[shapes]]
+type = "quad"
+corners = [[0.8, 0.6, 0.2], [0.8, 0.6, 1.8], [2.2, 0.6, 1.8], [2.2, 0.6, 0.2]]
+material = "card"
+
+[[lights]]
+type = "point"
+position = [0.3, 2.5, -0.2]
+intensity = [3.0, 2.0, 1.5]
+
+[[lights]]
+type = "spot"
+position = [-1.0, 3.0, 0.5]
+direction = [0.2, -1.0, 0.1]
+cutoff_deg = 35.0
+profile = "linear"
+intensity = [4.0, 4.0, 3.0]
+
+[[lights]]
+type = "spot"
+position = [1.5, 2.8, -1.0]
+direction = [-0.3, -1.0, 0.2]
+cutoff_deg = 40.0
+inner_deg = 20.0
+profile = "smooth"
+intensity = [2.0, 3.0, 4.0]
+
+[[lights]]
+type = "spot"
+position = [0.0, 3.2, 1.5]
+direction = [0.0, -1.0, -0.3]
+cutoff_deg = 25.0
+profile = "hard"
+intensity = 5.0
+
+[[lights]]
+type = "quad"
+corners = [[-0.5, 3.5, -0.5], [0.5, 3.5, -0.5], [0.5, 3.5, 0.5], [-0.5, 3.5, 0.5]]
+radiance = [1.5, 1.2, 1.0]
+
+[[lights]]
+type = "directional"
+direction = [0.3, -1.0, 0.2]
+irradiance = [0.8, 0.8, 0.7]
+"#;
+
+/// A deterministic spread of numbers in [0, 1): the golden-ratio sequence.
+fn spread(i: usize) -> f32 {
+    (i as f64 * 0.618_033_988_749_895).fract() as f32
+}
+
+fn d(v: Vec3) -> DVec3 {
+    v.as_dvec3()
+}
+
+struct Fixture {
+    gpu: tyndall_gpu::Gpu,
+    scene: Scene,
+    march: GpuMarch,
+    visibility: Visibility,
+}
+
+fn fixture(test: &str) -> Option<Fixture> {
+    let gpu = support::gpu_or_skip(test)?;
+    let dir = std::env::temp_dir().join(format!("tyndall-scattering-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, SCENE).expect("write scene");
+    let desc: SceneDesc = tyndall_load::load(&path, Default::default()).expect("scene loads");
+    let scene = Scene::build(&desc).expect("scene builds");
+    let settings = RenderSettings {
+        visibility: VisibilityMode::ShadowRays,
+        ..desc.settings
+    };
+    let march = GpuMarch::new(&gpu, &scene, &MarchSettings::from(&settings)).expect("upload");
+    let visibility = Visibility::new(&scene, VisibilityMode::ShadowRays);
+    Some(Fixture {
+        gpu,
+        scene,
+        march,
+        visibility,
+    })
+}
+
+/// Receivers spread over the fog box, with the light's sample numbers.
+fn cases(lights: usize, per_light: usize) -> Vec<(usize, Vec3, Vec2, usize)> {
+    let mut out = Vec::new();
+    for l in 0..lights {
+        for i in 0..per_light {
+            let x = Vec3::new(
+                7.0 * spread(3 * i) - 3.5,
+                6.0 * spread(3 * i + 1) - 3.5,
+                7.0 * spread(3 * i + 2) - 3.5,
+            );
+            let u = Vec2::new(spread(5 * i + 7 * l + 1), spread(11 * i + 3 * l + 2));
+            out.push((l, x, u, i));
+        }
+    }
+    out
+}
+
+/// Whether the segment from `x` over `distance` along `direction` passes
+/// within `margin` (relative to a quad's size) of the edge of one of the
+/// scene's quads, or `x` lies within `margin` of their planes: cases
+/// where rounding may decide visibility.
+fn near_an_occluder_edge(x: Vec3, direction: Vec3, distance: f32, margin: f64) -> bool {
+    // (corner, edge a, edge b) of the pane, the card and the quad light
+    // (a shape too, opaque to the shadow rays of the others).
+    let quads = [
+        (
+            DVec3::new(-1.5, 1.0, -1.5),
+            DVec3::new(0.0, 0.0, 2.0),
+            DVec3::new(2.0, 0.0, 0.0),
+        ),
+        (
+            DVec3::new(0.8, 0.6, 0.2),
+            DVec3::new(0.0, 0.0, 1.6),
+            DVec3::new(1.4, 0.0, 0.0),
+        ),
+        (
+            DVec3::new(-0.5, 3.5, -0.5),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(0.0, 0.0, 1.0),
+        ),
+    ];
+    let (o, w) = (d(x), d(direction));
+    for (corner, a, b) in quads {
+        let plane_y = corner.y;
+        if (o.y - plane_y).abs() < margin {
+            return true;
+        }
+        if w.y.abs() < 1e-12 {
+            continue;
+        }
+        let t = (plane_y - o.y) / w.y;
+        if t <= 0.0 || t >= f64::from(distance) {
+            continue;
+        }
+        let p = o + w * t - corner;
+        let (s, r) = (p.dot(a) / a.length_squared(), p.dot(b) / b.length_squared());
+        let inside = |v: f64| (-margin..=1.0 + margin).contains(&v);
+        let clear = |v: f64| (margin..=1.0 - margin).contains(&v);
+        if inside(s) && inside(r) && !(clear(s) && clear(r)) {
+            return true;
+        }
+    }
+    false
+}
+
+/// The relative error bound of the light's irradiance `E` at `x` from
+/// its point `y`, or `None` where the two sides may disagree about any
+/// light at all (a spot's edge, an emitter's plane): E = I·f(cos)/d² or
+/// L·A·cos_y/d². The direction's rounding is δ = 16ε(|x| + |y|)/d; a
+/// spot's profile moves by |f'|·δ (f' by a difference quotient over δ);
+/// the squares, divisions and products add 16ε.
+fn irradiance_tolerance(light: &Light, x: Vec3, y: Vec3) -> Option<f64> {
+    let dist = d(y - x).length();
+    let delta = 16.0 * EPS * (d(x).length() + d(y).length()) / dist + 8.0 * EPS;
+    let profile = match light {
+        Light::Spot(s) => {
+            let c = -d((y - x).normalize()).dot(d(s.direction));
+            if (c - f64::from(s.cos_cutoff)).abs() < 1e-3 {
+                return None;
+            }
+            let f = f64::from(s.falloff(c as f32));
+            let (lo, hi) = (
+                f64::from(s.falloff((c - delta) as f32)),
+                f64::from(s.falloff((c + delta) as f32)),
+            );
+            if f == 0.0 {
+                return None;
+            }
+            ((hi - f).abs().max((lo - f).abs()) + 8.0 * EPS * f) / f
+        }
+        Light::Quad(q) => {
+            let cos_y = -d(q.quad.normal).dot(d(y - x)) / dist;
+            if cos_y.abs() < 1e-2 {
+                return None;
+            }
+            delta / cos_y.abs()
+        }
+        _ => 0.0,
+    };
+    Some(profile + 2.0 * delta + 16.0 * EPS)
+}
+
+/// Compares one GPU output with its Rust twin, channel by channel, to the
+/// relative tolerance `tolerance` (plus 10⁻³⁰ absolute for zeros).
+fn assert_close(what: &str, gpu: Vec3, rust: Vec3, tolerance: f64) {
+    for c in 0..3 {
+        let (g, r) = (f64::from(gpu[c]), f64::from(rust[c]));
+        assert!(
+            (g - r).abs() <= tolerance * r.abs() + 1e-30,
+            "{what}, channel {c}: GPU {gpu} vs Rust {rust} (relative tolerance {tolerance:.2e})"
+        );
+    }
+}
+
+/// The rest of the product, relative, for a receiver `x` and a light
+/// `dist` away: fog transmittance exp(−σt·s) over the fogged length s ≤
+/// min(d, the box's diagonal) (WGSL's exp within 3 + 2σt·s ULP; s clipped
+/// by the box's slabs, rounded by 16ε of |x| + the box's size 8 + s,
+/// times σt), the glass tints (4ε a pane, two panes at most), and the
+/// products (8ε).
+fn transport_tolerance(sigma_t: f64, x: Vec3, dist: f64) -> f64 {
+    let fogged = dist.min(8.0 * 3f64.sqrt());
+    let optical = sigma_t * fogged;
+    let clipping = sigma_t * 16.0 * EPS * (d(x).length() + 8.0 + fogged);
+    (4.0 + 4.0 * optical) * EPS + clipping + 8.0 * EPS + 8.0 * EPS
+}
+
+#[test]
+fn light_arriving_matches_rust() {
+    let Some(f) = fixture("light_arriving_matches_rust") else {
+        return;
+    };
+    let lights = f.scene.lights();
+    let all = cases(lights.len(), 800);
+    let mut items = Vec::new();
+    for &(l, x, u, i) in &all {
+        // Every third receiver is on a surface whose normal faces up or
+        // down, the shadow ray then leaving just off it.
+        let (on_surface, normal) = match i % 3 {
+            0 => (1.0, Vec3::Y),
+            1 => (1.0, -Vec3::Y),
+            _ => (0.0, Vec3::ZERO),
+        };
+        items.push([
+            [x.x, x.y, x.z, on_surface],
+            [normal.x, normal.y, normal.z, 0.0],
+            [l as f32, u.x, u.y, 0.0],
+        ]);
+    }
+    let out = evaluate_in_scene(&f.gpu, &f.march, SceneFormula::LightArriving, &items)
+        .expect("GPU evaluation");
+    let sigma_t = f64::from(f.scene.fog().expect("fog").sigma_t);
+    let mut compared = vec![0usize; lights.len()];
+    let mut lit = vec![0usize; lights.len()];
+    for ((&(l, x, u, _), item), o) in all.iter().zip(&items).zip(&out) {
+        let light = &lights[l];
+        let y = light.sample_point(u);
+        let Some(inc) = light.incident(x, y) else {
+            continue;
+        };
+        let point = y.map_or(x + inc.direction, |p| p.position);
+        let Some(irradiance) = irradiance_tolerance(light, x, point) else {
+            continue;
+        };
+        if near_an_occluder_edge(x, inc.direction, inc.distance, 1e-4) {
+            continue;
+        }
+        let normal = (item[0][3] == 1.0).then(|| Vec3::new(item[1][0], item[1][1], item[1][2]));
+        let rust = twins::light_arriving(&f.scene, &f.visibility, l, x, normal, &inc);
+        let gpu = Vec3::new(o[0][0], o[0][1], o[0][2]);
+        assert_eq!(
+            o[0][3], 1.0,
+            "light #{l} at {x}: the GPU's incident is invalid"
+        );
+        let dist = f64::from(inc.distance).min(1e6);
+        let tolerance = 2.0 * (irradiance + transport_tolerance(sigma_t, x, dist));
+        assert_close(
+            &format!("light #{l} {light:?}, x = {x}, normal {normal:?}, u = {u}"),
+            gpu,
+            rust,
+            tolerance,
+        );
+        compared[l] += 1;
+        lit[l] += usize::from(rust != Vec3::ZERO);
+    }
+    for l in 0..lights.len() {
+        assert!(
+            compared[l] > 150 && lit[l] > 50,
+            "light #{l}: {} compared, {} lit",
+            compared[l],
+            lit[l]
+        );
+    }
+}
+
+#[test]
+fn scattered_radiance_matches_rust() {
+    let Some(f) = fixture("scattered_radiance_matches_rust") else {
+        return;
+    };
+    let lights = f.scene.lights();
+    let fog = f.scene.fog().expect("fog");
+    let all = cases(lights.len(), 800);
+    let mut items = Vec::new();
+    let mut views = Vec::new();
+    for &(l, x, u, i) in &all {
+        let view = Vec3::new(
+            spread(7 * i + 1) - 0.5,
+            spread(7 * i + 2) - 0.5,
+            spread(7 * i + 3) - 0.5,
+        )
+        .normalize_or(Vec3::Z);
+        views.push(view);
+        items.push([
+            [x.x, x.y, x.z, 0.0],
+            [view.x, view.y, view.z, 0.0],
+            [l as f32, u.x, u.y, 0.0],
+        ]);
+    }
+    let out = evaluate_in_scene(&f.gpu, &f.march, SceneFormula::ScatteredRadiance, &items)
+        .expect("GPU evaluation");
+    let sigma_t = f64::from(fog.sigma_t);
+    let mut compared = vec![0usize; lights.len()];
+    for ((&(l, x, u, _), view), o) in all.iter().zip(&views).zip(&out) {
+        let light = &lights[l];
+        let y = light.sample_point(u);
+        let Some(inc) = light.incident(x, y) else {
+            continue;
+        };
+        let point = y.map_or(x + inc.direction, |p| p.position);
+        let Some(irradiance) = irradiance_tolerance(light, x, point) else {
+            continue;
+        };
+        if near_an_occluder_edge(x, inc.direction, inc.distance, 1e-4) {
+            continue;
+        }
+        let rust = twins::scattered_radiance(&f.scene, &f.visibility, l, y, x, *view);
+        let gpu = Vec3::new(o[0][0], o[0][1], o[0][2]);
+        // The phase function p(cos θ) at cos θ = ω·view: its own rounding
+        // (tests/formulas.rs, 2(4.5ε·S/D + 10ε)) and its change over the
+        // direction's rounding δ, |p'|·δ/p with p'/p = 3g/D.
+        let g = 0.4f64;
+        let cos = d(inc.direction).dot(d(*view));
+        let denom = 1.0 + g * g - 2.0 * g * cos;
+        let size = 1.0 + g * g + 2.0 * (g * cos).abs();
+        let delta = 16.0 * EPS * (d(x).length() + d(point).length())
+            / d(point - x).length().max(1.0)
+            + 8.0 * EPS;
+        let phase = 2.0 * (4.5 * EPS * size / denom + 10.0 * EPS) + 3.0 * g * delta / denom;
+        let dist = f64::from(inc.distance).min(1e6);
+        let tolerance =
+            2.0 * (irradiance + transport_tolerance(sigma_t, x, dist)) + phase + 8.0 * EPS;
+        assert_close(
+            &format!("light #{l} {light:?}, x = {x}, view {view}, u = {u}"),
+            gpu,
+            rust,
+            tolerance,
+        );
+        compared[l] += 1;
+    }
+    for (l, n) in compared.iter().enumerate() {
+        assert!(*n > 150, "light #{l}: {n} compared");
+    }
+}
