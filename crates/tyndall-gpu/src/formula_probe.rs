@@ -28,6 +28,9 @@ pub enum Formula {
     GlassTint,
     /// `transmittance(σt, d)`: input `[σt, d, _, _], _`; output `x`.
     Transmittance,
+    /// `single_sample(f, T, n, p_e, p_d)`: input `[f.rgb, T], [n, p_e,
+    /// p_d, _]`; output `rgb`.
+    SingleSample,
     /// `equiangular_new` on the ray from the origin along +x, then
     /// `equiangular_sample` and `equiangular_pdf`: input
     /// `[y.xyz, u], [a, b, t, _]`; output `[sample(u), pdf(sample(u)),
@@ -55,6 +58,7 @@ impl Formula {
             Formula::SpotFalloff => "probe_spot",
             Formula::GlassTint => "probe_glass",
             Formula::Transmittance => "probe_transmittance",
+            Formula::SingleSample => "probe_single_sample",
             Formula::Equiangular => "probe_equiangular",
             Formula::Exponential => "probe_exponential",
             Formula::UniformCone => "probe_uniform_cone",

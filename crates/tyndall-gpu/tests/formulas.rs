@@ -18,6 +18,7 @@ use tyndall::phase::PhaseFunction;
 use tyndall::ray::Ray;
 use tyndall::sampling::{EquiangularSampler, ExponentialSampler, uniform_cone, uniform_cone_pdf};
 use tyndall::shapes::Quad;
+use tyndall::testing::single_sample;
 use tyndall_gpu::formula_probe::{Formula, evaluate};
 
 const EPS: f32 = f32::EPSILON;
@@ -159,6 +160,52 @@ fn glass_tint_matches_rust_under_both_models() {
         seen[(*model == GlassModel::Blend) as usize] = true;
     }
     assert_eq!(seen, [true, true]);
+}
+
+/// Single scattering's per-sample balance-heuristic term against
+/// `tyndall::integrators::single::single_sample` (as `tyndall::testing::single_sample`), over densities and
+/// sample counts from sparse to dense: a product n·p_e (which WGSL may
+/// fuse with the sum), a sum, a division (2.5 ULP in WGSL) and a product,
+/// each within 1 ULP in Rust: 8ε relative in all, both sides.
+#[test]
+fn single_sample_matches_rust() {
+    let Some(gpu) = support::gpu_or_skip("single_sample_matches_rust") else {
+        return;
+    };
+    let mut items = Vec::new();
+    for i in 0..4000 {
+        let f = Vec3::new(
+            spread(5 * i),
+            2.0 * spread(5 * i + 1),
+            0.1 * spread(5 * i + 2),
+        );
+        let camera = spread(5 * i + 3);
+        let n = [1.0, 8.0, 64.0][i % 3];
+        // Densities from 10⁻³ to 10³ per unit length; p_e is 0 where a
+        // light has no equiangular sampler.
+        let scale = |s: f32| 10f32.powf(6.0 * s - 3.0);
+        let pdf_e = if i % 7 == 0 {
+            0.0
+        } else {
+            scale(spread(5 * i + 4))
+        };
+        let pdf_d = scale(spread(3 * i + 11));
+        items.push([[f.x, f.y, f.z, camera], [n, pdf_e, pdf_d, 0.0]]);
+    }
+    let out = evaluate(&gpu, Formula::SingleSample, &items).expect("GPU evaluation");
+    for (item, o) in items.iter().zip(&out) {
+        let [a, b] = *item;
+        let rust = single_sample(Vec3::new(a[0], a[1], a[2]), a[3], b[0], b[1], b[2]);
+        for c in 0..3 {
+            let tolerance = 8.0 * EPS * rust[c];
+            assert!(
+                (o[c] - rust[c]).abs() <= tolerance,
+                "{item:?}, channel {c}: GPU {} vs Rust {}",
+                o[c],
+                rust[c]
+            );
+        }
+    }
 }
 
 #[test]

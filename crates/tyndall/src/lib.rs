@@ -76,6 +76,7 @@ pub mod testing {
     pub use crate::integrators::light_tracer::{self, LightPaths, has_caustics};
     pub use crate::integrators::lighting::twins;
     pub use crate::integrators::march::interleaved_stratum;
+    pub use crate::integrators::single::single_sample;
     pub use crate::integrators::{Integrator, LightSubpaths, PixelPosition};
     pub use crate::sampler::{PixelSampler, RandomStream};
     pub use crate::shadow_maps::{MapScene, ShadowMaps};

@@ -46,6 +46,16 @@ fn probe_transmittance(@builtin(global_invocation_id) id: vec3<u32>) {
     outputs[i] = vec4<f32>(transmittance(a.x, a.y), 0.0, 0.0, 0.0);
 }
 
+// in0 = (f.rgb, T), in1 = (n, p_e, p_d) → out.rgb = single_sample
+@compute @workgroup_size(64)
+fn probe_single_sample(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= item_count() { return; }
+    let a = inputs[2u * i];
+    let b = inputs[2u * i + 1u];
+    outputs[i] = vec4<f32>(single_sample(a.xyz, a.w, b.x, b.y, b.z), 0.0);
+}
+
 // in0 = (y.xyz, u), in1 = (a, b, t) on the ray from 0 along +x →
 // out = (sample(u), pdf(sample(u)), pdf(t), valid)
 @compute @workgroup_size(64)

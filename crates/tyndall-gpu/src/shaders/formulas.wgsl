@@ -73,6 +73,15 @@ fn transmittance(sigma_t: f32, distance: f32) -> f32 {
     return exp(-sigma_t * distance);
 }
 
+// One sample's term of single scattering's multi-sample balance
+// heuristic, f·T/(n·p_e + p_d): f eq. 1 at the sample, T the camera-side
+// transmittance to it, n equiangular samples of density p_e and the
+// distance sample's density p_d there
+// (tyndall::integrators::single::single_sample).
+fn single_sample(f: vec3<f32>, camera_transmittance: f32, n: f32, pdf_e: f32, pdf_d: f32) -> vec3<f32> {
+    return f * (camera_transmittance / (n * pdf_e + pdf_d));
+}
+
 // ---- sampling distances along a ray (tyndall::sampling) ----
 
 // 1 − e^{−x} for x ≥ 0 (−expm1(−x)), accurate for small x where

@@ -71,15 +71,16 @@ fn single_in_scattered(ray: Ray, t_hit: f32, stratum: u32, strata: u32) -> vec3<
                 let t = equiangular_sample(equiangular, (f32(k) + u_equiangular) / n);
                 let f = scattered_radiance(i, light, y, ray_at(ray, t), ray.direction);
                 if any(f != vec3<f32>(0.0)) {
-                    let weight = n * equiangular_pdf(equiangular, t) + exponential_pdf(distance, t);
-                    sum += f * (transmittance(sigma_t(), t - a) / weight);
+                    let pdf_e = equiangular_pdf(equiangular, t);
+                    let camera = transmittance(sigma_t(), t - a);
+                    sum += single_sample(f, camera, n, pdf_e, exponential_pdf(distance, t));
                 }
             }
         }
         let f = scattered_radiance(i, light, y, x_d, ray.direction);
         if any(f != vec3<f32>(0.0)) {
-            let weight = pdf_d + n * equiangular_pdf(equiangular, t_d);
-            sum += f * (transmittance(sigma_t(), t_d - a) / weight);
+            let pdf_e = equiangular_pdf(equiangular, t_d);
+            sum += single_sample(f, transmittance(sigma_t(), t_d - a), n, pdf_e, pdf_d);
         }
     }
     return sum;

@@ -84,7 +84,7 @@ pub fn rgb(kelvin: f64) -> Rgb {
 }
 
 /// Below this temperature [`unit_luminance_rgb`] keeps the colour it has
-/// here, K: the light is negligible there (Planck's Y at 800 K is 10⁻⁸
+/// here, K: the light is negligible there (Planck's Y at 800 K is 10⁻⁶
 /// of 1500 K's), and the ratio of two vanishing integrals is not worth
 /// computing.
 pub const UNIT_LUMINANCE_FLOOR_K: f64 = 800.0;

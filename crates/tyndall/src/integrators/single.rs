@@ -38,6 +38,16 @@ pub struct Single<'a> {
     pub(crate) visibility: &'a Visibility,
 }
 
+/// One sample's term of the multi-sample balance heuristic above:
+/// `f·T/(n·p_e + p_d)`, with `f` eq. 1 at the sample, `T` the camera-side
+/// transmittance to it, `n` equiangular samples of density `p_e` and the
+/// distance sample's density `p_d` there. The WGSL twin is
+/// `single_sample` of the GPU crate's `formulas.wgsl`.
+#[inline]
+pub fn single_sample(f: Rgb, camera_transmittance: f32, n: f32, pdf_e: f32, pdf_d: f32) -> Rgb {
+    f * (camera_transmittance / (n * pdf_e + pdf_d))
+}
+
 /// In-scattered radiance along the query's ray over `(0, t_hit)`,
 /// relative to the radiance at the ray origin (one sample).
 pub(crate) fn in_scattered(
@@ -75,14 +85,14 @@ pub(crate) fn in_scattered(
                 let (t, pdf_e) = eq.sample((k as f32 + u_equiangular) / n);
                 let f = scattered_radiance(medium, index, y, ray.at(t), counts, tracker);
                 if f != Rgb::ZERO {
-                    sum += f * (camera_t(t) / (n * pdf_e + distance.pdf(t)));
+                    sum += single_sample(f, camera_t(t), n, pdf_e, distance.pdf(t));
                 }
             }
         }
         let pdf_e = equiangular.map_or(0.0, |eq| eq.pdf(t_d));
         let f = scattered_radiance(medium, index, y, x_d, counts, tracker);
         if f != Rgb::ZERO {
-            sum += f * (camera_t(t_d) / (pdf_d + n * pdf_e));
+            sum += single_sample(f, camera_t(t_d), n, pdf_e, pdf_d);
         }
     }
     sum
