@@ -578,7 +578,10 @@ mod tests {
         // 1 KiB of halves, the brick's maximum, and whole map buckets.
         let map = half.storage_bytes() - (BRICK_VOXELS * 2 + 4);
         let entry = std::mem::size_of::<(IVec3, Brick)>() + 1;
-        assert!(map >= entry && map % entry == 0, "{map} bytes of map");
+        assert!(
+            map >= entry && map.is_multiple_of(entry),
+            "{map} bytes of map"
+        );
     }
 
     #[test]
