@@ -129,7 +129,8 @@ fn fixture(test: &str) -> Option<Fixture> {
     let gpu = support::gpu_or_skip(test)?;
     let dir = std::env::temp_dir().join(format!("tyndall-scattering-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
-    let path = dir.join("scene.toml");
+    // One file per test: the tests run in parallel threads.
+    let path = dir.join(format!("{test}.toml"));
     std::fs::write(&path, SCENE).expect("write scene");
     let desc: SceneDesc = tyndall_load::load(&path, Default::default()).expect("scene loads");
     let scene = Scene::build(&desc).expect("scene builds");
