@@ -85,18 +85,9 @@ pub fn evaluate(
         None,
         [formula.entry_point()],
     )?;
-    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("probe inputs"),
-        contents: bytemuck::cast_slice(items),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
+    let input = probe_input(gpu, bytemuck::cast_slice(items));
     let size = (items.len() * 16) as u64;
-    let output = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("probe outputs"),
-        size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
+    let output = probe_output(gpu, size);
     let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,
         layout: &pipeline.get_bind_group_layout(0),
@@ -189,14 +180,9 @@ pub fn evaluate_lights(
             triangles
         }),
     );
-    let input = init("probe inputs", bytemuck::cast_slice(items));
+    let input = probe_input(gpu, bytemuck::cast_slice(items));
     let size = (items.len() * 32) as u64;
-    let output = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("probe outputs"),
-        size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
+    let output = probe_output(gpu, size);
     let mut entries = vec![
         wgpu::BindGroupEntry {
             binding: 3,
@@ -267,18 +253,9 @@ pub fn evaluate_in_scene(
         return Ok(Vec::new());
     }
     let device = &gpu.device;
-    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("probe inputs"),
-        contents: bytemuck::cast_slice(items),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
+    let input = probe_input(gpu, bytemuck::cast_slice(items));
     let size = (items.len() * 32) as u64;
-    let output = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("probe outputs"),
-        size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
+    let output = probe_output(gpu, size);
     let (layout, bind_group) =
         march.bindings_with(gpu, &[(20, &input, false), (21, &output, true)]);
     let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -294,6 +271,26 @@ pub fn evaluate_in_scene(
         [formula.entry_point()],
     )?;
     run_probe(gpu, &pipeline, &bind_group, items.len(), &output, size)
+}
+
+/// A probe's input buffer holding `bytes`.
+fn probe_input(gpu: &Gpu, bytes: &[u8]) -> wgpu::Buffer {
+    gpu.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("probe inputs"),
+            contents: bytes,
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+}
+
+/// A probe's output buffer of `size` bytes, to be read back.
+fn probe_output(gpu: &Gpu, size: u64) -> wgpu::Buffer {
+    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("probe outputs"),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
 }
 
 /// Runs a probe kernel over `count` cases (workgroups of 64) and reads

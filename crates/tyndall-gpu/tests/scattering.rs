@@ -20,7 +20,7 @@ mod support;
 
 use glam::{DVec3, Vec2, Vec3};
 use tyndall::Scene;
-use tyndall::lights::Light;
+use tyndall::lights::{Incident, Light, LightPoint};
 use tyndall::settings::VisibilityMode;
 use tyndall::testing::{Visibility, twins};
 use tyndall::{RenderSettings, SceneDesc};
@@ -250,6 +250,37 @@ fn irradiance_tolerance(light: &Light, x: Vec3, y: Vec3) -> Option<f64> {
     Some(profile + 2.0 * delta + 16.0 * EPS)
 }
 
+/// A receiver both sides may be compared at: the light's point `y` for
+/// sample numbers `u` and its light at `x` (Rust's), the point as a
+/// position (one unit along the direction for a sun), and the
+/// irradiance's relative tolerance.
+struct Comparable {
+    y: Option<LightPoint>,
+    inc: Incident,
+    point: Vec3,
+    irradiance: f64,
+}
+
+/// The comparable case of light `light` at receiver `x` with sample
+/// numbers `u`, or `None` where the light does not reach `x` or the sides
+/// may legitimately disagree ([`irradiance_tolerance`],
+/// [`near_an_occluder_edge`] at 10⁻⁴).
+fn comparable(light: &Light, x: Vec3, u: Vec2) -> Option<Comparable> {
+    let y = light.sample_point(u);
+    let inc = light.incident(x, y)?;
+    let point = y.map_or(x + inc.direction, |p| p.position);
+    let irradiance = irradiance_tolerance(light, x, point)?;
+    if near_an_occluder_edge(x, inc.direction, inc.distance, 1e-4) {
+        return None;
+    }
+    Some(Comparable {
+        y,
+        inc,
+        point,
+        irradiance,
+    })
+}
+
 /// Compares one GPU output with its Rust twin, channel by channel, to the
 /// relative tolerance `tolerance` (plus 10⁻³⁰ absolute for zeros).
 fn assert_close(what: &str, gpu: Vec3, rust: Vec3, tolerance: f64) {
@@ -304,17 +335,12 @@ fn light_arriving_matches_rust() {
     let mut lit = vec![0usize; lights.len()];
     for ((&(l, x, u, _), item), o) in all.iter().zip(&items).zip(&out) {
         let light = &lights[l];
-        let y = light.sample_point(u);
-        let Some(inc) = light.incident(x, y) else {
+        let Some(Comparable {
+            inc, irradiance, ..
+        }) = comparable(light, x, u)
+        else {
             continue;
         };
-        let point = y.map_or(x + inc.direction, |p| p.position);
-        let Some(irradiance) = irradiance_tolerance(light, x, point) else {
-            continue;
-        };
-        if near_an_occluder_edge(x, inc.direction, inc.distance, 1e-4) {
-            continue;
-        }
         let normal = (item[0][3] == 1.0).then(|| Vec3::new(item[1][0], item[1][1], item[1][2]));
         let rust = twins::light_arriving(&f.scene, &f.visibility, l, x, normal, &inc);
         let gpu = Vec3::new(o[0][0], o[0][1], o[0][2]);
@@ -373,17 +399,15 @@ fn scattered_radiance_matches_rust() {
     let mut compared = vec![0usize; lights.len()];
     for ((&(l, x, u, _), view), o) in all.iter().zip(&views).zip(&out) {
         let light = &lights[l];
-        let y = light.sample_point(u);
-        let Some(inc) = light.incident(x, y) else {
+        let Some(Comparable {
+            y,
+            inc,
+            point,
+            irradiance,
+        }) = comparable(light, x, u)
+        else {
             continue;
         };
-        let point = y.map_or(x + inc.direction, |p| p.position);
-        let Some(irradiance) = irradiance_tolerance(light, x, point) else {
-            continue;
-        };
-        if near_an_occluder_edge(x, inc.direction, inc.distance, 1e-4) {
-            continue;
-        }
         let rust = twins::scattered_radiance(&f.scene, &f.visibility, l, y, x, *view);
         let gpu = Vec3::new(o[0][0], o[0][1], o[0][2]);
         // The phase function p(cos θ) at cos θ = ω·view: its own rounding
