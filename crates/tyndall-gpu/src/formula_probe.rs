@@ -213,9 +213,9 @@ pub fn evaluate_lights(
     run_probe(gpu, &pipeline, &bind_group, items.len(), &output, size)
 }
 
-/// A WGSL function of `lights.wgsl` that reads the whole scene — fog,
-/// geometry for shadow rays, lights — which [`evaluate_in_scene`] runs
-/// with a [`GpuMarch`]'s own bindings.
+/// A WGSL function of the march module that reads the scene — camera,
+/// fog, geometry, lights — which [`evaluate_in_scene`] runs with a
+/// [`GpuMarch`]'s own bindings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SceneFormula {
     /// `scattered_radiance(i, light, light_point_at(light, u), x, view)`:
@@ -228,6 +228,33 @@ pub enum SceneFormula {
     /// output `[arriving.rgb, valid]` with valid 1 where `inc` is (0 and
     /// no light otherwise), then `0`.
     LightArriving,
+    /// `direct_lighting(diffuse, x, normal)`: input `[x.xyz, _],
+    /// [normal.xyz, _], [diffuse.rgb, _]`; output `[radiance.rgb, _]`,
+    /// then `0`. For scenes of delta lights (an area light's points draw
+    /// random numbers).
+    DirectLighting,
+    /// `camera_ray(film)`: input `[film.xy, _, _], _, _`; output
+    /// `[origin.xyz, _], [direction.xyz, _]`.
+    CameraRay,
+    /// `fog_interval(ray, t0, t1)`: input `[origin.xyz, t0],
+    /// [direction.xyz, t1], _`; output `[a, b, 1, _]`, or 0 where the
+    /// interval holds no fog, then `0`.
+    FogInterval,
+    /// `nearest_hit(ray)` and `geometric_normal` there: input
+    /// `[origin.xyz, _], [direction.xyz, _], _`; output `[t, 1, the
+    /// primitive's material, _], [normal.xyz, _]`, or both 0 for a miss.
+    NearestHit,
+    /// `reflect_layer(roughness, incoming, normal)` with its two random
+    /// numbers `u = k/2²⁴`: input `[incoming.xyz, roughness],
+    /// [normal.xyz, _], [k.x, k.y, _, _]` (k integers below 2²⁴); output
+    /// `[direction.xyz, _]` (0 below the surface), then `0`.
+    Reflect,
+    /// The march's `in_scattered(ray, t_hit, 0, 1)` (the whole lattice)
+    /// with jitter `k/2²⁴`: input `[origin.xyz, t_hit], [direction.xyz,
+    /// _], [k, _, _, _]` (k an integer below 2²⁴); output `[radiance.rgb,
+    /// _]`, then `0`. For scenes of delta lights (an area light's points
+    /// draw further random numbers).
+    InScattered,
 }
 
 impl SceneFormula {
@@ -235,6 +262,12 @@ impl SceneFormula {
         match self {
             SceneFormula::ScatteredRadiance => "probe_scattered_radiance",
             SceneFormula::LightArriving => "probe_light_arriving",
+            SceneFormula::DirectLighting => "probe_direct_lighting",
+            SceneFormula::CameraRay => "probe_camera_ray",
+            SceneFormula::FogInterval => "probe_fog_interval",
+            SceneFormula::NearestHit => "probe_nearest_hit",
+            SceneFormula::Reflect => "probe_reflect",
+            SceneFormula::InScattered => "probe_in_scattered",
         }
     }
 }

@@ -74,7 +74,13 @@ pub mod ray_march {
 #[doc(hidden)]
 pub mod testing {
     pub use crate::integrators::light_tracer::{self, LightPaths, has_caustics};
-    pub use crate::integrators::lighting::twins;
+    /// The Rust twins the GPU's WGSL functions are probed against.
+    pub mod twins {
+        pub use crate::integrators::lighting::twins::{
+            direct_lighting, light_arriving, scattered_radiance,
+        };
+        pub use crate::integrators::march::twins::in_scattered as march_in_scattered;
+    }
     pub use crate::integrators::march::interleaved_stratum;
     pub use crate::integrators::single::single_sample;
     pub use crate::integrators::{Integrator, LightSubpaths, PixelPosition};

@@ -125,6 +125,16 @@ fn radiance(first: Ray, stratum: u32, strata: u32) -> vec3<f32> {
     return result;
 }
 
+// The camera ray through film position `film` (in pixels, y down).
+// Mirrors tyndall::camera::Camera::ray.
+fn camera_ray(film: vec2<f32>) -> Ray {
+    let ndc = 2.0 * film / params.half_extent_resolution.zw - vec2<f32>(1.0);
+    let direction = normalize(params.camera_forward.xyz
+        + params.camera_right.xyz * (ndc.x * params.half_extent_resolution.x)
+        - params.camera_up.xyz * (ndc.y * params.half_extent_resolution.y));
+    return Ray(params.camera_position.xyz, direction);
+}
+
 // Marks an invocation outside the image.
 const NO_PIXEL: u32 = 0xffffffffu;
 
@@ -147,16 +157,11 @@ fn march_frame(@builtin(global_invocation_id) id: vec3<u32>) {
     let rotation = pcg(index ^ pcg(params.seed ^ 0x68e31da4u));
     leading = r3_point(vec3<u32>(rotation, pcg(rotation), pcg(pcg(rotation))), params.frame);
     leading_used = 0u;
-    // The film position, uniform over the pixel (a box filter), then the
-    // ray of tyndall::camera::Camera::ray.
+    // The film position, uniform over the pixel (a box filter).
     let film = vec2<f32>(f32(id.x) + next_1d(), f32(id.y) + next_1d());
-    let ndc = 2.0 * film / params.half_extent_resolution.zw - vec2<f32>(1.0);
-    let direction = normalize(params.camera_forward.xyz
-        + params.camera_right.xyz * (ndc.x * params.half_extent_resolution.x)
-        - params.camera_up.xyz * (ndc.y * params.half_extent_resolution.y));
     let n = max(params.interleave, 1u);
     let stratum = interleaved_stratum(id.xy, n);
-    let l = radiance(Ray(params.camera_position.xyz, direction), stratum, n * n);
+    let l = radiance(camera_ray(film), stratum, n * n);
     accumulation[index] += vec4<f32>(l, 1.0);
     fog_accumulation[index] += vec4<f32>(fog_radiance, first_depth);
 }

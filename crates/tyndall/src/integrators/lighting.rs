@@ -228,8 +228,9 @@ pub(crate) fn lambert_direct_lighting(
     sum * surface.diffuse_brdf()
 }
 
-/// [`scattered_radiance`] and [`light_arriving`] with their scratch made
-/// here, for the tests that check their WGSL twins (`lights.wgsl` of
+/// [`scattered_radiance`], [`light_arriving`] and
+/// [`lambert_direct_lighting`] with their scratch made here, for the
+/// tests that check their WGSL twins (`lights.wgsl` and `camera.wgsl` of
 /// crate `tyndall-gpu`) against them.
 pub mod twins {
     use super::*;
@@ -264,6 +265,31 @@ pub mod twins {
         };
         let mut counts = RayCounts::default();
         super::scattered_radiance(&medium, index, y, x, &mut counts, &mut tracker())
+    }
+
+    /// [`lambert_direct_lighting`] unweighted (one strategy) at `x` on a
+    /// flat Lambertian surface of reflectance `diffuse` and unit `normal`.
+    /// Area lights' points come from a fixed sample stream, which the
+    /// GPU's twin does not share: compare on delta lights.
+    pub fn direct_lighting(
+        scene: &Scene,
+        visibility: &Visibility,
+        diffuse: Rgb,
+        x: Vec3,
+        normal: Vec3,
+    ) -> Rgb {
+        let mut counts = RayCounts::default();
+        super::lambert_direct_lighting(
+            scene,
+            visibility,
+            &Surface::diffuse(diffuse),
+            x,
+            SurfaceNormals::flat(normal),
+            &mut PixelSampler::new(0, 0, 0),
+            &mut counts,
+            &mut tracker(),
+            |_, _| 1.0,
+        )
     }
 
     /// [`light_arriving`] at `x` (on a surface of unit `normal`, or in

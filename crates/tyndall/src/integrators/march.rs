@@ -75,8 +75,23 @@ pub(crate) fn in_scattered(
     counts: &mut RayCounts,
     tracker: &mut VolumeTracker,
 ) -> Rgb {
-    let (scene, fog, ray) = (medium.scene, medium.fog, &medium.ray);
     let jitter = (k as f32 + sampler.next_1d()) / count as f32;
+    lattice_sum(medium, step, jitter, sampler, counts, tracker)
+}
+
+/// The march's Riemann sum `Σ_k T(a, t_k)·Σ_lights σs·p·E·V·h` over the
+/// lattice `t_k = a + (jitter + k)·step` in the fog part `[a, b)` of the
+/// query's ray (the paper's eq. 1 per step), `sampler` drawing only area
+/// lights' points.
+fn lattice_sum(
+    medium: &MediumQuery,
+    step: f32,
+    jitter: f32,
+    sampler: &mut PixelSampler,
+    counts: &mut RayCounts,
+    tracker: &mut VolumeTracker,
+) -> Rgb {
+    let (scene, fog, ray) = (medium.scene, medium.fog, &medium.ray);
     let Some((a, b)) = fog.interval(ray, 0.0, medium.t_hit) else {
         return Rgb::ZERO;
     };
@@ -126,6 +141,51 @@ fn lattice_range(a: f32, lo: f32, hi: f32, step: f32, jitter: f32) -> (u64, u64)
         k.max(0.0) as u64
     };
     (index(lo), index(hi))
+}
+
+/// The march's functions as the GPU's twin of them is probed against
+/// (crates/tyndall-gpu/tests/march_functions.rs).
+pub mod twins {
+    use super::*;
+    use crate::Scene;
+    use crate::ray::Ray;
+    use crate::sampler::RandomStream;
+
+    /// The march's in-scattered radiance along `ray` over `(0, t_hit)` in
+    /// `scene`'s fog (none: 0), lattice step `step` and `jitter` ∈ [0, 1)
+    /// (one stratum: no interleaving). Area lights' points are drawn from
+    /// a fixed stream; the GPU's twin draws others, so compare on delta
+    /// lights.
+    pub fn in_scattered(
+        scene: &Scene,
+        visibility: &Visibility,
+        ray: Ray,
+        t_hit: f32,
+        step: f32,
+        jitter: f32,
+    ) -> Rgb {
+        let Some(fog) = scene.fog() else {
+            return Rgb::ZERO;
+        };
+        let medium = MediumQuery {
+            scene,
+            visibility,
+            fog,
+            ray,
+            t_hit,
+        };
+        let mut sampler = PixelSampler::new(0, 0, 0);
+        let mut tracker = VolumeTracker::new(RandomStream::new(0));
+        let mut counts = RayCounts::default();
+        lattice_sum(
+            &medium,
+            step,
+            jitter,
+            &mut sampler,
+            &mut counts,
+            &mut tracker,
+        )
+    }
 }
 
 #[cfg(test)]
