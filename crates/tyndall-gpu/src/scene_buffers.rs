@@ -159,6 +159,11 @@ impl SceneBuffers {
         if scene.has_textures() {
             return Err(GpuError::Unsupported("textured surfaces".into()));
         }
+        if let Some(index) = scene.lights().iter().position(|l| l.luminaire().is_some()) {
+            return Err(GpuError::Unsupported(format!(
+                "light #{index} with a measured (`ies`) profile (only the CPU renders them)"
+            )));
+        }
         check_panes(scene)?;
         let scene_primitives = scene.geometry().primitives();
         let in_scene_order: Vec<GpuPrimitive> = scene_primitives
@@ -459,6 +464,7 @@ mod tests {
         let mut desc = SceneDesc::new(Sourced::code(camera));
         desc.add_light(
             tyndall::description::LightDesc::Point(tyndall::lights::PointLight {
+                luminaire: None,
                 position: Vec3::Y,
                 intensity: Rgb::ONE,
             }),

@@ -88,6 +88,7 @@ fn spot_profiles_match_rust() {
                 SpotProfile::Smooth { cos_inner },
             ][p];
             let spot = SpotLight {
+                luminaire: None,
                 position: Vec3::ZERO,
                 direction: -Vec3::Y,
                 cos_cutoff,
@@ -103,7 +104,7 @@ fn spot_profiles_match_rust() {
                     _ => (1.2 * cutoff_deg * spread(i)).to_radians().cos(),
                 };
                 items.push([[profile_code, cos_cutoff, cos_inner, cos], [0.0; 4]]);
-                spots.push((spot, cos));
+                spots.push((spot.clone(), cos));
             }
         }
     }

@@ -63,6 +63,7 @@ fn spots() -> Vec<SpotLight> {
             },
         ][k % 3];
         spots.push(SpotLight {
+            luminaire: None,
             position: Vec3::new(0.5 - 0.3 * k as f32, 1.5 + 0.2 * k as f32, -0.4),
             direction: direction(7 * k + 3),
             cos_cutoff: cutoff.to_radians().cos(),
@@ -126,7 +127,7 @@ fn spot_reach_matches_clip_ray() {
         return;
     };
     let spots = spots();
-    let lights: Vec<Light> = spots.iter().copied().map(Light::Spot).collect();
+    let lights: Vec<Light> = spots.iter().cloned().map(Light::Spot).collect();
     let (gpu_lights, triangles) = gpu_lights(&lights);
     let mut items = Vec::new();
     let mut cases = Vec::new();
@@ -217,6 +218,7 @@ fn lights_of_each_kind() -> Vec<Light> {
     let rgb = Vec3::new(1.0, 2.0, 0.5);
     let spot = |profile, position: Vec3, axis: Vec3| {
         Light::Spot(SpotLight {
+            luminaire: None,
             position,
             direction: axis.normalize(),
             cos_cutoff: 40f32.to_radians().cos(),
@@ -260,6 +262,7 @@ fn lights_of_each_kind() -> Vec<Light> {
     .expect("a mesh light");
     vec![
         Light::Point(PointLight {
+            luminaire: None,
             position: Vec3::new(0.3, 2.0, -0.5),
             intensity: rgb,
         }),

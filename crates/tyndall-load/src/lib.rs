@@ -17,6 +17,7 @@ pub mod demo;
 pub mod files;
 #[cfg(feature = "gltf")]
 pub mod gltf;
+pub mod ies;
 pub mod legacy;
 pub mod mesh;
 pub mod native;

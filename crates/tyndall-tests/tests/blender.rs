@@ -38,7 +38,7 @@ fn blender_export_loads_with_blender_values() {
         "{}",
         panel.radiance
     );
-    let Light::Spot(hard) = scene.lights()[1] else {
+    let Light::Spot(hard) = &scene.lights()[1] else {
         panic!("{:?}", scene.lights()[1])
     };
     assert!(
@@ -53,7 +53,7 @@ fn blender_export_loads_with_blender_values() {
         (hard.direction - Vec3::NEG_Y).length() < 1e-5,
         "Blender's spot points down −Z (up is +Y in glTF)"
     );
-    let Light::Spot(soft) = scene.lights()[2] else {
+    let Light::Spot(soft) = &scene.lights()[2] else {
         panic!("{:?}", scene.lights()[2])
     };
     assert!(rel(soft.intensity.x, 60.0 / (4.0 * PI)));
@@ -64,7 +64,7 @@ fn blender_export_loads_with_blender_values() {
     };
     let cos_outer = 25f32.to_radians().cos();
     assert!((cos_inner - (cos_outer + (1.0 - cos_outer) * 0.5)).abs() < 1e-6);
-    let Light::Point(bulb) = scene.lights()[3] else {
+    let Light::Point(bulb) = &scene.lights()[3] else {
         panic!("{:?}", scene.lights()[3])
     };
     assert!(rel(bulb.intensity.x, 30.0 / (4.0 * PI)));

@@ -109,7 +109,7 @@ fn gltf_loads_into_the_expected_description() {
     assert_eq!(lamp.triangles().len(), 1);
     // Spot 0 at the child's origin, pointing along R_y(90°)(0,0,−1) = (−1,0,0);
     // 2049 cd / 683 = 3 W/sr times its colour; smooth from 0.2 to 0.5 rad.
-    let Light::Spot(spot) = scene.lights()[1] else {
+    let Light::Spot(spot) = &scene.lights()[1] else {
         panic!("{:?}", scene.lights()[1])
     };
     assert!(close(spot.position, Vec3::new(-1.0, 0.0, 0.0)));
@@ -129,14 +129,14 @@ fn gltf_loads_into_the_expected_description() {
     assert!(close(sun.direction, Vec3::NEG_Y), "{}", sun.direction);
     assert!(close(sun.irradiance, Vec3::splat(2.0)));
     // Point light placed by a matrix: 1366 cd → 2 W/sr; its range is warned about.
-    let Light::Point(point) = scene.lights()[3] else {
+    let Light::Point(point) = &scene.lights()[3] else {
         panic!("{:?}", scene.lights()[3])
     };
     assert!(close(point.position, Vec3::new(0.0, 5.0, 0.0)));
     assert!(close(point.intensity, Vec3::splat(2.0)));
     assert!(desc.warnings.iter().any(|w| w.contains("range")));
     // Blender's blend 0 writes inner == outer: a hard spot, not an error.
-    let Light::Spot(hard) = scene.lights()[4] else {
+    let Light::Spot(hard) = &scene.lights()[4] else {
         panic!("{:?}", scene.lights()[4])
     };
     assert_eq!(hard.profile, SpotProfile::Hard);
@@ -427,7 +427,7 @@ fn toml_includes_gltf() {
     assert!(close(a, Vec3::new(1.0, 2.0, 5.0)), "{a}");
     assert!(close(b, Vec3::new(3.0, 2.0, 5.0)), "{b}");
     assert!(close(c, Vec3::new(1.0, 4.0, 5.0)), "{c}");
-    let Light::Point(point) = desc.scene.lights()[0] else {
+    let Light::Point(point) = &desc.scene.lights()[0] else {
         panic!("{:?}", desc.scene.lights()[0])
     };
     assert!(close(point.position, Vec3::new(1.0, 2.0, 3.0)));

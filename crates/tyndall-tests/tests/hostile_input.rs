@@ -377,7 +377,7 @@ fn huge_direction_components_still_give_a_unit_direction() {
          direction = [0, -1, -1.5e38]\ncutoff_deg = 30\nintensity = 1\n"
     );
     let desc = parse(&text).unwrap();
-    let Light::Spot(spot) = desc.scene.lights()[0] else {
+    let Light::Spot(spot) = &desc.scene.lights()[0] else {
         panic!("a spot light");
     };
     assert!(
@@ -486,7 +486,7 @@ fn spot_look_at_a_tiny_distance_away_gives_a_unit_direction() {
          look_at = [0, 1, 1e-40]\ncutoff_deg = 30\nintensity = 1\n"
     );
     let desc = parse(&text).unwrap();
-    let Light::Spot(spot) = desc.scene.lights()[0] else {
+    let Light::Spot(spot) = &desc.scene.lights()[0] else {
         panic!("a spot light");
     };
     assert!(

@@ -131,7 +131,7 @@ fn two_sided_flag() {
 fn paper_tokens() {
     let spot_in_material = EXAMPLE.replace("emitted 64 64 64", "emitted 64 64 64\nc 30");
     let desc = parse(&spot_in_material).expect("parses");
-    let Light::Spot(spot) = desc.scene.lights()[0] else {
+    let Light::Spot(spot) = &desc.scene.lights()[0] else {
         panic!("expected a spot")
     };
     assert_eq!(spot.profile, SpotProfile::Linear);
@@ -142,7 +142,7 @@ fn paper_tokens() {
 
     let spot_statement = EXAMPLE.replace("m 0\n", "m 0\nc 45\n");
     let desc = parse(&spot_statement).expect("parses");
-    let Light::Spot(spot) = desc.scene.lights()[0] else {
+    let Light::Spot(spot) = &desc.scene.lights()[0] else {
         panic!("expected a spot")
     };
     assert!((spot.cos_cutoff - 45f32.to_radians().cos()).abs() < 1e-6);

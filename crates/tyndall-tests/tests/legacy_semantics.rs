@@ -58,7 +58,7 @@ PerspectiveCamera {{
     );
     let mut desc = parse(&text);
     // The quad's normal (v1 − v0) × (v2 − v0) = x̂ × ẑ = −ŷ points down.
-    let Light::Spot(spot) = desc.scene.lights()[0] else {
+    let Light::Spot(spot) = &desc.scene.lights()[0] else {
         panic!("the lamp should be a spot")
     };
     assert!((spot.direction - Vec3::NEG_Y).length() < 1e-6);
@@ -191,7 +191,7 @@ PerspectiveCamera {
 fn glass_tints_light_crossing_it_from_either_side() {
     use tyndall::settings::VisibilityMode;
     let mut desc = parse(GLASS_PAIR);
-    let Light::Spot(spot) = desc.scene.lights()[0] else {
+    let Light::Spot(spot) = &desc.scene.lights()[0] else {
         panic!("the lamp should be a spot")
     };
     assert!((spot.direction - Vec3::NEG_Y).length() < 1e-6);
@@ -292,7 +292,7 @@ fn cutoff_after_glass_block_is_a_statement() {
     let text = lamp_after_glass("");
     let desc = parse(&text);
     assert_eq!(desc.scene.lights().len(), 1);
-    let Light::Spot(spot) = desc.scene.lights()[0] else {
+    let Light::Spot(spot) = &desc.scene.lights()[0] else {
         panic!(
             "the lamp should be a spot, got {:?}",
             desc.scene.lights()[0]

@@ -91,7 +91,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
 /// Replaces the scene's lights by `n` spots on a circle above the
 /// sphere, aimed at it, with the total intensity of the original one.
 fn add_spots(desc: &mut SceneDesc, n: usize) {
-    let Some(LightDesc::Spot(original)) = desc.lights.first().map(|l| l.value) else {
+    let Some(LightDesc::Spot(original)) = desc.lights.first().map(|l| l.value.clone()) else {
         return;
     };
     desc.lights.clear();
@@ -108,7 +108,7 @@ fn add_spots(desc: &mut SceneDesc, n: usize) {
             position,
             direction: (target - position).normalize(),
             intensity: original.intensity / n as f32,
-            ..original
+            ..original.clone()
         };
         desc.add_light(LightDesc::Spot(spot), Origin::Code);
     }

@@ -423,7 +423,10 @@ fn scene_fingerprint(desc: &SceneDesc, width: u32, height: u32) -> u64 {
             .iter()
             .map(|s| (&s.shapes, s.material))
             .collect::<Vec<_>>(),
-        desc.lights.iter().map(|l| l.value).collect::<Vec<_>>(),
+        desc.lights
+            .iter()
+            .map(|l| l.value.clone())
+            .collect::<Vec<_>>(),
         desc.fog.as_ref().map(|f| f.value),
         desc.media
             .iter()

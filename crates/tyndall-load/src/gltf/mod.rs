@@ -618,6 +618,7 @@ impl GltfLoader<'_> {
         }
         Ok(match light.kind() {
             Kind::Point => LightDesc::Point(PointLight {
+                luminaire: None,
                 position,
                 intensity: color * candela_to_watts_per_sr(intensity),
             }),
@@ -645,6 +646,7 @@ impl GltfLoader<'_> {
                     SpotProfile::Smooth { cos_inner }
                 };
                 LightDesc::Spot(SpotLight {
+                    luminaire: None,
                     position,
                     direction: direction.normalize(),
                     cos_cutoff: outer_cone_angle.cos(),

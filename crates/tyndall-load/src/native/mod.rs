@@ -9,6 +9,7 @@
 //! line and column.
 
 use crate::mesh::{MeshTransform, MeshTriangles, load_obj_mesh};
+use crate::photometry::candela_to_watts_per_sr;
 use crate::source::{SceneError, SourceText};
 use glam::Vec3;
 use serde_spanned::Spanned;
@@ -19,8 +20,10 @@ use std::path::Path;
 use std::sync::Arc;
 use tyndall::camera::{CameraSpec, FieldOfView};
 use tyndall::color::Rgb;
+use tyndall::color::blackbody;
 use tyndall::description::{GlassSettings, LightDesc, Origin, SceneDesc, Sourced};
 use tyndall::glass::{Glass, GlassModel};
+use tyndall::lights::photometric::Luminaire;
 use tyndall::lights::{DirectionalLight, PointLight, SpotLight, SpotProfile};
 use tyndall::limits;
 use tyndall::materials::{Material, MaterialId, Surface};
@@ -335,6 +338,60 @@ impl Loader<'_> {
         Ok((s, output))
     }
 
+    /// The colour of a light of colour temperature `kelvin` (none: white):
+    /// the blackbody's colour at luminance 1 (as for blackbody media,
+    /// docs/physics.md §2.5), channels below 0 clipped (below about
+    /// 1900 K the blackbody is bluer than Rec. 709's gamut allows).
+    fn temperature(&self, span: &Range<usize>, kelvin: Option<f32>) -> Result<Rgb, SceneError> {
+        let Some(kelvin) = kelvin else {
+            return Ok(Rgb::ONE);
+        };
+        let kelvin = self.number(
+            span,
+            "temperature_k",
+            kelvin,
+            (800.0, 100_000.0),
+            "a temperature from 800 K to 100000 K",
+        )?;
+        Ok(blackbody::unit_luminance_rgb(f64::from(kelvin)).max(Rgb::ZERO))
+    }
+
+    /// The measured profile an `ies` key names, placed with its nadir
+    /// along `nadir` and its 0° plane turned `rotate_deg`, with the file's
+    /// peak candela; `None` without the key (then `ies_rotate_deg` is an
+    /// error).
+    fn luminaire(
+        &self,
+        span: &Range<usize>,
+        ies: &Option<String>,
+        rotate_deg: Option<f32>,
+        nadir: Vec3,
+    ) -> Result<Option<(Luminaire, f32)>, SceneError> {
+        let Some(file) = ies else {
+            if rotate_deg.is_some() {
+                return Err(self.err(
+                    span,
+                    "ies_rotate_deg",
+                    "`ies_rotate_deg` turns an `ies` profile, and there is none",
+                ));
+            }
+            return Ok(None);
+        };
+        let rotate = self.number(
+            span,
+            "ies_rotate_deg",
+            rotate_deg.unwrap_or(0.0),
+            (-360.0, 360.0),
+            "an angle in [−360°, 360°]",
+        )?;
+        let measured =
+            crate::ies::load(&self.relative(file)).map_err(|e| self.err(span, "ies", e))?;
+        Ok(Some((
+            Luminaire::new(measured.profile, nadir, rotate),
+            measured.peak_candela,
+        )))
+    }
+
     fn relative(&self, p: &str) -> std::path::PathBuf {
         let dir = self.source.path.parent().unwrap_or(Path::new(""));
         dir.join(p)
@@ -589,21 +646,46 @@ impl Loader<'_> {
                 position,
                 intensity,
                 power,
+                direction,
+                temperature_k,
+                ies,
+                ies_rotate_deg,
             }) => {
-                let intensity =
-                    match (intensity, power) {
-                        (Some(i), None) => Rgb::from_array(i.0),
-                        (None, Some(p)) => self.emission(&span, "power", *p)? / (4.0 * PI),
-                        _ => return Err(self.err(
+                let nadir = match direction {
+                    Some(d) => self.direction(&span, "direction", *d)?,
+                    None => -Vec3::Y,
+                };
+                let measured = self.luminaire(&span, ies, *ies_rotate_deg, nadir)?;
+                if measured.is_none() && direction.is_some() {
+                    return Err(self.err(
+                        &span,
+                        "direction",
+                        "a point light's `direction` is the nadir of an `ies` profile, and there is none",
+                    ));
+                }
+                let mean = measured.as_ref().map_or(1.0, |(l, _)| l.profile.mean());
+                let intensity = match (intensity, power, &measured) {
+                    (Some(i), None, _) => self.emission(&span, "intensity", *i)?,
+                    // The peak intensity of the power the profile spreads.
+                    (None, Some(p), _) => self.emission(&span, "power", *p)? / (4.0 * PI * mean),
+                    (None, None, Some((_, candela))) => {
+                        Rgb::splat(candela_to_watts_per_sr(*candela))
+                    }
+                    _ => {
+                        return Err(self.err(
                             &span,
                             "position",
-                            "a point light needs exactly one of `intensity` (W/sr) or `power` (W)",
-                        )),
-                    };
+                            "a point light needs exactly one of `intensity` (W/sr) or `power` (W) \
+                             (or neither, with an `ies` profile: then the file's candela)",
+                        ));
+                    }
+                };
+                let tint = self.temperature(&span, *temperature_k)?;
                 scene.add_light(
                     LightDesc::Point(PointLight {
                         position: Vec3::from_array(*position),
-                        intensity,
+                        intensity: intensity * tint,
+                        luminaire: measured.map(|(l, _)| l),
                     }),
                     origin,
                 );
@@ -616,6 +698,9 @@ impl Loader<'_> {
                 profile,
                 inner_deg,
                 intensity,
+                temperature_k,
+                ies,
+                ies_rotate_deg,
             }) => {
                 let position = self.vec3(&span, "position", *position)?;
                 let direction = match (direction, look_at) {
@@ -663,13 +748,28 @@ impl Loader<'_> {
                     ("linear" | "hard", Some(_)) => return Err(self.err(&span, "inner_deg", "`inner_deg` applies only to the `smooth` profile")),
                     (other, _) => return Err(self.err(&span, "profile", format!("unknown spot profile `{other}`: expected `linear`, `smooth` or `hard`"))),
                 };
+                let measured = self.luminaire(&span, ies, *ies_rotate_deg, direction)?;
+                let intensity = match (intensity, &measured) {
+                    (Some(i), _) => Rgb::from_array(i.0),
+                    (None, Some((_, candela))) => Rgb::splat(candela_to_watts_per_sr(*candela)),
+                    (None, None) => {
+                        return Err(self.err(
+                            &span,
+                            "position",
+                            "a spot light needs `intensity` (W/sr on its axis), \
+                             unless an `ies` profile gives the file's candela",
+                        ));
+                    }
+                };
+                let tint = self.temperature(&span, *temperature_k)?;
                 scene.add_light(
                     LightDesc::Spot(SpotLight {
                         position,
                         direction,
                         cos_cutoff,
                         profile,
-                        intensity: Rgb::from_array(intensity.0),
+                        intensity: intensity * tint,
+                        luminaire: measured.map(|(l, _)| l),
                     }),
                     origin,
                 );
@@ -677,11 +777,13 @@ impl Loader<'_> {
             LightTable::Directional(DirectionalTable {
                 direction,
                 irradiance,
+                temperature_k,
             }) => {
+                let tint = self.temperature(&span, *temperature_k)?;
                 scene.add_light(
                     LightDesc::Directional(DirectionalLight {
                         direction: self.direction(&span, "direction", *direction)?,
-                        irradiance: Rgb::from_array(irradiance.0),
+                        irradiance: Rgb::from_array(irradiance.0) * tint,
                     }),
                     origin,
                 );
@@ -690,9 +792,11 @@ impl Loader<'_> {
                 corners,
                 radiance,
                 two_sided,
+                temperature_k,
             }) => {
                 let quad = self.quad(&span, corners, false)?;
-                let radiance = Rgb::from_array(radiance.0);
+                let radiance =
+                    Rgb::from_array(radiance.0) * self.temperature(&span, *temperature_k)?;
                 scene.add_quad_light(quad, radiance, *two_sided, origin);
             }
         }

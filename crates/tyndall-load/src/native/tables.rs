@@ -242,6 +242,11 @@ pub(super) struct PointTable {
     pub(super) position: V3,
     pub(super) intensity: Option<ColorValue>,
     pub(super) power: Option<ColorValue>,
+    /// The nadir of an `ies` profile (default straight down).
+    pub(super) direction: Option<V3>,
+    pub(super) temperature_k: Option<f32>,
+    pub(super) ies: Option<String>,
+    pub(super) ies_rotate_deg: Option<f32>,
 }
 
 #[derive(Deserialize)]
@@ -254,7 +259,10 @@ pub(super) struct SpotTable {
     #[serde(default)]
     pub(super) profile: Option<String>,
     pub(super) inner_deg: Option<f32>,
-    pub(super) intensity: ColorValue,
+    pub(super) intensity: Option<ColorValue>,
+    pub(super) temperature_k: Option<f32>,
+    pub(super) ies: Option<String>,
+    pub(super) ies_rotate_deg: Option<f32>,
 }
 
 #[derive(Deserialize)]
@@ -262,6 +270,7 @@ pub(super) struct SpotTable {
 pub(super) struct DirectionalTable {
     pub(super) direction: V3,
     pub(super) irradiance: ColorValue,
+    pub(super) temperature_k: Option<f32>,
 }
 
 #[derive(Deserialize)]
@@ -271,6 +280,7 @@ pub(super) struct QuadLightTable {
     pub(super) radiance: ColorValue,
     #[serde(default)]
     pub(super) two_sided: bool,
+    pub(super) temperature_k: Option<f32>,
 }
 
 /// Re-parses the body of a `type`-tagged table as its variant's struct.

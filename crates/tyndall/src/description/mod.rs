@@ -124,7 +124,7 @@ pub struct SurfaceTexture {
 
 /// A light that is not a shape. Area lights are shapes with an emissive
 /// material ([`Material::Emissive`]), as in Mitsuba, Cycles and pbrt.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum LightDesc {
     Point(PointLight),
     Spot(SpotLight),

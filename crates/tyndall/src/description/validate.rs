@@ -593,6 +593,7 @@ mod tests {
         };
         desc.add_shapes(vec![Shape::Sphere(sphere)], grey, Origin::Code);
         let light = PointLight {
+            luminaire: None,
             position: Vec3::new(0.0, 3.0, 0.0),
             intensity: Rgb::splat(10.0),
         };
@@ -672,6 +673,7 @@ mod tests {
         assert_eq!(refused(|d| d.background = Rgb::splat(-1.0)), "background");
         assert_eq!(refused(|d| d.settings.spp = 0), "spp");
         let spot = SpotLight {
+            luminaire: None,
             position: Vec3::Y,
             direction: -Vec3::Y,
             cos_cutoff: 1.0,

@@ -23,18 +23,21 @@
 
 //!
 //! Each kind's physics is in its own module (`point`, `spot`,
-//! `directional`, `area` for quads and spheres, `mesh`); this module
+//! `directional`, `area` for quads and spheres, `mesh`; measured
+//! luminaire profiles on point and spot lights in `photometric`); this module
 //! holds the enum, the types of the interface, and the dispatch.
 
 mod area;
 mod directional;
 mod mesh;
+pub mod photometric;
 mod point;
 mod spot;
 
 pub use area::{QuadLight, SphereLight, SphericalRectangle};
 pub use directional::DirectionalLight;
 pub use mesh::MeshLight;
+pub use photometric::{Luminaire, PhotometricProfile};
 pub use point::PointLight;
 pub use spot::{SpotLight, SpotProfile};
 
@@ -209,6 +212,17 @@ impl Light {
         )
     }
 
+    /// The measured intensity profile a point or spot light carries (an
+    /// IES file's), if any.
+    #[inline]
+    pub fn luminaire(&self) -> Option<&Luminaire> {
+        match self {
+            Light::Point(p) => p.luminaire.as_ref(),
+            Light::Spot(s) => s.luminaire.as_ref(),
+            Light::Directional(_) | Light::Quad(_) | Light::Sphere(_) | Light::Mesh(_) => None,
+        }
+    }
+
     /// The position of a light that emits from one point (point and spot
     /// lights); `None` for distant and area lights.
     #[inline]
@@ -373,6 +387,21 @@ mod tests {
     /// against `power`'s closed forms (spot profiles included).
     #[test]
     fn emitted_throughput_averages_to_power() {
+        // A bilateral table, uneven in θ and φ, lit above the horizon too.
+        let measured = |nadir: Vec3| {
+            let rows = vec![
+                vec![5.0, 4.0, 2.5, 1.0, 0.5, 0.0],
+                vec![5.0, 4.5, 3.5, 1.5, 0.2, 0.0],
+                vec![5.0, 3.0, 1.0, 0.2, 0.1, 0.0],
+            ];
+            let table = PhotometricProfile::new(
+                vec![0.0, 20.0, 45.0, 80.0, 120.0, 180.0],
+                vec![0.0, 60.0, 180.0],
+                &rows,
+            )
+            .unwrap();
+            Luminaire::new(std::sync::Arc::new(table), nadir, 25.0)
+        };
         let inner = 20f32.to_radians().cos();
         let quad = Quad::new(
             Vec3::new(-0.5, 2.0, -0.3),
@@ -383,6 +412,7 @@ mod tests {
         .unwrap();
         let lights = [
             Light::Point(PointLight {
+                luminaire: None,
                 position: Vec3::ONE,
                 intensity: Rgb::new(1.0, 2.0, 3.0),
             }),
@@ -390,6 +420,15 @@ mod tests {
             Light::Spot(spot(SpotProfile::Hard, 35.0)),
             Light::Spot(spot(SpotProfile::Smooth { cos_inner: inner }, 35.0)),
             Light::Quad(QuadLight::new(quad, Rgb::splat(2.0), true)),
+            Light::Point(PointLight {
+                luminaire: Some(measured(Vec3::new(0.3, -1.0, 0.2))),
+                position: Vec3::ONE,
+                intensity: Rgb::new(1.0, 2.0, 3.0),
+            }),
+            Light::Spot(SpotLight {
+                luminaire: Some(measured(-Vec3::Y)),
+                ..spot(SpotProfile::Smooth { cos_inner: inner }, 35.0)
+            }),
         ];
         for light in lights {
             let n = 256;

@@ -1,6 +1,7 @@
 //! Spotlights (the paper's §3.2): the cone, its intensity profile
 //! (eq. 4 and 5) and the part of a ray inside it.
 
+use super::photometric::Luminaire;
 use super::{Incident, LeSample, LightPoint, towards};
 use crate::color::Rgb;
 use crate::ray::Ray;
@@ -21,8 +22,9 @@ pub enum SpotProfile {
 }
 
 /// Spotlight: intensity `intensity` (W/sr) on its axis, shaped by
-/// `profile`, zero outside the cone `cos θ ≤ cos_cutoff`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// `profile`, zero outside the cone `cos θ ≤ cos_cutoff`; with a measured
+/// `luminaire` profile (its nadir the cone's axis) also times `P(ω)`.
+#[derive(Clone, Debug, PartialEq)]
 pub struct SpotLight {
     pub position: Vec3,
     /// Unit axis of the cone, the direction light leaves along.
@@ -31,6 +33,7 @@ pub struct SpotLight {
     pub cos_cutoff: f32,
     pub profile: SpotProfile,
     pub intensity: Rgb,
+    pub luminaire: Option<Luminaire>,
 }
 
 impl SpotLight {
@@ -39,7 +42,7 @@ impl SpotLight {
     #[inline]
     pub(super) fn incident(&self, x: Vec3) -> Option<Incident> {
         let (direction, d2) = towards(x, self.position)?;
-        let falloff = self.falloff(-direction.dot(self.direction));
+        let falloff = self.falloff(-direction.dot(self.direction)) * self.measured(-direction);
         (falloff > 0.0).then(|| Incident {
             direction,
             distance: d2.sqrt(),
@@ -53,7 +56,7 @@ impl SpotLight {
     /// profile is 0 (at the cut).
     pub(super) fn sample_le(&self, u_direction: Vec2) -> Option<LeSample> {
         let direction = uniform_cone(self.direction, self.cos_cutoff, u_direction);
-        let falloff = self.falloff(direction.dot(self.direction));
+        let falloff = self.falloff(direction.dot(self.direction)) * self.measured(direction);
         if falloff <= 0.0 {
             return None;
         }
@@ -68,9 +71,20 @@ impl SpotLight {
         })
     }
 
+    /// The measured profile's relative intensity towards the unit
+    /// direction `emitted` (1 without one).
+    #[inline]
+    fn measured(&self, emitted: Vec3) -> f32 {
+        self.luminaire.as_ref().map_or(1.0, |l| l.factor(emitted))
+    }
+
     /// Total emitted power: `I·∫ falloff dω` over the cone, in closed form
-    /// per profile.
+    /// per profile; with a measured profile `I·∫ falloff·P dω` by
+    /// quadrature ([`Luminaire::cone_integral`]).
     pub(super) fn power(&self) -> Rgb {
+        if let Some(l) = &self.luminaire {
+            return self.intensity * l.cone_integral(self.cos_cutoff, |c| self.falloff(c));
+        }
         let cos_c = self.cos_cutoff;
         let integral = match self.profile {
             // 2π ∫ (1 − (1 − c)/(1 − c_c)) dc over [c_c, 1].
@@ -177,6 +191,7 @@ pub(super) mod tests {
     /// A spot at (0, 3, 0) pointing down, of unit intensity.
     pub(in crate::lights) fn spot(profile: SpotProfile, cutoff_deg: f32) -> SpotLight {
         SpotLight {
+            luminaire: None,
             position: Vec3::new(0.0, 3.0, 0.0),
             direction: -Vec3::Y,
             cos_cutoff: cutoff_deg.to_radians().cos(),

@@ -270,7 +270,7 @@ impl Scene {
         // By primitive, for `area_light_at`'s binary search (an item's
         // mesh light is numbered after its quads and spheres).
         area_lights.sort_unstable_by_key(|&(primitive, _)| primitive);
-        lights.extend(desc.lights.iter().map(|l| Light::from(l.value)));
+        lights.extend(desc.lights.iter().map(|l| Light::from(l.value.clone())));
         let flat_emitters = lights.iter().filter(|l| l.is_flat_emitter()).count();
         let mut light_primitives = vec![None; lights.len()];
         for &(primitive, light) in &area_lights {
