@@ -159,9 +159,14 @@ impl SceneBuffers {
         if scene.has_textures() {
             return Err(GpuError::Unsupported("textured surfaces".into()));
         }
-        if let Some(index) = scene.lights().iter().position(|l| l.luminaire().is_some()) {
+        if let Some((index, pattern)) = scene
+            .lights()
+            .iter()
+            .enumerate()
+            .find_map(|(i, l)| Some((i, l.emission_pattern()?)))
+        {
             return Err(GpuError::Unsupported(format!(
-                "light #{index} with a measured (`ies`) profile (only the CPU renders them)"
+                "light #{index} with {pattern} (only the CPU renders them)"
             )));
         }
         check_panes(scene)?;

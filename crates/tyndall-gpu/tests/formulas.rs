@@ -88,6 +88,7 @@ fn spot_profiles_match_rust() {
                 SpotProfile::Smooth { cos_inner },
             ][p];
             let spot = SpotLight {
+                gobo: None,
                 luminaire: None,
                 position: Vec3::ZERO,
                 direction: -Vec3::Y,

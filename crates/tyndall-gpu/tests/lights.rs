@@ -63,6 +63,7 @@ fn spots() -> Vec<SpotLight> {
             },
         ][k % 3];
         spots.push(SpotLight {
+            gobo: None,
             luminaire: None,
             position: Vec3::new(0.5 - 0.3 * k as f32, 1.5 + 0.2 * k as f32, -0.4),
             direction: direction(7 * k + 3),
@@ -218,6 +219,7 @@ fn lights_of_each_kind() -> Vec<Light> {
     let rgb = Vec3::new(1.0, 2.0, 0.5);
     let spot = |profile, position: Vec3, axis: Vec3| {
         Light::Spot(SpotLight {
+            gobo: None,
             luminaire: None,
             position,
             direction: axis.normalize(),

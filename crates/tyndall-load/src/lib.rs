@@ -18,6 +18,7 @@ pub mod files;
 #[cfg(feature = "gltf")]
 pub mod gltf;
 pub mod ies;
+pub mod images;
 pub mod legacy;
 pub mod mesh;
 pub mod native;

@@ -646,6 +646,7 @@ impl GltfLoader<'_> {
                     SpotProfile::Smooth { cos_inner }
                 };
                 LightDesc::Spot(SpotLight {
+                    gobo: None,
                     luminaire: None,
                     position,
                     direction: direction.normalize(),

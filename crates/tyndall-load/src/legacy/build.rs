@@ -133,6 +133,7 @@ pub(super) fn build(
                     });
                     desc.add_shapes(vec![Shape::Quad(quad)], lamp, at(offset));
                     let spot = SpotLight {
+                        gobo: None,
                         luminaire: None,
                         position: quad.centroid(),
                         direction: quad.normal,

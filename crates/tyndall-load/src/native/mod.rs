@@ -9,22 +9,17 @@
 //! line and column.
 
 use crate::mesh::{MeshTransform, MeshTriangles, load_obj_mesh};
-use crate::photometry::candela_to_watts_per_sr;
 use crate::source::{SceneError, SourceText};
 use glam::Vec3;
 use serde_spanned::Spanned;
 use std::collections::BTreeMap;
-use std::f32::consts::PI;
 use std::ops::Range;
 use std::path::Path;
 use std::sync::Arc;
 use tyndall::camera::{CameraSpec, FieldOfView};
 use tyndall::color::Rgb;
-use tyndall::color::blackbody;
-use tyndall::description::{GlassSettings, LightDesc, Origin, SceneDesc, Sourced};
+use tyndall::description::{GlassSettings, Origin, SceneDesc, Sourced};
 use tyndall::glass::{Glass, GlassModel};
-use tyndall::lights::photometric::Luminaire;
-use tyndall::lights::{DirectionalLight, PointLight, SpotLight, SpotProfile};
 use tyndall::limits;
 use tyndall::materials::{Material, MaterialId, Surface};
 use tyndall::media::Fog;
@@ -34,6 +29,7 @@ use tyndall::settings::{
 };
 use tyndall::shapes::{Bounds, Quad, Shape, Sphere, box_faces};
 
+mod lights;
 mod medium;
 mod tables;
 
@@ -338,60 +334,6 @@ impl Loader<'_> {
         Ok((s, output))
     }
 
-    /// The colour of a light of colour temperature `kelvin` (none: white):
-    /// the blackbody's colour at luminance 1 (as for blackbody media,
-    /// docs/physics.md §2.5), channels below 0 clipped (below about
-    /// 1900 K the blackbody is bluer than Rec. 709's gamut allows).
-    fn temperature(&self, span: &Range<usize>, kelvin: Option<f32>) -> Result<Rgb, SceneError> {
-        let Some(kelvin) = kelvin else {
-            return Ok(Rgb::ONE);
-        };
-        let kelvin = self.number(
-            span,
-            "temperature_k",
-            kelvin,
-            (800.0, 100_000.0),
-            "a temperature from 800 K to 100000 K",
-        )?;
-        Ok(blackbody::unit_luminance_rgb(f64::from(kelvin)).max(Rgb::ZERO))
-    }
-
-    /// The measured profile an `ies` key names, placed with its nadir
-    /// along `nadir` and its 0° plane turned `rotate_deg`, with the file's
-    /// peak candela; `None` without the key (then `ies_rotate_deg` is an
-    /// error).
-    fn luminaire(
-        &self,
-        span: &Range<usize>,
-        ies: &Option<String>,
-        rotate_deg: Option<f32>,
-        nadir: Vec3,
-    ) -> Result<Option<(Luminaire, f32)>, SceneError> {
-        let Some(file) = ies else {
-            if rotate_deg.is_some() {
-                return Err(self.err(
-                    span,
-                    "ies_rotate_deg",
-                    "`ies_rotate_deg` turns an `ies` profile, and there is none",
-                ));
-            }
-            return Ok(None);
-        };
-        let rotate = self.number(
-            span,
-            "ies_rotate_deg",
-            rotate_deg.unwrap_or(0.0),
-            (-360.0, 360.0),
-            "an angle in [−360°, 360°]",
-        )?;
-        let measured =
-            crate::ies::load(&self.relative(file)).map_err(|e| self.err(span, "ies", e))?;
-        Ok(Some((
-            Luminaire::new(measured.profile, nadir, rotate),
-            measured.peak_candela,
-        )))
-    }
-
     fn relative(&self, p: &str) -> std::path::PathBuf {
         let dir = self.source.path.parent().unwrap_or(Path::new(""));
         dir.join(p)
@@ -635,171 +577,6 @@ impl Loader<'_> {
         let warnings = crate::include(&path, placement.matrix(), scene)
             .map_err(|e| self.err(&span, "file", format!("cannot include: {e}")))?;
         self.warnings.extend(warnings);
-        Ok(())
-    }
-
-    fn light(&self, desc: &Spanned<LightTable>, scene: &mut SceneDesc) -> Result<(), SceneError> {
-        let span = desc.span();
-        let origin = self.origin(&span);
-        match desc.get_ref() {
-            LightTable::Point(PointTable {
-                position,
-                intensity,
-                power,
-                direction,
-                temperature_k,
-                ies,
-                ies_rotate_deg,
-            }) => {
-                let nadir = match direction {
-                    Some(d) => self.direction(&span, "direction", *d)?,
-                    None => -Vec3::Y,
-                };
-                let measured = self.luminaire(&span, ies, *ies_rotate_deg, nadir)?;
-                if measured.is_none() && direction.is_some() {
-                    return Err(self.err(
-                        &span,
-                        "direction",
-                        "a point light's `direction` is the nadir of an `ies` profile, and there is none",
-                    ));
-                }
-                let mean = measured.as_ref().map_or(1.0, |(l, _)| l.profile.mean());
-                let intensity = match (intensity, power, &measured) {
-                    (Some(i), None, _) => self.emission(&span, "intensity", *i)?,
-                    // The peak intensity of the power the profile spreads.
-                    (None, Some(p), _) => self.emission(&span, "power", *p)? / (4.0 * PI * mean),
-                    (None, None, Some((_, candela))) => {
-                        Rgb::splat(candela_to_watts_per_sr(*candela))
-                    }
-                    _ => {
-                        return Err(self.err(
-                            &span,
-                            "position",
-                            "a point light needs exactly one of `intensity` (W/sr) or `power` (W) \
-                             (or neither, with an `ies` profile: then the file's candela)",
-                        ));
-                    }
-                };
-                let tint = self.temperature(&span, *temperature_k)?;
-                scene.add_light(
-                    LightDesc::Point(PointLight {
-                        position: Vec3::from_array(*position),
-                        intensity: intensity * tint,
-                        luminaire: measured.map(|(l, _)| l),
-                    }),
-                    origin,
-                );
-            }
-            LightTable::Spot(SpotTable {
-                position,
-                direction,
-                look_at,
-                cutoff_deg,
-                profile,
-                inner_deg,
-                intensity,
-                temperature_k,
-                ies,
-                ies_rotate_deg,
-            }) => {
-                let position = self.vec3(&span, "position", *position)?;
-                let direction = match (direction, look_at) {
-                    (Some(d), None) => self.direction(&span, "direction", *d)?,
-                    (None, Some(t)) => {
-                        let t = self.vec3(&span, "look_at", *t)?;
-                        if t == position {
-                            return Err(self.err(
-                                &span,
-                                "look_at",
-                                "`look_at` must differ from `position`",
-                            ));
-                        }
-                        // Scaled before normalising: a `look_at` 1e-45 away
-                        // would otherwise normalise to NaN.
-                        self.direction(&span, "look_at", (t - position).to_array())?
-                    }
-                    _ => {
-                        return Err(self.err(
-                            &span,
-                            "position",
-                            "a spot light needs exactly one of `direction` or `look_at`",
-                        ));
-                    }
-                };
-                let cutoff = self.number(
-                    &span,
-                    "cutoff_deg",
-                    *cutoff_deg,
-                    (f32::MIN_POSITIVE, 90.0),
-                    "a half-angle in (0°, 90°]",
-                )?;
-                let cos_cutoff = cutoff.to_radians().cos();
-                let profile = match (profile.as_deref().unwrap_or("linear"), inner_deg) {
-                    ("linear", None) => SpotProfile::Linear,
-                    ("hard", None) => SpotProfile::Hard,
-                    ("smooth", Some(inner)) => {
-                        let inner = self.number(&span, "inner_deg", *inner, (0.0, cutoff), "an angle in [0°, cutoff_deg)")?;
-                        if inner >= cutoff {
-                            return Err(self.err(&span, "inner_deg", format!("`inner_deg` must be below `cutoff_deg` ({cutoff}), got {inner}")));
-                        }
-                        SpotProfile::Smooth { cos_inner: inner.to_radians().cos() }
-                    }
-                    ("smooth", None) => return Err(self.err(&span, "profile", "the `smooth` profile needs `inner_deg`, the angle where the fall-off starts")),
-                    ("linear" | "hard", Some(_)) => return Err(self.err(&span, "inner_deg", "`inner_deg` applies only to the `smooth` profile")),
-                    (other, _) => return Err(self.err(&span, "profile", format!("unknown spot profile `{other}`: expected `linear`, `smooth` or `hard`"))),
-                };
-                let measured = self.luminaire(&span, ies, *ies_rotate_deg, direction)?;
-                let intensity = match (intensity, &measured) {
-                    (Some(i), _) => Rgb::from_array(i.0),
-                    (None, Some((_, candela))) => Rgb::splat(candela_to_watts_per_sr(*candela)),
-                    (None, None) => {
-                        return Err(self.err(
-                            &span,
-                            "position",
-                            "a spot light needs `intensity` (W/sr on its axis), \
-                             unless an `ies` profile gives the file's candela",
-                        ));
-                    }
-                };
-                let tint = self.temperature(&span, *temperature_k)?;
-                scene.add_light(
-                    LightDesc::Spot(SpotLight {
-                        position,
-                        direction,
-                        cos_cutoff,
-                        profile,
-                        intensity: intensity * tint,
-                        luminaire: measured.map(|(l, _)| l),
-                    }),
-                    origin,
-                );
-            }
-            LightTable::Directional(DirectionalTable {
-                direction,
-                irradiance,
-                temperature_k,
-            }) => {
-                let tint = self.temperature(&span, *temperature_k)?;
-                scene.add_light(
-                    LightDesc::Directional(DirectionalLight {
-                        direction: self.direction(&span, "direction", *direction)?,
-                        irradiance: Rgb::from_array(irradiance.0) * tint,
-                    }),
-                    origin,
-                );
-            }
-            LightTable::Quad(QuadLightTable {
-                corners,
-                radiance,
-                two_sided,
-                temperature_k,
-            }) => {
-                let quad = self.quad(&span, corners, false)?;
-                let radiance =
-                    Rgb::from_array(radiance.0) * self.temperature(&span, *temperature_k)?;
-                scene.add_quad_light(quad, radiance, *two_sided, origin);
-            }
-        }
         Ok(())
     }
 }

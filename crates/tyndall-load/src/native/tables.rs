@@ -263,6 +263,8 @@ pub(super) struct SpotTable {
     pub(super) temperature_k: Option<f32>,
     pub(super) ies: Option<String>,
     pub(super) ies_rotate_deg: Option<f32>,
+    pub(super) gobo: Option<String>,
+    pub(super) gobo_rotate_deg: Option<f32>,
 }
 
 #[derive(Deserialize)]

@@ -673,6 +673,7 @@ mod tests {
         assert_eq!(refused(|d| d.background = Rgb::splat(-1.0)), "background");
         assert_eq!(refused(|d| d.settings.spp = 0), "spp");
         let spot = SpotLight {
+            gobo: None,
             luminaire: None,
             position: Vec3::Y,
             direction: -Vec3::Y,

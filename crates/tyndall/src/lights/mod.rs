@@ -29,6 +29,7 @@
 
 mod area;
 mod directional;
+pub mod gobo;
 mod mesh;
 pub mod photometric;
 mod point;
@@ -36,6 +37,7 @@ mod spot;
 
 pub use area::{QuadLight, SphereLight, SphericalRectangle};
 pub use directional::DirectionalLight;
+pub use gobo::Gobo;
 pub use mesh::MeshLight;
 pub use photometric::{Luminaire, PhotometricProfile};
 pub use point::PointLight;
@@ -212,13 +214,18 @@ impl Light {
         )
     }
 
-    /// The measured intensity profile a point or spot light carries (an
-    /// IES file's), if any.
+    /// What shapes this light's emission beyond its kind's own law, named
+    /// for messages: a measured (IES) profile on a point or spot light, a
+    /// gobo on a spot; `None` for plain lights.
     #[inline]
-    pub fn luminaire(&self) -> Option<&Luminaire> {
+    pub fn emission_pattern(&self) -> Option<&'static str> {
         match self {
-            Light::Point(p) => p.luminaire.as_ref(),
-            Light::Spot(s) => s.luminaire.as_ref(),
+            Light::Point(p) => p.luminaire.as_ref().map(|_| "a measured (`ies`) profile"),
+            Light::Spot(s) => match (&s.luminaire, &s.gobo) {
+                (Some(_), _) => Some("a measured (`ies`) profile"),
+                (None, Some(_)) => Some("a gobo"),
+                (None, None) => None,
+            },
             Light::Directional(_) | Light::Quad(_) | Light::Sphere(_) | Light::Mesh(_) => None,
         }
     }

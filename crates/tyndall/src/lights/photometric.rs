@@ -338,26 +338,4 @@ impl Luminaire {
             .to_degrees();
         self.profile.eval(theta, phi)
     }
-
-    /// `∫ P dω` over the directions within the cone `cos θ > cos_cutoff`
-    /// about the nadir, weighted by `weight(cos θ)`, by the midpoint rule
-    /// on a 256 × 512 grid in (cos θ, φ) (for a spot's power; relative
-    /// error below 10⁻⁴ for tables at 2.5° or finer).
-    pub fn cone_integral(&self, cos_cutoff: f32, weight: impl Fn(f32) -> f32) -> f32 {
-        let (n_cos, n_phi) = (256, 512);
-        let lo = f64::from(cos_cutoff);
-        let d_cos = (1.0 - lo) / n_cos as f64;
-        let d_phi = 360.0 / n_phi as f64;
-        let mut sum = 0.0f64;
-        for i in 0..n_cos {
-            let c = lo + (i as f64 + 0.5) * d_cos;
-            let theta = c.acos().to_degrees() as f32;
-            let w = f64::from(weight(c as f32));
-            let ring: f64 = (0..n_phi)
-                .map(|j| f64::from(self.profile.eval(theta, ((j as f64 + 0.5) * d_phi) as f32)))
-                .sum();
-            sum += w * ring;
-        }
-        (sum * d_cos * d_phi.to_radians()) as f32
-    }
 }

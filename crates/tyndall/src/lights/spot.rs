@@ -1,6 +1,7 @@
 //! Spotlights (the paper's §3.2): the cone, its intensity profile
 //! (eq. 4 and 5) and the part of a ray inside it.
 
+use super::gobo::Gobo;
 use super::photometric::Luminaire;
 use super::{Incident, LeSample, LightPoint, towards};
 use crate::color::Rgb;
@@ -23,7 +24,8 @@ pub enum SpotProfile {
 
 /// Spotlight: intensity `intensity` (W/sr) on its axis, shaped by
 /// `profile`, zero outside the cone `cos θ ≤ cos_cutoff`; with a measured
-/// `luminaire` profile (its nadir the cone's axis) also times `P(ω)`.
+/// `luminaire` profile (its nadir the cone's axis) also times `P(ω)`, and
+/// with a `gobo` filtered by its image's colour `G(ω)`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SpotLight {
     pub position: Vec3,
@@ -34,6 +36,7 @@ pub struct SpotLight {
     pub profile: SpotProfile,
     pub intensity: Rgb,
     pub luminaire: Option<Luminaire>,
+    pub gobo: Option<Gobo>,
 }
 
 impl SpotLight {
@@ -43,10 +46,14 @@ impl SpotLight {
     pub(super) fn incident(&self, x: Vec3) -> Option<Incident> {
         let (direction, d2) = towards(x, self.position)?;
         let falloff = self.falloff(-direction.dot(self.direction)) * self.measured(-direction);
-        (falloff > 0.0).then(|| Incident {
+        if falloff <= 0.0 {
+            return None;
+        }
+        let filtered = self.filtered(-direction);
+        (filtered != Rgb::ZERO).then(|| Incident {
             direction,
             distance: d2.sqrt(),
-            irradiance: self.intensity * (falloff / d2),
+            irradiance: filtered * (falloff / d2),
             light_normal: None,
         })
     }
@@ -67,7 +74,7 @@ impl SpotLight {
                 origin: self.position,
                 direction,
             },
-            beta: self.intensity * (falloff * solid_angle),
+            beta: self.filtered(direction) * (falloff * solid_angle),
         })
     }
 
@@ -78,12 +85,40 @@ impl SpotLight {
         self.luminaire.as_ref().map_or(1.0, |l| l.factor(emitted))
     }
 
+    /// The intensity's colour towards the unit direction `emitted`
+    /// through the gobo, if any: `I·G(ω)`.
+    #[inline]
+    fn filtered(&self, emitted: Vec3) -> Rgb {
+        match &self.gobo {
+            Some(g) => self.intensity * g.colour(emitted),
+            None => self.intensity,
+        }
+    }
+
     /// Total emitted power: `I·∫ falloff dω` over the cone, in closed form
-    /// per profile; with a measured profile `I·∫ falloff·P dω` by
-    /// quadrature ([`Luminaire::cone_integral`]).
+    /// per profile; with a measured profile or a gobo `∫ I·falloff·P·G dω`
+    /// by the midpoint rule on a 256 × 512 grid in (cos θ, φ) about the
+    /// axis (relative error below 10⁻³ for tables at 2.5° and images up to
+    /// 512 texels across; the power only weighs lights against each other).
     pub(super) fn power(&self) -> Rgb {
-        if let Some(l) = &self.luminaire {
-            return self.intensity * l.cone_integral(self.cos_cutoff, |c| self.falloff(c));
+        if self.luminaire.is_some() || self.gobo.is_some() {
+            let (n_cos, n_phi) = (256, 512);
+            let d_cos = (1.0 - self.cos_cutoff) / n_cos as f32;
+            let d_phi = 2.0 * PI / n_phi as f32;
+            let (t, b) = self.direction.any_orthonormal_pair();
+            let mut sum = glam::DVec3::ZERO;
+            for i in 0..n_cos {
+                let c = self.cos_cutoff + (i as f32 + 0.5) * d_cos;
+                let s = (1.0 - c * c).max(0.0).sqrt();
+                let falloff = self.falloff(c);
+                for j in 0..n_phi {
+                    let (sp, cp) = ((j as f32 + 0.5) * d_phi).sin_cos();
+                    let omega = self.direction * c + (t * cp + b * sp) * s;
+                    let weight = falloff * self.measured(omega);
+                    sum += (self.filtered(omega) * weight).as_dvec3();
+                }
+            }
+            return (sum * f64::from(d_cos * d_phi)).as_vec3();
         }
         let cos_c = self.cos_cutoff;
         let integral = match self.profile {
@@ -191,6 +226,7 @@ pub(super) mod tests {
     /// A spot at (0, 3, 0) pointing down, of unit intensity.
     pub(in crate::lights) fn spot(profile: SpotProfile, cutoff_deg: f32) -> SpotLight {
         SpotLight {
+            gobo: None,
             luminaire: None,
             position: Vec3::new(0.0, 3.0, 0.0),
             direction: -Vec3::Y,
