@@ -228,6 +228,17 @@ pub enum SceneFormula {
     /// output `[arriving.rgb, valid]` with valid 1 where `inc` is (0 and
     /// no light otherwise), then `0`.
     LightArriving,
+    /// One sample of `single_in_scattered(ray, t_hit, 0, 1)`, its random
+    /// numbers from the PCG stream of `seed`: input `[origin.xyz, t_hit],
+    /// [direction.xyz, _], [seed, _, _, _]` (an integer below 2²⁴);
+    /// output `[radiance.rgb, _]`, then `0`. Items of different seeds are
+    /// independent samples, to be averaged.
+    SingleInScattered,
+    /// One sample of the camera path `radiance(ray, 0, 1)`, its random
+    /// numbers from the PCG stream of `seed`: input `[origin.xyz, _],
+    /// [direction.xyz, _], [seed, _, _, _]` (an integer below 2²⁴);
+    /// output `[radiance.rgb, _]`, then `0`.
+    Radiance,
     /// `direct_lighting(diffuse, x, normal)`: input `[x.xyz, _],
     /// [normal.xyz, _], [diffuse.rgb, _]`; output `[radiance.rgb, _]`,
     /// then `0`. For scenes of delta lights (an area light's points draw
@@ -262,6 +273,8 @@ impl SceneFormula {
         match self {
             SceneFormula::ScatteredRadiance => "probe_scattered_radiance",
             SceneFormula::LightArriving => "probe_light_arriving",
+            SceneFormula::SingleInScattered => "probe_single_in_scattered",
+            SceneFormula::Radiance => "probe_radiance",
             SceneFormula::DirectLighting => "probe_direct_lighting",
             SceneFormula::CameraRay => "probe_camera_ray",
             SceneFormula::FogInterval => "probe_fog_interval",

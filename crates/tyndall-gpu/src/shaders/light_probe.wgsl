@@ -187,3 +187,38 @@ fn probe_direct_lighting(@builtin(global_invocation_id) id: vec3<u32>) {
     probe_outputs[2u * i] = vec4<f32>(direct_lighting(c.xyz, a.xyz, b.xyz), 0.0);
     probe_outputs[2u * i + 1u] = vec4<f32>(0.0);
 }
+
+// in0 = (origin.xyz, t_hit), in1 = (direction.xyz, _), in2 = (seed, _, _,
+// _) an integer below 2²⁴ → out0 = (single_in_scattered(ray, t_hit, 0, 1),
+// _): one sample of single scattering's estimator (one stratum), every
+// random number from the PCG stream seeded by `seed` (none from the R₃
+// slots), so that items of different seeds are independent samples
+@compute @workgroup_size(64)
+fn probe_single_in_scattered(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= probe_count() { return; }
+    let a = probe_inputs[3u * i];
+    let b = probe_inputs[3u * i + 1u];
+    let c = probe_inputs[3u * i + 2u];
+    rng_state = pcg(u32(c.x) ^ 0x9e3779b9u);
+    leading_used = 3u;
+    probe_outputs[2u * i] = vec4<f32>(single_in_scattered(Ray(a.xyz, b.xyz), a.w, 0u, 1u), 0.0);
+    probe_outputs[2u * i + 1u] = vec4<f32>(0.0);
+}
+
+// in0 = (origin.xyz, _), in1 = (direction.xyz, _), in2 = (seed, _, _, _)
+// an integer below 2²⁴ → out0 = (radiance(ray, 0, 1), _): one sample of
+// the camera path (one stratum), its random numbers from the PCG stream
+// seeded by `seed`, so that items of different seeds are independent
+@compute @workgroup_size(64)
+fn probe_radiance(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= probe_count() { return; }
+    let a = probe_inputs[3u * i];
+    let b = probe_inputs[3u * i + 1u];
+    let c = probe_inputs[3u * i + 2u];
+    rng_state = pcg(u32(c.x) ^ 0x85ebca6bu);
+    leading_used = 3u;
+    probe_outputs[2u * i] = vec4<f32>(radiance(Ray(a.xyz, b.xyz), 0u, 1u), 0.0);
+    probe_outputs[2u * i + 1u] = vec4<f32>(0.0);
+}
