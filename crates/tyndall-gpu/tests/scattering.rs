@@ -681,6 +681,25 @@ fn direct_lighting_matches_rust() {
     );
 }
 
+/// The mean of independent samples and the variance of that mean (the
+/// samples' unbiased variance over their number).
+fn mean_and_its_variance(values: impl Iterator<Item = DVec3>) -> (DVec3, DVec3) {
+    let (mut sum, mut sum2, mut n) = (DVec3::ZERO, DVec3::ZERO, 0.0);
+    for v in values {
+        sum += v;
+        sum2 += v * v;
+        n += 1.0;
+    }
+    let mean = sum / n;
+    let var = (sum2 / n - mean * mean).max(DVec3::ZERO) * (n / (n - 1.0));
+    (mean, var / n)
+}
+
+/// A probe output's first vec4 as an RGB value in f64.
+fn first_rgb(o: &[[f32; 4]; 2]) -> DVec3 {
+    DVec3::new(f64::from(o[0][0]), f64::from(o[0][1]), f64::from(o[0][2]))
+}
+
 /// Single scattering's estimator on the GPU (`single_in_scattered`: each
 /// light's equiangular samples and the ray's distance sample combined by
 /// the balance heuristic) is unbiased for the single-scattering integral:
@@ -733,16 +752,9 @@ fn single_in_scattered_is_unbiased_for_the_rust_integrand() {
         .expect("GPU evaluation");
     let mut lit = 0;
     for (r, (ray, t_hit)) in rays.iter().enumerate() {
-        let chunk = &out[r * samples..(r + 1) * samples];
-        let (mut sum, mut sum2) = (DVec3::ZERO, DVec3::ZERO);
-        for o in chunk {
-            let v = DVec3::new(f64::from(o[0][0]), f64::from(o[0][1]), f64::from(o[0][2]));
-            sum += v;
-            sum2 += v * v;
-        }
-        let n = samples as f64;
-        let mean = sum / n;
-        let stderr = ((sum2 / n - mean * mean).max(DVec3::ZERO) / (n - 1.0)).map(f64::sqrt);
+        let (mean, mean_var) =
+            mean_and_its_variance(out[r * samples..(r + 1) * samples].iter().map(first_rgb));
+        let stderr = mean_var.map(f64::sqrt);
         let (mut quadrature, mut peak) = (DVec3::ZERO, 0.0f64);
         let mut h = 0.0;
         if let Some((a, b)) = fog.interval(ray, 0.0, *t_hit) {
@@ -831,17 +843,6 @@ fn camera_path_radiance_agrees_with_the_cpus() {
     }
     let out = evaluate_in_scene(&f.gpu, &f.march, SceneFormula::Radiance, &items)
         .expect("GPU evaluation");
-    let stats = |values: &mut dyn Iterator<Item = DVec3>| {
-        let (mut sum, mut sum2, mut n) = (DVec3::ZERO, DVec3::ZERO, 0.0);
-        for v in values {
-            sum += v;
-            sum2 += v * v;
-            n += 1.0;
-        }
-        let mean = sum / n;
-        let var = (sum2 / n - mean * mean).max(DVec3::ZERO) * (n / (n - 1.0));
-        (mean, var / n)
-    };
     let settings = RenderSettings {
         visibility: VisibilityMode::ShadowRays,
         ..f.settings
@@ -849,11 +850,7 @@ fn camera_path_radiance_agrees_with_the_cpus() {
     let mut informative = 0;
     for (r, ray) in rays.iter().enumerate() {
         let chunk = &out[r * samples as usize..(r + 1) * samples as usize];
-        let (gpu, gpu_var) = stats(
-            &mut chunk
-                .iter()
-                .map(|o| DVec3::new(f64::from(o[0][0]), f64::from(o[0][1]), f64::from(o[0][2]))),
-        );
+        let (gpu, gpu_var) = mean_and_its_variance(chunk.iter().map(first_rgb));
         let mut counts = tyndall::RayCounts::default();
         let cpu_samples: Vec<DVec3> = (0..samples)
             .map(|i| {
@@ -872,7 +869,7 @@ fn camera_path_radiance_agrees_with_the_cpus() {
                     .as_dvec3()
             })
             .collect();
-        let (cpu, cpu_var) = stats(&mut cpu_samples.into_iter());
+        let (cpu, cpu_var) = mean_and_its_variance(cpu_samples.into_iter());
         for c in 0..3 {
             let sd = (gpu_var[c] + cpu_var[c]).sqrt();
             assert!(

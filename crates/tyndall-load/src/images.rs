@@ -18,25 +18,41 @@ pub fn load_texture(path: &Path) -> Result<Texture, String> {
         Ok(f @ (image::ImageFormat::Png | image::ImageFormat::Jpeg)) => f,
         _ => return Err(fail("not a PNG or JPEG image".into())),
     };
-    let reader = || image::ImageReader::with_format(std::io::Cursor::new(&bytes[..]), format);
-    let (width, height) = reader()
-        .into_dimensions()
-        .map_err(|e| fail(format!("cannot read the image: {e}")))?;
-    let texels = u64::from(width) * u64::from(height);
-    if texels > MAX_IMAGE_TEXELS {
-        return Err(fail(format!(
-            "the image is {width}×{height}: at most {MAX_IMAGE_TEXELS} texels are supported"
-        )));
-    }
-    let mut decoder = reader();
-    let mut limits = image::Limits::default();
-    // 16-bit RGBA and the decoder's own buffers.
-    limits.max_alloc = Some(texels * 8 + (64 << 20));
-    decoder.limits(limits);
-    let rgb = decoder
-        .decode()
-        .map_err(|e| fail(format!("cannot decode the image: {e}")))?
-        .into_rgb8();
+    let rgb = decode_checked(&bytes, format, |width, height| {
+        let texels = u64::from(width) * u64::from(height);
+        if texels > MAX_IMAGE_TEXELS {
+            return Err(format!(
+                "the image is {width}×{height}: at most {MAX_IMAGE_TEXELS} texels are supported"
+            ));
+        }
+        Ok(())
+    })
+    .map_err(fail)?
+    .into_rgb8();
+    let (width, height) = rgb.dimensions();
     let texels = rgb.pixels().map(|p| p.0).collect();
     Texture::new(width, height, texels, [Wrap::Clamp, Wrap::Clamp]).map_err(fail)
+}
+
+/// Decodes `bytes` as an image of `format`, its size read from the header
+/// first for `check(width, height)` to refuse before any pixel is decoded,
+/// the decoder's allocations then limited to what that size needs (16-bit
+/// RGBA and the decoder's own buffers).
+pub(crate) fn decode_checked(
+    bytes: &[u8],
+    format: image::ImageFormat,
+    check: impl FnOnce(u32, u32) -> Result<(), String>,
+) -> Result<image::DynamicImage, String> {
+    let reader = || image::ImageReader::with_format(std::io::Cursor::new(bytes), format);
+    let (width, height) = reader()
+        .into_dimensions()
+        .map_err(|e| format!("cannot read the image: {e}"))?;
+    check(width, height)?;
+    let mut decoder = reader();
+    let mut limits = image::Limits::default();
+    limits.max_alloc = Some(u64::from(width) * u64::from(height) * 8 + (64 << 20));
+    decoder.limits(limits);
+    decoder
+        .decode()
+        .map_err(|e| format!("cannot decode the image: {e}"))
 }

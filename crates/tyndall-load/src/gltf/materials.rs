@@ -332,7 +332,7 @@ impl GltfLoader<'_> {
         image: &::gltf::Image,
     ) -> Result<::gltf::image::Data, SceneError> {
         use ::gltf::image::Source;
-        use image::{DynamicImage, ImageFormat, ImageReader};
+        use image::{DynamicImage, ImageFormat};
         use std::borrow::Cow;
         let at = format!("images[{}]", image.index());
         let fail = |m: String| self.err(element, format!("{at}: {m}"));
@@ -371,29 +371,23 @@ impl GltfLoader<'_> {
                 }
             },
         };
-        let reader = || ImageReader::with_format(std::io::Cursor::new(&bytes[..]), format);
-        let (width, height) = reader()
-            .into_dimensions()
-            .map_err(|e| fail(format!("cannot read the image: {e}")))?;
-        let texels = u64::from(width) * u64::from(height);
-        if texels > MAX_TEXELS {
-            return Err(fail(format!(
-                "the image is {width}×{height}: at most {MAX_TEXELS} texels are supported"
-            )));
-        }
-        if self.decoded_texels + texels > MAX_DECODED_TEXELS {
-            return Err(fail(format!(
-                "the file's images add up to more than {MAX_DECODED_TEXELS} texels"
-            )));
-        }
-        let mut decoder = reader();
-        let mut limits = image::Limits::default();
-        // 16-bit RGBA and the decoder's own buffers.
-        limits.max_alloc = Some(texels * 8 + (64 << 20));
-        decoder.limits(limits);
-        let decoded = decoder
-            .decode()
-            .map_err(|e| fail(format!("cannot decode the image: {e}")))?;
+        let decoded_before = self.decoded_texels;
+        let decoded = crate::images::decode_checked(&bytes, format, |width, height| {
+            let texels = u64::from(width) * u64::from(height);
+            if texels > MAX_TEXELS {
+                return Err(format!(
+                    "the image is {width}×{height}: at most {MAX_TEXELS} texels are supported"
+                ));
+            }
+            if decoded_before + texels > MAX_DECODED_TEXELS {
+                return Err(format!(
+                    "the file's images add up to more than {MAX_DECODED_TEXELS} texels"
+                ));
+            }
+            Ok(())
+        })
+        .map_err(fail)?;
+        let texels = u64::from(decoded.width()) * u64::from(decoded.height());
         drop(bytes);
         let format = match &decoded {
             DynamicImage::ImageLuma8(_) => Format::R8,

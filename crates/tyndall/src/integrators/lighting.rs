@@ -236,8 +236,26 @@ pub mod twins {
     use super::*;
     use crate::sampler::RandomStream;
 
-    fn tracker() -> VolumeTracker {
+    /// A tracker of its own for one twin's call.
+    pub(crate) fn tracker() -> VolumeTracker {
         VolumeTracker::new(RandomStream::new(0))
+    }
+
+    /// The query of `ray` over `(0, t_hit)` in `scene`'s fog; `None`
+    /// without fog.
+    pub(crate) fn fog_query<'a>(
+        scene: &'a Scene,
+        visibility: &'a Visibility,
+        ray: Ray,
+        t_hit: f32,
+    ) -> Option<MediumQuery<'a>> {
+        Some(MediumQuery {
+            scene,
+            visibility,
+            fog: scene.fog()?,
+            ray,
+            t_hit,
+        })
     }
 
     /// [`scattered_radiance`] at fog point `x` of a ray along unit `view`
@@ -250,18 +268,12 @@ pub mod twins {
         x: Vec3,
         view: Vec3,
     ) -> Rgb {
-        let Some(fog) = scene.fog() else {
-            return Rgb::ZERO;
+        let ray = Ray {
+            origin: x - view,
+            direction: view,
         };
-        let medium = MediumQuery {
-            scene,
-            visibility,
-            fog,
-            ray: Ray {
-                origin: x - view,
-                direction: view,
-            },
-            t_hit: 1.0,
+        let Some(medium) = fog_query(scene, visibility, ray, 1.0) else {
+            return Rgb::ZERO;
         };
         let mut counts = RayCounts::default();
         super::scattered_radiance(&medium, index, y, x, &mut counts, &mut tracker())

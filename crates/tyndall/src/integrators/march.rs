@@ -146,10 +146,10 @@ fn lattice_range(a: f32, lo: f32, hi: f32, step: f32, jitter: f32) -> (u64, u64)
 /// The march's functions as the GPU's twin of them is probed against
 /// (crates/tyndall-gpu/tests/march_functions.rs).
 pub mod twins {
+    use super::super::lighting::twins::{fog_query, tracker};
     use super::*;
     use crate::Scene;
     use crate::ray::Ray;
-    use crate::sampler::RandomStream;
 
     /// The march's in-scattered radiance along `ray` over `(0, t_hit)` in
     /// `scene`'s fog (none: 0), lattice step `step` and `jitter` ∈ [0, 1)
@@ -164,18 +164,11 @@ pub mod twins {
         step: f32,
         jitter: f32,
     ) -> Rgb {
-        let Some(fog) = scene.fog() else {
+        let Some(medium) = fog_query(scene, visibility, ray, t_hit) else {
             return Rgb::ZERO;
         };
-        let medium = MediumQuery {
-            scene,
-            visibility,
-            fog,
-            ray,
-            t_hit,
-        };
         let mut sampler = PixelSampler::new(0, 0, 0);
-        let mut tracker = VolumeTracker::new(RandomStream::new(0));
+        let mut tracker = tracker();
         let mut counts = RayCounts::default();
         lattice_sum(
             &medium,
