@@ -566,4 +566,39 @@ mod tests {
             }
         }
     }
+
+    /// A measured profile or a gobo is refused, naming the light.
+    #[test]
+    fn patterned_lights_are_refused() {
+        use tyndall::lights::{Gobo, Luminaire, PhotometricProfile, SpotLight, SpotProfile};
+        let profile =
+            PhotometricProfile::new(vec![0.0, 90.0], vec![0.0], &[vec![1.0, 0.5]]).unwrap();
+        let image = Texture::new(1, 1, vec![[200, 100, 50]], [Wrap::Clamp; 2]).unwrap();
+        let spot = |luminaire, gobo| SpotLight {
+            position: Vec3::Y,
+            direction: -Vec3::Y,
+            cos_cutoff: 0.9,
+            profile: SpotProfile::Hard,
+            intensity: Rgb::ONE,
+            luminaire,
+            gobo,
+        };
+        let measured = Luminaire::new(std::sync::Arc::new(profile), -Vec3::Y, 0.0);
+        let gobo = Gobo::new(std::sync::Arc::new(image), -Vec3::Y, 25.0, 0.0).unwrap();
+        for (light, named) in [
+            (spot(Some(measured), None), "`ies`"),
+            (spot(None, Some(gobo)), "gobo"),
+        ] {
+            let camera = CameraSpec::looking_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 40.0);
+            let mut desc = SceneDesc::new(Sourced::code(camera));
+            desc.add_light(tyndall::description::LightDesc::Spot(light), Origin::Code);
+            match SceneBuffers::new(&Scene::build(&desc).unwrap()) {
+                Err(GpuError::Unsupported(what)) => {
+                    assert!(what.contains(named) && what.contains("light #0"), "{what}")
+                }
+                Err(e) => panic!("{e}"),
+                Ok(_) => panic!("{named}: accepted"),
+            }
+        }
+    }
 }

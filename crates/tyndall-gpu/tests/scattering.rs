@@ -422,13 +422,7 @@ fn light_arriving_through_shadow_maps_matches_rust() {
             }
         }
     }
-    check_light_arriving_at(
-        &f,
-        &behind,
-        16.0 / f64::from(MAP_RESOLUTION),
-        8.0 * EPS,
-        10,
-    );
+    check_light_arriving_at(&f, &behind, 16.0 / f64::from(MAP_RESOLUTION), 8.0 * EPS, 10);
     check_light_arriving(&f, 16.0 / f64::from(MAP_RESOLUTION), 8.0 * EPS);
 }
 
