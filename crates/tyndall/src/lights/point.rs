@@ -32,11 +32,20 @@ impl PointLight {
     #[inline]
     pub(super) fn incident(&self, x: Vec3) -> Option<Incident> {
         let (direction, d2) = towards(x, self.position)?;
-        let profile = self.profile(-direction);
-        (profile > 0.0).then(|| Incident {
+        let irradiance = match &self.luminaire {
+            None => self.intensity / d2,
+            Some(l) => {
+                let profile = l.factor(-direction);
+                if profile <= 0.0 {
+                    return None;
+                }
+                self.intensity * (profile / d2)
+            }
+        };
+        Some(Incident {
             direction,
             distance: d2.sqrt(),
-            irradiance: self.intensity * (profile / d2),
+            irradiance,
             light_normal: None,
         })
     }
