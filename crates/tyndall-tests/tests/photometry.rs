@@ -438,6 +438,11 @@ fn bad_photometry_is_refused_clearly() {
             "no `TILT=` line",
         ),
         (
+            "one vertical angle",
+            good.replacen("120 -1 1 37 5 1 1", "120 -1 1 1 5 1 1", 1),
+            "at least two vertical angles",
+        ),
+        (
             "too many angles",
             good.replacen("120 -1 1 37 5 1 1", "120 -1 1 1000000 5 1 1", 1),
             "from 1 to 1024",

@@ -71,9 +71,10 @@ impl PhotometricProfile {
         horizontal: Vec<f32>,
         candela: &[Vec<f32>],
     ) -> Result<Self, String> {
-        if vertical.is_empty() || horizontal.is_empty() {
+        if vertical.len() < 2 || horizontal.is_empty() {
             return Err(
-                "a photometric table needs at least one vertical and one horizontal angle".into(),
+                "a photometric table needs at least two vertical angles and one horizontal angle"
+                    .into(),
             );
         }
         for (name, angles) in [("vertical", &vertical), ("horizontal", &horizontal)] {
