@@ -4,8 +4,9 @@
 //! vertex ([`connect_light_vertex`]).
 
 use super::Volpath;
-use super::mis::{FogEventDensities, segment_term};
+use super::mis::FogEventDensities;
 use super::segment::{Connections, FogSegment};
+use super::segment_weights::segment_term;
 use crate::color::Rgb;
 use crate::integrators::Scatterer;
 use crate::media::Fog;

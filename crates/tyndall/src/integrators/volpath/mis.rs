@@ -8,16 +8,13 @@
 //! common factor `p_flight(t)·G` (G = cos θ_y/|y − x|² turns solid angle
 //! at x into area at y) — "the solid-angle terms at a fog event":
 //! NEE's `p_Ω`, the phase-sampled hit's `p_phase`, the equiangular
-//! estimator's [`segment_term`], and the light-vertex connections'
-//! [`FogSegment::light_vertex_terms`]. [`FogEventDensities`] holds the
+//! estimator's `segment_term` and the light-vertex connections' terms
+//! (both in `segment_weights.rs`, which reads the segment). [`FogEventDensities`] holds the
 //! four and gives the balance heuristic's denominator; every estimator at
 //! a fog event takes its weight from it.
 
-use super::Arrival;
-use super::segment::FogSegment;
-use crate::lights::{Light, LightPoint};
+use crate::lights::Light;
 use crate::media::Fog;
-use crate::sampling::EquiangularSampler;
 use crate::scene::Scene;
 use crate::settings::Strategies;
 use glam::Vec3;
@@ -95,94 +92,6 @@ pub(super) fn balance_of_two(p: f32, other_runs: bool, q: f32) -> f32 {
 /// quarter.
 const CAMERA_AREA_EQUIANGULAR_SAMPLES: u32 = 1;
 
-/// For a quad light, the segment estimator's density for (t, y) relative
-/// to the free-flight event's, in solid-angle terms:
-/// `q = (n·p_e(t | y)/A) / (p_flight(t)·G)`. Added to `p_Ω + p_phase` it
-/// completes the three-way balance heuristic at a fog event.
-pub(super) fn segment_term(
-    segment: &FogSegment,
-    t: f32,
-    counts: EquiangularCounts,
-    light: &Light,
-    y: LightPoint,
-) -> f32 {
-    let samples = counts.of(light);
-    let Some(normal) = y.normal else {
-        return 0.0;
-    };
-    let y = y.position;
-    if samples == 0 {
-        return 0.0;
-    }
-    let ray = &segment.medium.ray;
-    let Some(eq) = EquiangularSampler::new(ray, y, segment.a, segment.b) else {
-        return 0.0;
-    };
-    let d = y - ray.at(t);
-    let d2 = d.length_squared();
-    let g = normal.dot(d).abs() / (d2 * d2.sqrt());
-    let p_flight = segment.flight_pdf(t);
-    if !(g > 0.0 && p_flight > 0.0) {
-        return 0.0;
-    }
-    samples as f32 * eq.pdf(t) / light.area() / (p_flight * g)
-}
-
-/// MIS weight of emission found by a sampled direction: the balance
-/// heuristic against NEE's density for the same point, if the emitter is
-/// a sampled area light.
-pub(super) fn emission_weight(
-    scene: &Scene,
-    strategies: Strategies,
-    arrival: Arrival,
-    primitive: u32,
-    p: Vec3,
-    direction: Vec3,
-) -> f32 {
-    match (arrival, scene.area_light_at(primitive)) {
-        (
-            Arrival::Sampled {
-                from,
-                pdf,
-                in_volume,
-            },
-            Some(index),
-        ) => {
-            let (nee, hits) = if in_volume {
-                (strategies.medium_nee, strategies.medium_hits)
-            } else {
-                (strategies.surface_nee, strategies.surface_hits)
-            };
-            if !hits {
-                return 0.0;
-            }
-            let y = LightPoint::on_surface(p, scene.geometry.normal(primitive, p));
-            let p_light = scene.lights[index].pdf_li(from, y, direction);
-            balance_of_two(pdf, nee, p_light)
-        }
-        (
-            Arrival::Medium {
-                pdf,
-                segment,
-                t,
-                samples,
-            },
-            Some(index),
-        ) => {
-            if !strategies.medium_hits {
-                return 0.0;
-            }
-            let light = &scene.lights[index];
-            let y = LightPoint::on_surface(p, scene.geometry.normal(primitive, p));
-            let p_light = light.pdf_li(segment.medium.ray.at(t), y, direction);
-            let q = segment_term(&segment, t, samples, light, y);
-            let p_connect = segment.light_vertex_terms(t, light, p);
-            pdf / FogEventDensities::new(strategies, p_light, pdf, q, p_connect).total()
-        }
-        _ => 1.0,
-    }
-}
-
 /// The densities with which the strategies at a fog event produce the
 /// last connection x(t) → y of a path to an area light, in the solid-angle
 /// terms at a fog event (see the module documentation); a strategy that is
@@ -197,7 +106,7 @@ pub(super) struct FogEventDensities {
     /// when `equiangular` is off).
     pub equiangular: f32,
     /// Both light-vertex connections
-    /// ([`FogSegment::light_vertex_terms`]; already 0 when off).
+    /// (`FogSegment::light_vertex_terms`; already 0 when off).
     pub connections: f32,
 }
 
@@ -234,8 +143,11 @@ impl FogEventDensities {
 /// so its connections need no exponential and no `pdf_le` of their own.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct LightVertexDensity {
-    direction: Vec3,
-    density: f32,
+    /// Unit direction from the light's point to the vertex.
+    pub direction: Vec3,
+    /// The vertex's density relative to the camera path's (see
+    /// `FogSegment::connection_term`).
+    pub density: f32,
 }
 
 impl LightVertexDensity {
@@ -258,68 +170,6 @@ impl LightVertexDensity {
             direction,
             density: fog.sigma_t * t_light * p_le / lights,
         })
-    }
-}
-
-impl FogSegment<'_> {
-    /// The densities of both light-vertex strategies for the event at `t`
-    /// lit from `y0`, in the solid-angle terms of the balance heuristic
-    /// at a fog event.
-    pub(super) fn light_vertex_terms(&self, t: f32, light: &Light, y0: Vec3) -> f32 {
-        if self.connected_from.first.is_none() && self.connected_from.reached.is_none() {
-            return 0.0;
-        }
-        let medium = &self.medium;
-        let y = LightVertexDensity::new(medium.scene, medium.fog, light, y0, medium.ray.at(t));
-        self.connection_term(t, y) + self.second_vertex_term(y)
-    }
-
-    /// The light-vertex connection's density for the event at `t`, the
-    /// light subpath vertex `y` (see
-    /// [`connect_light_vertex`](super::connections::connect_light_vertex)),
-    /// relative to the free-flight event's, in the solid-angle terms of
-    /// the balance heuristic at a fog event:
-    /// `p₄ / (p_dir·p_flight(t)/t² · G)`, where
-    /// `p₄ = σt·T(y0, y)·p_le·cos θ₀ / (n_q·|y − y0|²)` is the volume
-    /// density of the light vertex y, `p_dir` the density of the ray's
-    /// direction at its origin and `G = cos θ₀/|y − y0|²`. Zero unless
-    /// the ray starts at a vertex that connected, and where no subpath
-    /// reaches y.
-    pub(super) fn connection_term(&self, t: f32, y: Option<LightVertexDensity>) -> f32 {
-        let (Some(p_dir), Some(y)) = (self.connected_from.first, y) else {
-            return 0.0;
-        };
-        let p_flight = self.flight_pdf(t);
-        if !(p_dir > 0.0 && p_flight > 0.0) {
-            return 0.0;
-        }
-        finite_density(y.density * t * t / (p_dir * p_flight))
-    }
-
-    /// The second-light-vertex strategy's density for the path
-    /// (x, y₂, y₁, y0), y₁ the light subpath vertex `y1` on this ray,
-    /// relative to the camera path's common factor at y₁, where y₂ is the
-    /// ray's origin and x the vertex before it:
-    /// `σt·T(y0, y₁)·p(y₁)·p_le / (n_q·P_x(y₂)·p_dir(y₂))` (the light
-    /// subpath's densities of y₁ and y₂ over the camera's of y₂ and of the
-    /// event at y₁; see
-    /// [`connect_light_vertex`](super::connections::connect_light_vertex)).
-    /// Zero unless the origin was reached from a vertex that connected to
-    /// second light vertices, and where no subpath reaches y₁.
-    pub(super) fn second_vertex_term(&self, y1: Option<LightVertexDensity>) -> f32 {
-        let (Some(reached), Some(y1)) = (self.connected_from.reached, y1) else {
-            return 0.0;
-        };
-        if reached <= 0.0 {
-            return 0.0;
-        }
-        // Light arrives along y0 → y₁ and turns back along −ray.direction.
-        let phase = self
-            .medium
-            .fog
-            .phase
-            .eval(-y1.direction.dot(self.medium.ray.direction));
-        finite_density(y1.density * phase / reached)
     }
 }
 

@@ -73,6 +73,7 @@ mod light_subpaths;
 mod mis;
 mod nee;
 mod segment;
+mod segment_weights;
 
 pub use crate::settings::Strategies;
 pub use light_subpaths::LightSubpaths;
@@ -91,9 +92,10 @@ use crate::scene::Scene;
 use crate::visibility::{RayCounts, Visibility};
 use connections::{LightVertexOrigin, connect_light_vertex};
 use glam::Vec3;
-use mis::{EquiangularCounts, balance_of_two, emission_weight};
+use mis::{EquiangularCounts, balance_of_two};
 use nee::{PathVertex, media_emission_nee, medium_nee};
 use segment::{Connections, EquiangularNee, FogSegment};
+use segment_weights::emission_weight;
 
 /// Scattering events before Russian roulette may end a path.
 const ROULETTE_DEPTH: u32 = 3;

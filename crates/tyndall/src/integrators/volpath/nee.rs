@@ -3,8 +3,9 @@
 //! ([`medium_nee`]) or a real collision in a volume ([`PathVertex::nee`]),
 //! MIS-weighted against the other strategies that reach the same light.
 
-use super::mis::{FogEventDensities, balance_of_two, segment_term};
+use super::mis::{FogEventDensities, balance_of_two};
 use super::segment::{EquiangularNee, FogSegment};
+use super::segment_weights::segment_term;
 use crate::color::Rgb;
 use crate::integrators::media_transmittance;
 use crate::integrators::{light_arriving, sample_light, scattered_light};
