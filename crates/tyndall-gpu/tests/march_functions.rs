@@ -19,12 +19,12 @@
 mod support;
 
 use glam::{DVec3, Vec2, Vec3};
+use tyndall::RenderSettings;
 use tyndall::Scene;
 use tyndall::camera::Camera;
 use tyndall::materials::Surface;
 use tyndall::ray::Ray;
 use tyndall::shapes::Shape;
-use tyndall::{RenderSettings, SceneDesc};
 use tyndall_gpu::formula_probe::{SceneFormula, evaluate_in_scene};
 use tyndall_gpu::{GpuMarch, MarchSettings};
 
@@ -118,14 +118,7 @@ struct Fixture {
 
 fn fixture(test: &str) -> Option<Fixture> {
     let gpu = support::gpu_or_skip(test)?;
-    // One folder per test: the tests run in parallel threads.
-    let dir = std::env::temp_dir().join(format!("tyndall-march-fns-{}-{test}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    std::fs::write(dir.join("tetrahedron.obj"), TETRAHEDRON).expect("write mesh");
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, SCENE).expect("write scene");
-    let desc: SceneDesc = tyndall_load::load(&path, Default::default()).expect("scene loads");
-    let scene = Scene::build(&desc).expect("scene builds");
+    let (desc, scene) = support::scene_in_folder(test, SCENE, &[("tetrahedron.obj", TETRAHEDRON)]);
     let settings = desc.settings;
     let march = GpuMarch::new(&gpu, &scene, &MarchSettings::from(&settings)).expect("upload");
     Some(Fixture {

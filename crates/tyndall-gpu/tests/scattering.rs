@@ -19,11 +19,11 @@
 mod support;
 
 use glam::{DVec3, Vec2, Vec3};
+use tyndall::RenderSettings;
 use tyndall::Scene;
 use tyndall::lights::{Incident, Light, LightPoint};
 use tyndall::settings::VisibilityMode;
 use tyndall::testing::{Visibility, twins};
-use tyndall::{RenderSettings, SceneDesc};
 use tyndall_gpu::formula_probe::{SceneFormula, evaluate_in_scene};
 use tyndall_gpu::{GpuMarch, MarchSettings};
 
@@ -152,13 +152,7 @@ fn fixture_of(test: &str, text: &str) -> Option<Fixture> {
 /// both sides.
 fn fixture_seeing(test: &str, text: &str, visibility: VisibilityMode) -> Option<Fixture> {
     let gpu = support::gpu_or_skip(test)?;
-    let dir = std::env::temp_dir().join(format!("tyndall-scattering-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    // One file per test: the tests run in parallel threads.
-    let path = dir.join(format!("{test}.toml"));
-    std::fs::write(&path, text).expect("write scene");
-    let desc: SceneDesc = tyndall_load::load(&path, Default::default()).expect("scene loads");
-    let scene = Scene::build(&desc).expect("scene builds");
+    let (desc, scene) = support::scene_in_folder(test, text, &[]);
     let settings = RenderSettings {
         visibility,
         ..desc.settings
@@ -173,6 +167,30 @@ fn fixture_seeing(test: &str, text: &str, visibility: VisibilityMode) -> Option<
         step: settings.step,
         settings,
     })
+}
+
+/// The ray from the camera (at (0, 0, 9)) towards `target` and the
+/// distance to its first hit (∞ past everything).
+fn camera_ray_towards(f: &Fixture, target: Vec3) -> (tyndall::ray::Ray, f32) {
+    let origin = Vec3::new(0.0, 0.0, 9.0);
+    let ray = tyndall::ray::Ray::new(origin, target - origin);
+    let t_hit = f
+        .scene
+        .geometry()
+        .intersect(&ray, f32::INFINITY)
+        .map_or(f32::INFINITY, |h| h.t);
+    (ray, t_hit)
+}
+
+/// A probe item for a ray over (0, t_hit) (∞ as WGSL's stand-in 3·10³⁸)
+/// and an integer `key` below 2²⁴ (a jitter's or a seed's).
+fn ray_item(ray: &tyndall::ray::Ray, t_hit: f32, key: u32) -> [[f32; 4]; 3] {
+    let (o, w) = (ray.origin, ray.direction);
+    [
+        [o.x, o.y, o.z, t_hit.min(3.0e38)],
+        [w.x, w.y, w.z, 0.0],
+        [key as f32, 0.0, 0.0, 0.0],
+    ]
 }
 
 /// Receivers spread over the fog box, with the light's sample numbers.
@@ -192,32 +210,34 @@ fn cases(lights: usize, per_light: usize) -> Vec<(usize, Vec3, Vec2, usize)> {
     out
 }
 
+/// (corner, edge a, edge b) of [`SCENE`]'s horizontal quads: the pane, the
+/// card and the quad light (a shape too, opaque to the shadow rays of the
+/// others).
+const QUADS: [(Vec3, Vec3, Vec3); 3] = [
+    (
+        Vec3::new(-1.5, 1.0, -1.5),
+        Vec3::new(0.0, 0.0, 2.0),
+        Vec3::new(2.0, 0.0, 0.0),
+    ),
+    (
+        Vec3::new(0.8, 0.6, 0.2),
+        Vec3::new(0.0, 0.0, 1.6),
+        Vec3::new(1.4, 0.0, 0.0),
+    ),
+    (
+        Vec3::new(-0.5, 3.5, -0.5),
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, 1.0),
+    ),
+];
+
 /// Whether the segment from `x` over `distance` along `direction` passes
 /// within `margin` (relative to a quad's size) of the edge of one of the
 /// scene's quads, or `x` lies within `margin` of their planes: cases
 /// where rounding may decide visibility.
 fn near_an_occluder_edge(x: Vec3, direction: Vec3, distance: f32, margin: f64) -> bool {
-    // (corner, edge a, edge b) of the pane, the card and the quad light
-    // (a shape too, opaque to the shadow rays of the others).
-    let quads = [
-        (
-            DVec3::new(-1.5, 1.0, -1.5),
-            DVec3::new(0.0, 0.0, 2.0),
-            DVec3::new(2.0, 0.0, 0.0),
-        ),
-        (
-            DVec3::new(0.8, 0.6, 0.2),
-            DVec3::new(0.0, 0.0, 1.6),
-            DVec3::new(1.4, 0.0, 0.0),
-        ),
-        (
-            DVec3::new(-0.5, 3.5, -0.5),
-            DVec3::new(1.0, 0.0, 0.0),
-            DVec3::new(0.0, 0.0, 1.0),
-        ),
-    ];
     let (o, w) = (d(x), d(direction));
-    for (corner, a, b) in quads {
+    for (corner, a, b) in QUADS.map(|(c, a, b)| (d(c), d(a), d(b))) {
         let plane_y = corner.y;
         if (o.y - plane_y).abs() < margin {
             return true;
@@ -396,23 +416,13 @@ fn light_arriving_through_shadow_maps_matches_rust() {
     // the pane as each point or spot light sees them (0.02 to 0.8 past
     // them along its rays), where a map's depth test and bias decide.
     let mut behind = Vec::new();
-    let occluders = [
-        (
-            Vec3::new(0.8, 0.6, 0.2),
-            Vec3::new(1.4, 0.0, 0.0),
-            Vec3::new(0.0, 0.0, 1.6),
-        ),
-        (
-            Vec3::new(-1.5, 1.0, -1.5),
-            Vec3::new(2.0, 0.0, 0.0),
-            Vec3::new(0.0, 0.0, 2.0),
-        ),
-    ];
+    // The pane and the card (QUADS' first two).
+    let occluders = &QUADS[..2];
     for (l, light) in f.scene.lights().iter().enumerate() {
         let Some(position) = light.position() else {
             continue;
         };
-        for (corner, a, b) in occluders {
+        for &(corner, a, b) in occluders {
             for k in 0..64 {
                 let p =
                     corner + a * (0.1 + 0.8 * spread(2 * k)) + b * (0.1 + 0.8 * spread(2 * k + 1));

@@ -13,6 +13,14 @@ pub const MAX_SCENE_FILE_BYTES: u64 = 64 << 20;
 /// Largest mesh (.obj) file read, in bytes.
 pub const MAX_MESH_FILE_BYTES: u64 = 256 << 20;
 
+/// Largest image file read (a glTF `images[i].uri`, a spot's `gobo`), in
+/// bytes.
+pub const MAX_IMAGE_FILE_BYTES: u64 = 256 << 20;
+
+/// Largest IES photometry file read, in bytes (real ones are a few
+/// kilobytes; the angle counts bound the table to 2²⁰ values anyway).
+pub const MAX_IES_FILE_BYTES: u64 = 16 << 20;
+
 /// Largest grid (.tgrid) file read, in bytes: the most voxels a grid may
 /// hold ([`tyndall::media::grid::MAX_VOXELS`], 4 bytes each) and its header.
 /// The reader reads the header first and then no more than the voxels it

@@ -41,7 +41,7 @@ pub const MAX_ANGLES: usize = 1024;
 /// Reads and parses the `.ies` file at `path`; errors name the file and
 /// the line and column where they are found.
 pub fn load(path: &Path) -> Result<IesFile, String> {
-    let bytes = crate::files::read_capped(path, crate::files::MAX_SCENE_FILE_BYTES)
+    let bytes = crate::files::read_capped(path, crate::files::MAX_IES_FILE_BYTES)
         .map_err(|e| format!("{}: {e}", path.display()))?;
     // Files from Windows tools are often Latin-1 (° in keywords): only the
     // numbers matter, so undecodable bytes are replaced.

@@ -13,7 +13,8 @@ pub const MAX_IMAGE_TEXELS: u64 = 1 << 28;
 /// dropped), coordinates clamped at its edges. Errors name the file.
 pub fn load_texture(path: &Path) -> Result<Texture, String> {
     let fail = |m: String| format!("{}: {m}", path.display());
-    let bytes = crate::files::read_capped(path, crate::files::MAX_MESH_FILE_BYTES).map_err(fail)?;
+    let bytes =
+        crate::files::read_capped(path, crate::files::MAX_IMAGE_FILE_BYTES).map_err(fail)?;
     let format = match image::guess_format(&bytes) {
         Ok(f @ (image::ImageFormat::Png | image::ImageFormat::Jpeg)) => f,
         _ => return Err(fail("not a PNG or JPEG image".into())),

@@ -23,7 +23,6 @@ fn march_in_scattered_matches_rust() {
     assert!(lights.iter().all(Light::is_delta), "delta lights only");
     let fog = f.scene.fog().expect("fog");
     let sigma_t = f64::from(fog.sigma_t);
-    let origin = Vec3::new(0.0, 0.0, 9.0);
     let mut cases = Vec::new();
     for i in 0..600 {
         let target = Vec3::new(
@@ -31,25 +30,13 @@ fn march_in_scattered_matches_rust() {
             6.0 * spread(3 * i + 1) - 3.5,
             7.0 * spread(3 * i + 2) - 3.5,
         );
-        let ray = tyndall::ray::Ray::new(origin, target - origin);
-        let t_hit = f
-            .scene
-            .geometry()
-            .intersect(&ray, f32::INFINITY)
-            .map_or(f32::INFINITY, |h| h.t);
+        let (ray, t_hit) = camera_ray_towards(&f, target);
         let key = (spread(7 * i + 5) * 16_777_216.0) as u32;
         cases.push((ray, t_hit, key));
     }
     let items: Vec<_> = cases
         .iter()
-        .map(|(ray, t_hit, key)| {
-            let (o, w) = (ray.origin, ray.direction);
-            [
-                [o.x, o.y, o.z, t_hit.min(3.0e38)],
-                [w.x, w.y, w.z, 0.0],
-                [*key as f32, 0.0, 0.0, 0.0],
-            ]
-        })
+        .map(|(ray, t_hit, key)| ray_item(ray, *t_hit, *key))
         .collect();
     let out = evaluate_in_scene(&f.gpu, &f.march, SceneFormula::InScattered, &items)
         .expect("GPU evaluation");

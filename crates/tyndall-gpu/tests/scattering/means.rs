@@ -47,7 +47,6 @@ fn single_in_scattered_is_unbiased_for_the_rust_integrand() {
     let lights = f.scene.lights();
     let fog = f.scene.fog().expect("fog");
     let sigma_t = f64::from(fog.sigma_t);
-    let origin = Vec3::new(0.0, 0.0, 9.0);
     let samples = 4096;
     let mut rays = Vec::new();
     let mut items = Vec::new();
@@ -57,19 +56,9 @@ fn single_in_scattered_is_unbiased_for_the_rust_integrand() {
             5.0 * spread(3 * r + 2) - 2.5,
             4.0 * spread(3 * r + 3) - 2.0,
         );
-        let ray = tyndall::ray::Ray::new(origin, target - origin);
-        let t_hit = f
-            .scene
-            .geometry()
-            .intersect(&ray, f32::INFINITY)
-            .map_or(f32::INFINITY, |h| h.t);
+        let (ray, t_hit) = camera_ray_towards(&f, target);
         for s in 0..samples {
-            let (o, w) = (ray.origin, ray.direction);
-            items.push([
-                [o.x, o.y, o.z, t_hit.min(3.0e38)],
-                [w.x, w.y, w.z, 0.0],
-                [(r * samples + s) as f32, 0.0, 0.0, 0.0],
-            ]);
+            items.push(ray_item(&ray, t_hit, (r * samples + s) as u32));
         }
         rays.push((ray, t_hit));
     }
@@ -136,7 +125,6 @@ fn camera_path_radiance_agrees_with_the_cpus() {
     let Some(f) = fixture("camera_path_radiance_agrees_with_the_cpus") else {
         return;
     };
-    let origin = Vec3::new(0.0, 0.0, 9.0);
     let samples = 4096u32;
     let targets: Vec<Vec3> = (0..16)
         .map(|r| match r {
@@ -153,17 +141,13 @@ fn camera_path_radiance_agrees_with_the_cpus() {
         .collect();
     let rays: Vec<_> = targets
         .iter()
-        .map(|t| tyndall::ray::Ray::new(origin, *t - origin))
+        .map(|t| camera_ray_towards(&f, *t).0)
         .collect();
     let mut items = Vec::new();
     for (r, ray) in rays.iter().enumerate() {
-        let (o, w) = (ray.origin, ray.direction);
         for s in 0..samples {
-            items.push([
-                [o.x, o.y, o.z, 0.0],
-                [w.x, w.y, w.z, 0.0],
-                [(r as u32 * samples + s) as f32, 0.0, 0.0, 0.0],
-            ]);
+            // The kernel traces the whole path: the item's t_hit is unused.
+            items.push(ray_item(ray, 0.0, r as u32 * samples + s));
         }
     }
     let out = evaluate_in_scene(&f.gpu, &f.march, SceneFormula::Radiance, &items)

@@ -79,7 +79,7 @@ pub const MAX_VERTICES: u64 = 1 << 25;
 pub const MAX_FILE_BYTES: u64 = 1 << 30;
 
 /// Largest image file (`images[i].uri`) read.
-pub const MAX_IMAGE_FILE_BYTES: u64 = 256 << 20;
+pub use crate::files::MAX_IMAGE_FILE_BYTES;
 
 /// Index of refraction glTF assumes without KHR_materials_ior.
 const DEFAULT_IOR: f32 = 1.5;

@@ -209,10 +209,40 @@ impl Loader<'_> {
         Ok(blackbody::unit_luminance_rgb(f64::from(kelvin)).max(Rgb::ZERO))
     }
 
-    /// The gobo a spot's `gobo` key names (an image file relative to the
-    /// scene), projected along `axis` into the cone of `cutoff_deg` and
-    /// turned `rotate_deg`; `None` without the key (then
-    /// `gobo_rotate_deg` is an error).
+    /// The file a pattern key (`gobo`, `ies`) names, relative to the scene,
+    /// with the turn its `{key}_rotate_deg` gives it (default 0°); `None`
+    /// without the key, where the turn alone is an error.
+    fn turned_file(
+        &self,
+        span: &Range<usize>,
+        key: &str,
+        file: &Option<String>,
+        rotate_deg: Option<f32>,
+    ) -> Result<Option<(std::path::PathBuf, f32)>, SceneError> {
+        let turn = format!("{key}_rotate_deg");
+        let Some(file) = file else {
+            if rotate_deg.is_some() {
+                return Err(self.err(
+                    span,
+                    &turn,
+                    format!("`{turn}` turns what `{key}` names, and there is no `{key}`"),
+                ));
+            }
+            return Ok(None);
+        };
+        let rotate = self.number(
+            span,
+            &turn,
+            rotate_deg.unwrap_or(0.0),
+            (-360.0, 360.0),
+            "an angle in [−360°, 360°]",
+        )?;
+        Ok(Some((self.relative(file), rotate)))
+    }
+
+    /// The gobo a spot's `gobo` key names (an image file), projected along
+    /// `axis` into the cone of `cutoff_deg` and turned by
+    /// `gobo_rotate_deg`; `None` without the key.
     fn gobo(
         &self,
         span: &Range<usize>,
@@ -221,34 +251,18 @@ impl Loader<'_> {
         axis: Vec3,
         cutoff_deg: f32,
     ) -> Result<Option<Gobo>, SceneError> {
-        let Some(file) = file else {
-            if rotate_deg.is_some() {
-                return Err(self.err(
-                    span,
-                    "gobo_rotate_deg",
-                    "`gobo_rotate_deg` turns a `gobo`, and there is none",
-                ));
-            }
+        let Some((path, rotate)) = self.turned_file(span, "gobo", file, rotate_deg)? else {
             return Ok(None);
         };
-        let rotate = self.number(
-            span,
-            "gobo_rotate_deg",
-            rotate_deg.unwrap_or(0.0),
-            (-360.0, 360.0),
-            "an angle in [−360°, 360°]",
-        )?;
-        let image = crate::images::load_texture(&self.relative(file))
-            .map_err(|e| self.err(span, "gobo", e))?;
+        let image = crate::images::load_texture(&path).map_err(|e| self.err(span, "gobo", e))?;
         Gobo::new(Arc::new(image), axis, cutoff_deg, rotate)
             .map(Some)
             .map_err(|e| self.err(span, "cutoff_deg", e))
     }
 
     /// The measured profile an `ies` key names, placed with its nadir
-    /// along `nadir` and its 0° plane turned `rotate_deg`, with the file's
-    /// peak candela; `None` without the key (then `ies_rotate_deg` is an
-    /// error).
+    /// along `nadir` and its 0° plane turned by `ies_rotate_deg`, with the
+    /// file's peak candela; `None` without the key.
     fn luminaire(
         &self,
         span: &Range<usize>,
@@ -256,25 +270,10 @@ impl Loader<'_> {
         rotate_deg: Option<f32>,
         nadir: Vec3,
     ) -> Result<Option<(Luminaire, f32)>, SceneError> {
-        let Some(file) = ies else {
-            if rotate_deg.is_some() {
-                return Err(self.err(
-                    span,
-                    "ies_rotate_deg",
-                    "`ies_rotate_deg` turns an `ies` profile, and there is none",
-                ));
-            }
+        let Some((path, rotate)) = self.turned_file(span, "ies", ies, rotate_deg)? else {
             return Ok(None);
         };
-        let rotate = self.number(
-            span,
-            "ies_rotate_deg",
-            rotate_deg.unwrap_or(0.0),
-            (-360.0, 360.0),
-            "an angle in [−360°, 360°]",
-        )?;
-        let measured =
-            crate::ies::load(&self.relative(file)).map_err(|e| self.err(span, "ies", e))?;
+        let measured = crate::ies::load(&path).map_err(|e| self.err(span, "ies", e))?;
         Ok(Some((
             Luminaire::new(measured.profile, nadir, rotate),
             measured.peak_candela,
