@@ -17,6 +17,7 @@ use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
+use tyndall::lights::LightSampling;
 use tyndall::parts::{self, Part, PartIdentity};
 use tyndall::region::{PixelRect, RenderRegion};
 use tyndall::render::Accumulation;
@@ -208,6 +209,12 @@ pub struct Overrides {
     /// a lookup per march step instead of a ray; area lights keep rays).
     #[arg(long, value_parser = ["rays", "maps"])]
     pub visibility: Option<String>,
+    /// How estimates choose among lights: `tree` (one point or spot light per
+    /// estimate from a light BVH, by its importance there), `all` (every light
+    /// at every estimate) or `auto` (the tree from 8 point and spot lights on;
+    /// the default). Area lights and suns are always all visited.
+    #[arg(long, value_parser = ["auto", "all", "tree"])]
+    pub light_sampling: Option<String>,
     /// Shadow-map resolution, texels per side of each map face (default 512).
     #[arg(long)]
     pub shadow_map_resolution: Option<u32>,
@@ -293,6 +300,10 @@ impl Overrides {
         }
         if let Some(v) = self.exposure {
             s.exposure = v;
+        }
+        if let Some(name) = &self.light_sampling {
+            desc.light_sampling = LightSampling::from_name(name)
+                .ok_or_else(|| anyhow::anyhow!("unknown light sampling `{name}`"))?;
         }
         desc.override_fog(self.density, self.albedo)
             .map_err(anyhow::Error::msg)?;

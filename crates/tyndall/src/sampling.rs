@@ -57,6 +57,13 @@ impl EquiangularSampler {
         (t, self.pdf(t))
     }
 
+    /// `∫_a^b dt/|x(t) − y|² = (θ_b − θ_a)/D`, the integral the density
+    /// normalises (with `D` no less than the smallest distance used).
+    #[inline]
+    pub fn inverse_square_integral(&self) -> f32 {
+        (self.theta_b - self.theta_a) / self.distance
+    }
+
     /// The density at `t` (0 outside `[a, b]`).
     #[inline]
     pub fn pdf(&self, t: f32) -> f32 {

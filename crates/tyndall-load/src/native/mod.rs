@@ -20,6 +20,7 @@ use tyndall::camera::{CameraSpec, FieldOfView};
 use tyndall::color::Rgb;
 use tyndall::description::{GlassSettings, Origin, SceneDesc, Sourced};
 use tyndall::glass::{Glass, GlassModel};
+use tyndall::lights::LightSampling;
 use tyndall::limits;
 use tyndall::materials::{Material, MaterialId, Surface};
 use tyndall::media::Fog;
@@ -325,6 +326,15 @@ impl Loader<'_> {
                 opaque_to_camera: o,
                 ..scene.glass
             };
+        }
+        if let Some(name) = &r.light_sampling {
+            scene.light_sampling = LightSampling::from_name(name).ok_or_else(|| {
+                self.err(
+                    &span,
+                    "light_sampling",
+                    format!("unknown light sampling `{name}`: expected `auto`, `all` or `tree`"),
+                )
+            })?;
         }
         if let Some(bg) = r.background {
             scene.background = Rgb::from_array(bg.0);

@@ -101,6 +101,7 @@ pub(super) struct RenderTable {
     pub(super) output: Option<String>,
     pub(super) glass_model: Option<String>,
     pub(super) glass_opaque: Option<bool>,
+    pub(super) light_sampling: Option<String>,
     pub(super) background: Option<ColorValue>,
 }
 

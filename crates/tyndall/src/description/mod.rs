@@ -18,7 +18,7 @@ mod validate;
 use crate::camera::CameraSpec;
 use crate::color::Rgb;
 use crate::glass::GlassModel;
-use crate::lights::{DirectionalLight, Light, PointLight, SpotLight};
+use crate::lights::{DirectionalLight, Light, LightSampling, PointLight, SpotLight};
 use crate::limits;
 use crate::materials::{Material, MaterialId};
 use crate::media::Fog;
@@ -214,9 +214,13 @@ pub struct SceneDesc {
     /// Radiance of rays that leave the scene (linear RGB).
     pub background: Rgb,
     pub glass: GlassSettings,
+    /// How estimates choose among the lights (the light tree or every
+    /// light).
+    pub light_sampling: LightSampling,
     pub settings: RenderSettings,
-    /// Where the settings, [`SceneDesc::background`] and
-    /// [`SceneDesc::glass`] were given (a `[render]` table).
+    /// Where the settings, [`SceneDesc::background`],
+    /// [`SceneDesc::glass`] and [`SceneDesc::light_sampling`] were given
+    /// (a `[render]` table).
     pub settings_origin: Origin,
     /// Output file named by the scene, if any.
     pub output: Option<PathBuf>,
@@ -269,6 +273,7 @@ impl SceneDesc {
             media: Vec::new(),
             background: Rgb::ZERO,
             glass: GlassSettings::default(),
+            light_sampling: LightSampling::default(),
             settings: RenderSettings::default(),
             settings_origin: Origin::Code,
             output: None,

@@ -5,7 +5,7 @@
 
 use super::surfaces::SurfaceNormals;
 use crate::color::Rgb;
-use crate::lights::{Incident, Light, LightPoint};
+use crate::lights::{Chosen, Incident, Light, LightPoint};
 use crate::materials::Surface;
 use crate::media::Fog;
 use crate::media::tracking::VolumeTracker;
@@ -70,6 +70,33 @@ pub(crate) fn sample_light(
     sampler: &mut PixelSampler,
 ) -> Option<(Incident, Option<f32>)> {
     light.sample_li(x, light_sample_u(light, sampler))
+}
+
+/// The lights an estimate at `x` connects to, with their weights
+/// ([`crate::lights::LightSampler::at`]); one sample dimension when the
+/// light tree chooses.
+#[inline]
+pub(crate) fn lights_at<'s>(scene: &'s Scene, x: Vec3, sampler: &mut PixelSampler) -> Chosen<'s> {
+    let lights = &scene.light_sampler;
+    let u = if lights.chooses() { sampler.next_1d() } else { 0.0 };
+    lights.at(x, u)
+}
+
+/// The lights an estimate along the fog segment `[a, b]` of `ray`
+/// connects to, with their weights
+/// ([`crate::lights::LightSampler::along`]); one sample dimension when
+/// the light tree chooses.
+#[inline]
+pub(crate) fn lights_along<'s>(
+    scene: &'s Scene,
+    ray: &Ray,
+    a: f32,
+    b: f32,
+    sampler: &mut PixelSampler,
+) -> Chosen<'s> {
+    let lights = &scene.light_sampler;
+    let u = if lights.chooses() { sampler.next_1d() } else { 0.0 };
+    lights.along(&scene.lights, ray, a, b, u)
 }
 
 /// Radiance scattered at fog point `x` of the query's ray towards the
@@ -183,8 +210,9 @@ pub(crate) fn media_transmittance(
 }
 
 /// Direct lighting of the Lambertian lobe of `surface` at point `p` with
-/// `normals` facing the viewer, one sample per light:
-/// `Σ ρ/π · E · cos θ · V · Tr_glass · T_media · w` (θ from the shading
+/// `normals` facing the viewer, one sample per chosen light ([`lights_at`],
+/// weight `c`):
+/// `Σ c · ρ/π · E · cos θ · V · Tr_glass · T_media · w` (θ from the shading
 /// normal; light from below the geometric surface does not count), where
 /// `w = weight(p_light, ω)` is the caller's MIS weight given the light
 /// sample's solid-angle density (`None` for delta lights) and unit
@@ -205,7 +233,8 @@ pub(crate) fn lambert_direct_lighting(
         return Rgb::ZERO;
     }
     let mut sum = Rgb::ZERO;
-    for (index, light) in scene.lights.iter().enumerate() {
+    for (index, chosen) in lights_at(scene, p, sampler) {
+        let light = &scene.lights[index];
         let Some((incident, p_light)) = sample_light(light, p, sampler) else {
             continue;
         };
@@ -223,7 +252,7 @@ pub(crate) fn lambert_direct_lighting(
             counts,
             tracker,
         );
-        sum += arriving * (cos * weight(p_light, incident.direction));
+        sum += arriving * (chosen * cos * weight(p_light, incident.direction));
     }
     sum * surface.diffuse_brdf()
 }

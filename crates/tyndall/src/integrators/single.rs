@@ -3,7 +3,9 @@
 //! the camera ray, combined by multiple importance sampling with the
 //! balance heuristic (Veach 1997).
 //!
-//! For each light, one emitting point `y` is chosen; then `n` equiangular
+//! For each light chosen for the segment (all of them, or the visited ones
+//! and one from the light tree, [`crate::lights::LightSampler`], each
+//! estimate times its weight `1/P`), one emitting point `y` is chosen; then `n` equiangular
 //! samples (restricted to the light's reach: a spotlight's cone) and the
 //! ray's one distance sample (shared by all lights) estimate the
 //! in-scattering integral for that `y`. With densities `p_e`, `p_d`, the
@@ -19,7 +21,7 @@
 //! window frames) is what makes one sample per ray noisy; several cost a
 //! shadow ray each but no new camera ray.
 
-use super::lighting::{MediumQuery, light_point, scattered_radiance};
+use super::lighting::{MediumQuery, light_point, lights_along, scattered_radiance};
 use crate::color::Rgb;
 use crate::media::tracking::VolumeTracker;
 use crate::media::transmittance;
@@ -72,7 +74,8 @@ pub(crate) fn in_scattered(
     let x_d = ray.at(t_d);
     let camera_t = |t: f32| transmittance(fog.sigma_t, t - a);
     let mut sum = Rgb::ZERO;
-    for (index, light) in scene.lights.iter().enumerate() {
+    for (index, chosen) in lights_along(scene, ray, a, b, sampler) {
+        let light = &scene.lights[index];
         let y = light_point(light, sampler);
         let u_equiangular = sampler.next_1d();
         let equiangular = y.and_then(|y| {
@@ -85,14 +88,14 @@ pub(crate) fn in_scattered(
                 let (t, pdf_e) = eq.sample((k as f32 + u_equiangular) / n);
                 let f = scattered_radiance(medium, index, y, ray.at(t), counts, tracker);
                 if f != Rgb::ZERO {
-                    sum += single_sample(f, camera_t(t), n, pdf_e, distance.pdf(t));
+                    sum += single_sample(f, camera_t(t), n, pdf_e, distance.pdf(t)) * chosen;
                 }
             }
         }
         let pdf_e = equiangular.map_or(0.0, |eq| eq.pdf(t_d));
         let f = scattered_radiance(medium, index, y, x_d, counts, tracker);
         if f != Rgb::ZERO {
-            sum += single_sample(f, camera_t(t_d), n, pdf_e, pdf_d);
+            sum += single_sample(f, camera_t(t_d), n, pdf_e, pdf_d) * chosen;
         }
     }
     sum

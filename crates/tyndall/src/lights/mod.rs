@@ -14,6 +14,10 @@
 //!   (spherical rectangles and cones where possible).
 //! - Away from the light (paths traced from it): [`Light::sample_le`] and
 //!   [`Light::pdf_le`]; [`Light::power`] is the total flux.
+//! - Choosing among many lights: [`Light::bounds`] bounds a point or
+//!   spot light's emission ([`LightBounds`]); the [`LightTree`] over them
+//!   and the [`LightSampler`] that visits the rest choose the lights an
+//!   estimate connects to.
 //! - Capabilities integrators choose strategies by: [`Light::is_delta`],
 //!   [`Light::position`], [`Light::origin`], [`Light::is_flat_emitter`], [`Light::area`].
 //!
@@ -28,20 +32,26 @@
 //! holds the enum, the types of the interface, and the dispatch.
 
 mod area;
+pub mod bounds;
 mod directional;
 pub mod gobo;
+pub mod light_sampler;
 mod mesh;
 pub mod photometric;
 mod point;
 mod spot;
+pub mod tree;
 
 pub use area::{QuadLight, SphereLight, SphericalRectangle};
+pub use bounds::LightBounds;
 pub use directional::DirectionalLight;
 pub use gobo::Gobo;
+pub use light_sampler::{Chosen, LightSampler, LightSampling};
 pub use mesh::MeshLight;
 pub use photometric::{Luminaire, PhotometricProfile};
 pub use point::PointLight;
 pub use spot::{SpotLight, SpotProfile};
+pub use tree::LightTree;
 
 use crate::color::Rgb;
 use crate::ray::Ray;
@@ -241,6 +251,18 @@ impl Light {
         }
     }
 
+    /// Bounds on the emission of a light that emits from one point (point
+    /// and spot lights), for the light tree ([`LightTree`]); `None` for
+    /// distant and area lights, which every estimate visits.
+    #[inline]
+    pub fn bounds(&self) -> Option<LightBounds> {
+        match self {
+            Light::Point(p) => Some(p.bounds()),
+            Light::Spot(s) => Some(s.bounds()),
+            Light::Directional(_) | Light::Quad(_) | Light::Sphere(_) | Light::Mesh(_) => None,
+        }
+    }
+
     /// Where the light's light comes from (see [`LightOrigin`]).
     #[inline]
     pub fn origin(&self) -> LightOrigin {
@@ -371,6 +393,13 @@ impl Light {
             Light::Mesh(m) => m.power(),
         }
     }
+}
+
+/// The mean of a colour's channels: the grey intensity light choices
+/// weigh lights by.
+#[inline]
+pub(super) fn mean_channel(c: Rgb) -> f32 {
+    (c.x + c.y + c.z) / 3.0
 }
 
 /// Unit direction and squared distance from `x` to `y`; `None` if they

@@ -1,7 +1,8 @@
 //! Point lights: radiant intensity in all directions from one point.
 
+use super::bounds::LightBounds;
 use super::photometric::Luminaire;
-use super::{Incident, LeSample, LightPoint, towards};
+use super::{Incident, LeSample, LightPoint, mean_channel, towards};
 use crate::color::Rgb;
 use crate::ray::Ray;
 use crate::sampling::uniform_cone;
@@ -62,6 +63,12 @@ impl PointLight {
             },
             beta: self.intensity * (self.profile(direction) * 4.0 * PI),
         }
+    }
+
+    /// Its emission's bounds: all directions, at most `I` (a measured
+    /// profile is normalised to its peak).
+    pub(super) fn bounds(&self) -> LightBounds {
+        LightBounds::sphere(self.position, mean_channel(self.intensity))
     }
 
     /// Total emitted power, `4π·I` (times the profile's mean).

@@ -1,9 +1,10 @@
 //! Spotlights (the paper's §3.2): the cone, its intensity profile
 //! (eq. 4 and 5) and the part of a ray inside it.
 
+use super::bounds::LightBounds;
 use super::gobo::Gobo;
 use super::photometric::Luminaire;
-use super::{Incident, LeSample, LightPoint, towards};
+use super::{Incident, LeSample, LightPoint, mean_channel, towards};
 use crate::color::Rgb;
 use crate::ray::Ray;
 use crate::sampling::uniform_cone;
@@ -93,6 +94,15 @@ impl SpotLight {
             Some(g) => self.intensity * g.colour(emitted),
             None => self.intensity,
         }
+    }
+
+    /// Its emission's bounds: nothing outside the cone, peak `I` inside
+    /// (profiles and measured tables are at most 1; the intensity only
+    /// weighs the light's chance of being chosen, so a gobo's colour
+    /// need not be bounded by it).
+    pub(super) fn bounds(&self) -> LightBounds {
+        let theta_c = self.cos_cutoff.clamp(-1.0, 1.0).acos();
+        LightBounds::cone(self.position, mean_channel(self.intensity), self.direction, theta_c)
     }
 
     /// Total emitted power: `I·∫ falloff dω` over the cone, in closed form

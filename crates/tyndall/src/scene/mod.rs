@@ -13,7 +13,7 @@ use crate::accel::{Geometry, Primitive};
 use crate::camera::CameraSpec;
 use crate::color::Rgb;
 use crate::description::{DescError, MediumDesc, RegionDesc, SceneDesc};
-use crate::lights::{Light, MeshLight, QuadLight, SphereLight};
+use crate::lights::{Light, LightSampler, LightSampling, MeshLight, QuadLight, SphereLight};
 use crate::materials::Material;
 use crate::materials::Surface;
 use crate::media::Fog;
@@ -30,6 +30,8 @@ pub struct Scene {
     pub(crate) geometry: Geometry,
     pub(crate) materials: Vec<Material>,
     pub(crate) lights: Vec<Light>,
+    /// Which lights each estimate connects to.
+    pub(crate) light_sampler: LightSampler,
     pub(crate) fog: Option<Fog>,
     /// General media (RGB, non-uniform, mesh-bounded); only `volpath`
     /// renders them.
@@ -73,6 +75,17 @@ impl Scene {
     /// The lights, emissive shapes first (see [`SceneDesc`]).
     pub fn lights(&self) -> &[Light] {
         &self.lights
+    }
+
+    /// How estimates choose among the lights, instead of the
+    /// description's [`crate::SceneDesc::light_sampling`].
+    pub fn set_light_sampling(&mut self, sampling: LightSampling) {
+        self.light_sampler = LightSampler::new(&self.lights, sampling);
+    }
+
+    /// Which lights each estimate connects to.
+    pub fn light_sampler(&self) -> &LightSampler {
+        &self.light_sampler
     }
 
     /// The homogeneous fog, if any.
@@ -279,6 +292,7 @@ impl Scene {
             }
         }
         Scene {
+            light_sampler: LightSampler::new(&lights, desc.light_sampling),
             light_primitives,
             camera: desc.camera.value,
             geometry: Geometry::new(primitives),

@@ -162,7 +162,7 @@ pub(crate) fn radiance(
     let mut crossings = 0u32;
     let mut solids = SolidDepth::default();
     let mut arrival = Arrival::Unweighted;
-    let mut equiangular = EquiangularNee::with_capacity(scene.lights.len());
+    let mut equiangular = EquiangularNee::with_capacity(scene.light_sampler.most_chosen());
     let mut tracker = VolumeTracker::new(sampler.stream(TRACKING_STREAM));
     let max_events = integrator.max_depth.min(MAX_PATH_EVENTS);
     let strategies = integrator.strategies;

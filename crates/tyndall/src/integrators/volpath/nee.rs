@@ -8,7 +8,7 @@ use super::segment::{EquiangularNee, FogSegment};
 use super::segment_weights::segment_term;
 use crate::color::Rgb;
 use crate::integrators::media_transmittance;
-use crate::integrators::{light_arriving, sample_light, scattered_light};
+use crate::integrators::{light_arriving, lights_at, sample_light, scattered_light};
 use crate::media::emitters::hit_density;
 use crate::media::tracking::VolumeTracker;
 use crate::phase::PhaseFunction;
@@ -20,11 +20,12 @@ use crate::visibility::segment_transmittance;
 use crate::visibility::{RayCounts, Visibility};
 use glam::Vec3;
 
-/// NEE at the free-flight event at `t` on `segment`: the in-scattered
-/// radiance of eq. 1 without σs (the path's throughput already holds the
-/// albedo), MIS-weighted for area lights (against phase sampling and the
-/// segment's equiangular samples) and for point and spot lights (against
-/// the equiangular samples).
+/// NEE at the free-flight event at `t` on `segment`, towards the lights
+/// chosen for the segment (weight `c` each, see [`EquiangularNee`]): the
+/// in-scattered radiance of eq. 1 without σs (the path's throughput
+/// already holds the albedo), MIS-weighted for area lights (against phase
+/// sampling and the segment's equiangular samples) and for point and spot
+/// lights (against the equiangular samples).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn medium_nee(
     segment: &FogSegment,
@@ -41,14 +42,16 @@ pub(super) fn medium_nee(
     let medium = &segment.medium;
     let x = medium.ray.at(t);
     let mut sum = Rgb::ZERO;
-    for (index, light) in medium.scene.lights.iter().enumerate() {
+    for chosen in equiangular.chosen() {
+        let index = chosen.index;
+        let light = &medium.scene.lights[index];
         let Some((incident, p_light)) = sample_light(light, x, sampler) else {
             continue;
         };
         let weight = match p_light {
             Some(p_light) => {
                 let y = incident.light_point(x);
-                let q = if equiangular.covers(index) {
+                let q = if chosen.sampled() {
                     segment_term(segment, t, equiangular.counts, light, y)
                 } else {
                     0.0
@@ -57,13 +60,14 @@ pub(super) fn medium_nee(
                 let p_phase = medium.phase(&incident);
                 p_light / FogEventDensities::new(strategies, p_light, p_phase, q, p_connect).total()
             }
-            None if equiangular.covers(index) => {
+            None if chosen.sampled() => {
                 let p_flight = segment.flight_pdf(t);
-                p_flight / (p_flight + equiangular.delta_pdf(index, t))
+                p_flight / (p_flight + chosen.delta_pdf(t))
             }
             None => 1.0,
         };
-        sum += scattered_light(medium, index, x, &incident, counts, tracker) * weight;
+        sum += scattered_light(medium, index, x, &incident, counts, tracker)
+            * (weight * chosen.weight);
     }
     sum
 }
@@ -144,9 +148,10 @@ pub(super) struct PathVertex<'a> {
 }
 
 impl PathVertex<'_> {
-    /// NEE to every light: `Σ p(θ)·E·V·Tr·w`, where `w` is the balance
-    /// heuristic against phase sampling for area lights (delta lights
-    /// have only this strategy). The path's throughput holds σs.
+    /// NEE to the chosen lights ([`lights_at`], weight `c`):
+    /// `Σ c·p(θ)·E·V·Tr·w`, where `w` is the balance heuristic against
+    /// phase sampling for area lights (delta lights have only this
+    /// strategy). The path's throughput holds σs.
     pub(super) fn nee(
         &self,
         strategies: Strategies,
@@ -158,7 +163,8 @@ impl PathVertex<'_> {
         if !strategies.medium_nee {
             return sum;
         }
-        for (index, light) in self.scene.lights.iter().enumerate() {
+        for (index, chosen) in lights_at(self.scene, self.x, sampler) {
+            let light = &self.scene.lights[index];
             let Some((incident, p_light)) = sample_light(light, self.x, sampler) else {
                 continue;
             };
@@ -176,7 +182,7 @@ impl PathVertex<'_> {
                 counts,
                 tracker,
             );
-            sum += arriving * (phase * weight);
+            sum += arriving * (chosen * phase * weight);
         }
         sum
     }

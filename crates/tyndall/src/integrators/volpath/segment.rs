@@ -6,7 +6,7 @@
 use super::Volpath;
 use super::mis::{EquiangularCounts, FogEventDensities, on};
 use crate::color::Rgb;
-use crate::integrators::{MediumQuery, media_transmittance, scattered_light};
+use crate::integrators::{MediumQuery, lights_along, media_transmittance, scattered_light};
 use crate::lights::LightPoint;
 use crate::media::tracking::VolumeTracker;
 use crate::media::{Fog, free_flight, transmittance};
@@ -93,10 +93,16 @@ pub(super) struct Connections {
 }
 
 /// Equiangular NEE along one fog segment (Kulla & Fajardo 2012): `n`
-/// stratified samples per light towards its position (point and spot
-/// lights) or towards a point chosen uniformly on it (quad lights),
+/// stratified samples per chosen light towards its position (point and
+/// spot lights) or towards a point chosen uniformly on it (quad lights),
 /// combined by the balance heuristic with NEE at the free-flight event
 /// and, for quad lights, with phase-sampled hits of the light.
+///
+/// The lights are chosen once for the segment ([`lights_along`]: all of
+/// them, or the visited ones and one from the light tree), before the
+/// free-flight event is drawn; the event's NEE connects to the same
+/// lights with the same weights `1/P`, so the balance heuristic between
+/// the two estimators of one light is unchanged.
 ///
 /// For quad lights the strategies are compared in the measure of (t, y),
 /// the scattering distance and the light point: the segment estimator has
@@ -107,8 +113,17 @@ pub(super) struct Connections {
 /// One value serves a whole path: [`EquiangularNee::prepare`] refills it
 /// for each segment without allocating.
 pub(super) struct EquiangularNee {
-    lights: Vec<Option<SegmentLight>>,
+    chosen: Vec<ChosenLight>,
     pub(super) counts: EquiangularCounts,
+}
+
+/// A light chosen for the segment: its index, its weight `1/P`, and its
+/// equiangular samples on the segment if it takes any.
+#[derive(Clone, Copy)]
+pub(super) struct ChosenLight {
+    pub(super) index: usize,
+    pub(super) weight: f32,
+    samples: Option<SegmentLight>,
 }
 
 /// One light's equiangular sampler on the segment, its stratification
@@ -122,27 +137,46 @@ struct SegmentLight {
     n: u32,
 }
 
+impl ChosenLight {
+    /// Density with which a point or spot light's samples land at `t`,
+    /// all `n` counted (0 if the light is not sampled here).
+    pub(super) fn delta_pdf(&self, t: f32) -> f32 {
+        self.samples
+            .map_or(0.0, |l| l.n as f32 * l.sampler.pdf(t))
+    }
+
+    /// Whether the light is estimated by the segment's samples (and must
+    /// be MIS-weighted at the free-flight event).
+    pub(super) fn sampled(&self) -> bool {
+        self.samples.is_some()
+    }
+}
+
 impl EquiangularNee {
     pub(super) fn with_capacity(lights: usize) -> Self {
         Self {
-            lights: Vec::with_capacity(lights),
+            chosen: Vec::with_capacity(lights),
             counts: EquiangularCounts::default(),
         }
     }
 
-    /// Sets up `counts` samples per light on `segment`; a light with no
-    /// samples is not estimated here.
+    /// Chooses the segment's lights and sets up `counts` samples per
+    /// chosen light on `segment`; a light with no samples is not
+    /// estimated here.
     pub(super) fn prepare(
         &mut self,
         segment: &FogSegment,
         counts: EquiangularCounts,
         sampler: &mut PixelSampler,
     ) {
-        let ray = &segment.medium.ray;
+        let medium = &segment.medium;
+        let ray = &medium.ray;
         self.counts = counts;
-        self.lights.clear();
-        self.lights
-            .extend(segment.medium.scene.lights.iter().map(|light| {
+        self.chosen.clear();
+        let lights = lights_along(medium.scene, ray, segment.a, segment.b, sampler);
+        self.chosen.extend(lights.map(|(index, weight)| {
+            let light = &medium.scene.lights[index];
+            let samples = (|| {
                 let n = counts.of(light);
                 if n == 0 {
                     return None;
@@ -161,19 +195,18 @@ impl EquiangularNee {
                     point,
                     n,
                 })
-            }));
+            })();
+            ChosenLight {
+                index,
+                weight,
+                samples,
+            }
+        }));
     }
 
-    /// Density with which a point or spot light's samples land at `t`, all
-    /// `n` counted (0 if the light is not sampled here).
-    pub(super) fn delta_pdf(&self, index: usize, t: f32) -> f32 {
-        self.lights[index].map_or(0.0, |l| l.n as f32 * l.sampler.pdf(t))
-    }
-
-    /// Whether light `index` is estimated here (and must be MIS-weighted
-    /// at the free-flight event).
-    pub(super) fn covers(&self, index: usize) -> bool {
-        self.lights[index].is_some()
+    /// The lights chosen for the segment.
+    pub(super) fn chosen(&self) -> &[ChosenLight] {
+        &self.chosen
     }
 
     /// In-scattered radiance from lights whose last scattering lies on the
@@ -188,8 +221,11 @@ impl EquiangularNee {
         let medium = &segment.medium;
         let fog = medium.fog;
         let mut sum = Rgb::ZERO;
-        for (index, entry) in self.lights.iter().enumerate() {
-            let Some(entry) = entry else { continue };
+        for chosen in &self.chosen {
+            let Some(entry) = &chosen.samples else {
+                continue;
+            };
+            let index = chosen.index;
             let light = &medium.scene.lights[index];
             let n = entry.n as f32;
             for k in 0..entry.n {
@@ -234,7 +270,7 @@ impl EquiangularNee {
                     ray.direction,
                     t,
                 );
-                sum += fog.sigma_s() * light_in * camera_t / denominator;
+                sum += fog.sigma_s() * light_in * camera_t / denominator * chosen.weight;
             }
         }
         sum

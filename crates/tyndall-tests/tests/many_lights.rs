@@ -1,0 +1,188 @@
+//! The light tree is unbiased (issue 23): a scene of 64 lights — spots
+//! of many cutoffs and aims, point lights, and a quad light the tree does
+//! not hold — renders the same image whether every estimate visits every
+//! light or the tree chooses one point or spot light by its importance,
+//! in `single` (fog along camera rays and the floor) and in `volpath`
+//! (two scattering events: fog events, surfaces and the segments after
+//! them).
+//!
+//! The statistic is `strategies.rs`'s, on a finer grid: the image is cut
+//! into 8×6 regions; each sampling is rendered with two seeds, and the
+//! difference of a region's mean must lie within 5 standard errors, each
+//! estimated from the two seeds' pixel differences. A light the tree could
+//! never choose where it shines (a zero importance inside its cone) leaves
+//! its beam out of some region; the tree's choice probabilities themselves
+//! are tested in the core (`lights::tree`).
+mod common;
+
+use common::{Loaded, pool_inflation, render, scene};
+use std::fmt::Write;
+use tyndall::lights::LightSampling;
+use tyndall::{Image, IntegratorKind};
+
+const REGIONS_X: u32 = 8;
+const REGIONS_Y: u32 = 6;
+
+/// 60 spots on a 10 × 6 grid 6 m over a floor, each aimed at its own
+/// point with its own cutoff, intensity and colour; three point lights;
+/// a small quad light; a sphere casting shadows; fog filling a box.
+fn rig(sampling: LightSampling) -> Loaded {
+    let mut text = format!(
+        r#"
+[camera]
+position = [0.0, 2.5, 11.0]
+look_at = [0.0, 2.0, 0.0]
+fov_y_deg = 55.0
+
+[render]
+light_sampling = "{}"
+
+[fog]
+sigma_t = 0.08
+albedo = 0.8
+g = 0.2
+box = {{ min = [-7.0, 0.0, -5.0], max = [7.0, 7.0, 5.0] }}
+
+[materials.floor]
+type = "diffuse"
+reflectance = 0.5
+
+[[shapes]]
+type = "quad"
+corners = [[-7, 0, -5], [-7, 0, 5], [7, 0, 5], [7, 0, -5]]
+material = "floor"
+
+[[shapes]]
+type = "sphere"
+center = [0.5, 1.0, 0.5]
+radius = 1.0
+material = "floor"
+
+[[lights]]
+type = "quad"
+corners = [[-1, 6.5, -1], [1, 6.5, -1], [1, 6.5, 0], [-1, 6.5, 0]]
+radiance = 2.0
+"#,
+        sampling.name()
+    );
+    for i in 0..60 {
+        let (col, row) = ((i % 10) as f32, (i / 10) as f32);
+        let position = [-5.4 + 1.2 * col, 6.0, -3.0 + 1.2 * row];
+        let aim = [
+            position[0] + ((i * 7) % 9) as f32 * 0.5 - 2.0,
+            0.0,
+            position[2] + ((i * 5) % 7) as f32 * 0.6 - 1.8,
+        ];
+        let cutoff = 6.0 + ((i * 3) % 11) as f32 * 2.0;
+        let colour = [1.0, 0.4 + 0.06 * ((i * 11) % 10) as f32, 1.5 - 0.1 * (i % 8) as f32];
+        let intensity = 8.0 + ((i * 13) % 17) as f32;
+        write!(
+            text,
+            r#"
+[[lights]]
+type = "spot"
+position = {position:?}
+look_at = {aim:?}
+cutoff_deg = {cutoff}
+profile = "{profile}"
+intensity = [{r}, {g}, {b}]
+"#,
+            profile = if i % 3 == 0 { "linear" } else { "hard" },
+            r = colour[0] * intensity,
+            g = colour[1] * intensity,
+            b = colour[2] * intensity,
+        )
+        .unwrap();
+    }
+    for (i, position) in [[-4.0, 4.0, 2.0], [3.5, 3.0, -2.0], [0.0, 5.0, 3.0]].iter().enumerate() {
+        write!(
+            text,
+            "\n[[lights]]\ntype = \"point\"\nposition = {position:?}\nintensity = {}\n",
+            2.0 + i as f32
+        )
+        .unwrap();
+    }
+    scene(&text)
+}
+
+/// Per region: the mean over its pixels of (r + g + b) of the two seeds'
+/// average, and the squared standard error of that mean.
+fn region_means(a: &Image, b: &Image) -> Vec<(f64, f64)> {
+    let (w, h) = (a.width(), a.height());
+    let mut out = Vec::new();
+    for ry in 0..REGIONS_Y {
+        for rx in 0..REGIONS_X {
+            let (mut sum, mut sq, mut n) = (0.0, 0.0, 0.0);
+            for y in ry * h / REGIONS_Y..(ry + 1) * h / REGIONS_Y {
+                for x in rx * w / REGIONS_X..(rx + 1) * w / REGIONS_X {
+                    let (pa, pb) = (a.pixel(x, y), b.pixel(x, y));
+                    let (va, vb) = ((pa.x + pa.y + pa.z) as f64, (pb.x + pb.y + pb.z) as f64);
+                    sum += 0.5 * (va + vb);
+                    // E[((va − vb)/2)²] = Var((va + vb)/2) for independent
+                    // seeds.
+                    sq += 0.25 * (va - vb) * (va - vb);
+                    n += 1.0;
+                }
+            }
+            out.push((sum / n, sq / (n * n)));
+        }
+    }
+    out
+}
+
+/// Renders the rig with both samplings, two seeds each, and compares
+/// their region means.
+fn check(kind: IntegratorKind, size: (u32, u32), spp: (u32, u32)) {
+    let all = rig(LightSampling::All);
+    let tree = rig(LightSampling::Tree);
+    assert!(all.scene.light_sampler().tree().is_none());
+    assert_eq!(tree.scene.light_sampler().tree().map(|t| t.len()), Some(63));
+    let shoot = |desc: &Loaded, spp: u32| {
+        let one = |seed: u64| {
+            render(desc, |s| {
+                s.width = size.0;
+                s.height = size.1;
+                s.spp = spp;
+                s.seed = seed;
+                s.integrator = kind;
+                s.max_depth = 2;
+            })
+        };
+        let inflation = pool_inflation(
+            desc,
+            &tyndall::settings::RenderSettings {
+                width: size.0,
+                height: size.1,
+                spp,
+                integrator: kind,
+                max_depth: 2,
+                ..desc.settings
+            },
+            ((size.0 / REGIONS_X) * (size.1 / REGIONS_Y)) as usize,
+        );
+        (region_means(&one(1), &one(2)), inflation)
+    };
+    let ((every, fa), (chosen, fb)) = (shoot(&all, spp.0), shoot(&tree, spp.1));
+    let lit = every.iter().filter(|&&(m, _)| m > 1e-3).count();
+    assert!(lit > every.len() / 2, "the test needs light: {lit} lit regions");
+    for (region, (&(ma, va), &(mb, vb))) in every.iter().zip(&chosen).enumerate() {
+        let sigma = (fa * fa * va + fb * fb * vb).sqrt();
+        assert!(
+            (ma - mb).abs() <= 5.0 * sigma,
+            "{kind:?}, region {region}: every light {ma:.5} vs the tree {mb:.5} (σ {sigma:.2e})"
+        );
+    }
+}
+
+/// `single`: the tree's choice along camera segments and at the floor.
+#[test]
+fn tree_and_every_light_agree_in_single_scattering() {
+    check(IntegratorKind::Single, (64, 36), (8, 64));
+}
+
+/// `volpath` to two events: the tree's choice along every fog segment,
+/// at fog events, and at surfaces.
+#[test]
+fn tree_and_every_light_agree_in_volpath() {
+    check(IntegratorKind::Volpath, (64, 36), (32, 256));
+}
