@@ -25,8 +25,10 @@ const REGIONS_Y: u32 = 6;
 
 /// 60 spots on a 10 × 6 grid 6 m over a floor, each aimed at its own
 /// point with its own cutoff, intensity and colour; three point lights;
-/// a small quad light; a sphere casting shadows; fog filling a box.
-fn rig(sampling: LightSampling) -> Loaded {
+/// a small quad light; a sphere casting shadows; fog filling a box; and,
+/// `with_medium`, a chromatic medium (a `[[media]]` box, whose real
+/// collisions are the volume events that choose lights) over the sphere.
+fn rig(sampling: LightSampling, with_medium: bool) -> Loaded {
     let mut text = format!(
         r#"
 [camera]
@@ -65,6 +67,11 @@ radiance = 2.0
 "#,
         sampling.name()
     );
+    if with_medium {
+        text.push_str(
+            "\n[[media]]\nsigma_t = [0.6, 0.4, 0.3]\nalbedo = 0.9\nbox = { min = [-3.0, 0.5, -2.0], max = [3.0, 4.0, 2.0] }\n",
+        );
+    }
     for i in 0..60 {
         let (col, row) = ((i % 10) as f32, (i / 10) as f32);
         let position = [-5.4 + 1.2 * col, 6.0, -3.0 + 1.2 * row];
@@ -74,7 +81,11 @@ radiance = 2.0
             position[2] + ((i * 5) % 7) as f32 * 0.6 - 1.8,
         ];
         let cutoff = 6.0 + ((i * 3) % 11) as f32 * 2.0;
-        let colour = [1.0, 0.4 + 0.06 * ((i * 11) % 10) as f32, 1.5 - 0.1 * (i % 8) as f32];
+        let colour = [
+            1.0,
+            0.4 + 0.06 * ((i * 11) % 10) as f32,
+            1.5 - 0.1 * (i % 8) as f32,
+        ];
         let intensity = 8.0 + ((i * 13) % 17) as f32;
         write!(
             text,
@@ -94,7 +105,10 @@ intensity = [{r}, {g}, {b}]
         )
         .unwrap();
     }
-    for (i, position) in [[-4.0, 4.0, 2.0], [3.5, 3.0, -2.0], [0.0, 5.0, 3.0]].iter().enumerate() {
+    for (i, position) in [[-4.0, 4.0, 2.0], [3.5, 3.0, -2.0], [0.0, 5.0, 3.0]]
+        .iter()
+        .enumerate()
+    {
         write!(
             text,
             "\n[[lights]]\ntype = \"point\"\nposition = {position:?}\nintensity = {}\n",
@@ -132,9 +146,9 @@ fn region_means(a: &Image, b: &Image) -> Vec<(f64, f64)> {
 
 /// Renders the rig with both samplings, two seeds each, and compares
 /// their region means.
-fn check(kind: IntegratorKind, size: (u32, u32), spp: (u32, u32)) {
-    let all = rig(LightSampling::All);
-    let tree = rig(LightSampling::Tree);
+fn check(kind: IntegratorKind, with_medium: bool, size: (u32, u32), spp: (u32, u32)) {
+    let all = rig(LightSampling::All, with_medium);
+    let tree = rig(LightSampling::Tree, with_medium);
     assert!(all.scene.light_sampler().tree().is_none());
     assert_eq!(tree.scene.light_sampler().tree().map(|t| t.len()), Some(63));
     let shoot = |desc: &Loaded, spp: u32| {
@@ -164,7 +178,10 @@ fn check(kind: IntegratorKind, size: (u32, u32), spp: (u32, u32)) {
     };
     let ((every, fa), (chosen, fb)) = (shoot(&all, spp.0), shoot(&tree, spp.1));
     let lit = every.iter().filter(|&&(m, _)| m > 1e-3).count();
-    assert!(lit > every.len() / 2, "the test needs light: {lit} lit regions");
+    assert!(
+        lit > every.len() / 2,
+        "the test needs light: {lit} lit regions"
+    );
     for (region, (&(ma, va), &(mb, vb))) in every.iter().zip(&chosen).enumerate() {
         let sigma = (fa * fa * va + fb * fb * vb).sqrt();
         assert!(
@@ -177,12 +194,18 @@ fn check(kind: IntegratorKind, size: (u32, u32), spp: (u32, u32)) {
 /// `single`: the tree's choice along camera segments and at the floor.
 #[test]
 fn tree_and_every_light_agree_in_single_scattering() {
-    check(IntegratorKind::Single, (64, 36), (8, 64));
+    check(IntegratorKind::Single, false, (64, 36), (8, 64));
 }
 
 /// `volpath` to two events: the tree's choice along every fog segment,
 /// at fog events, and at surfaces.
 #[test]
 fn tree_and_every_light_agree_in_volpath() {
-    check(IntegratorKind::Volpath, (64, 36), (32, 256));
+    check(IntegratorKind::Volpath, false, (64, 36), (32, 256));
+}
+
+/// `volpath` with a medium: the tree's choice also at its collisions.
+#[test]
+fn tree_and_every_light_agree_in_a_medium() {
+    check(IntegratorKind::Volpath, true, (64, 36), (32, 256));
 }

@@ -78,7 +78,11 @@ pub(crate) fn sample_light(
 #[inline]
 pub(crate) fn lights_at<'s>(scene: &'s Scene, x: Vec3, sampler: &mut PixelSampler) -> Chosen<'s> {
     let lights = &scene.light_sampler;
-    let u = if lights.chooses() { sampler.next_1d() } else { 0.0 };
+    let u = if lights.chooses() {
+        sampler.next_1d()
+    } else {
+        0.0
+    };
     lights.at(x, u)
 }
 
@@ -95,7 +99,11 @@ pub(crate) fn lights_along<'s>(
     sampler: &mut PixelSampler,
 ) -> Chosen<'s> {
     let lights = &scene.light_sampler;
-    let u = if lights.chooses() { sampler.next_1d() } else { 0.0 };
+    let u = if lights.chooses() {
+        sampler.next_1d()
+    } else {
+        0.0
+    };
     lights.along(&scene.lights, ray, a, b, u)
 }
 

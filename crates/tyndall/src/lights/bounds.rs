@@ -126,7 +126,9 @@ impl LightBounds {
             0.0
         };
         match self.angle_past_cones(theta_w, theta_b) {
-            Some(theta) => self.intensity * theta.cos().max(0.0) / d2.max(radius * radius).max(1e-12),
+            Some(theta) => {
+                self.intensity * theta.cos().max(0.0) / d2.max(radius * radius).max(1e-12)
+            }
             None => 0.0,
         }
     }
@@ -141,7 +143,8 @@ impl LightBounds {
     /// the centre to the segment; 0 where every point of the segment lies
     /// outside every light's cone.
     pub fn importance_along(&self, ray: &Ray, a: f32, b: f32) -> f32 {
-        if !(a < b) {
+        // An empty (or NaN) segment receives nothing.
+        if a.partial_cmp(&b) != Some(std::cmp::Ordering::Less) {
             return 0.0;
         }
         let centre = self.bounds.center();
@@ -179,7 +182,9 @@ fn inverse_square_integral(ray: &Ray, y: Vec3, a: f32, b: f32, min_distance: f32
     }
     // Move y off the line to `min_distance` (a cluster the ray passes
     // through is as near as its bounding sphere allows).
-    let off = (y - ray.at(delta)).try_normalize().unwrap_or_else(|| ray.direction.any_orthonormal_vector());
+    let off = (y - ray.at(delta))
+        .try_normalize()
+        .unwrap_or_else(|| ray.direction.any_orthonormal_vector());
     let moved = ray.at(delta) + off * min_distance;
     EquiangularSampler::new(ray, moved, a, b).map_or(0.0, |e| e.inverse_square_integral())
 }
@@ -233,8 +238,8 @@ fn cone_union(a: (Vec3, f32), b: (Vec3, f32)) -> (Vec3, f32) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lights::{Light, SpotLight, SpotProfile};
     use crate::color::Rgb;
+    use crate::lights::{Light, SpotLight, SpotProfile};
 
     fn spot_at(position: Vec3, direction: Vec3, cutoff_deg: f32) -> SpotLight {
         SpotLight {
@@ -330,7 +335,10 @@ mod tests {
             }
         }
         // Some points below and beside the rig lie outside every cone.
-        assert!(points_culled > 0 && points_culled < points, "{points_culled}/{points}");
+        assert!(
+            points_culled > 0 && points_culled < points,
+            "{points_culled}/{points}"
+        );
     }
 
     /// Along a segment far from a point light the importance is the
@@ -354,6 +362,9 @@ mod tests {
             })
             .sum();
         let importance = light.importance_along(&ray, a, b) as f64;
-        assert!((importance - sum).abs() < 1e-4 * sum, "{importance} vs {sum}");
+        assert!(
+            (importance - sum).abs() < 1e-4 * sum,
+            "{importance} vs {sum}"
+        );
     }
 }

@@ -31,7 +31,8 @@ pub enum LightSampling {
 
 impl LightSampling {
     /// Every choice, in the order of its names.
-    pub const ALL: [LightSampling; 3] = [LightSampling::Auto, LightSampling::All, LightSampling::Tree];
+    pub const ALL: [LightSampling; 3] =
+        [LightSampling::Auto, LightSampling::All, LightSampling::Tree];
 
     /// The name scene files and the CLI give it: `auto`, `all`, `tree`.
     pub fn name(self) -> &'static str {

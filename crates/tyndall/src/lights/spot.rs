@@ -102,7 +102,12 @@ impl SpotLight {
     /// need not be bounded by it).
     pub(super) fn bounds(&self) -> LightBounds {
         let theta_c = self.cos_cutoff.clamp(-1.0, 1.0).acos();
-        LightBounds::cone(self.position, mean_channel(self.intensity), self.direction, theta_c)
+        LightBounds::cone(
+            self.position,
+            mean_channel(self.intensity),
+            self.direction,
+            theta_c,
+        )
     }
 
     /// Total emitted power: `I·∫ falloff dω` over the cone, in closed form

@@ -144,7 +144,14 @@ impl LightTree {
 
     /// The probability with which [`LightTree::sample_along`] chooses
     /// light `index` for the segment `[a, b]` of `ray`.
-    pub fn probability_along(&self, lights: &[Light], ray: &Ray, a: f32, b: f32, index: usize) -> f32 {
+    pub fn probability_along(
+        &self,
+        lights: &[Light],
+        ray: &Ray,
+        a: f32,
+        b: f32,
+        index: usize,
+    ) -> f32 {
         self.probability_below(Receiver::Segment { lights, ray, a, b }, 0, index as u32)
             .unwrap_or(0.0)
     }
@@ -167,7 +174,11 @@ impl LightTree {
                 let total = weights[0] + weights[1];
                 children.iter().zip(weights).find_map(|(&child, weight)| {
                     let below = self.probability_below(receiver, child, light)?;
-                    Some(if total > 0.0 { (weight / total) as f32 * below } else { 0.0 })
+                    Some(if total > 0.0 {
+                        (weight / total) as f32 * below
+                    } else {
+                        0.0
+                    })
                 })
             }
         }
@@ -220,7 +231,9 @@ fn build_nodes(leaves: &mut [(u32, LightBounds)], nodes: &mut Vec<Node>) -> Ligh
     }
     let centres = leaves
         .iter()
-        .fold(crate::shapes::Bounds::EMPTY, |b, (_, l)| b.include(l.bounds.center()));
+        .fold(crate::shapes::Bounds::EMPTY, |b, (_, l)| {
+            b.include(l.bounds.center())
+        });
     let axis = centres.extent().max_position();
     let middle = leaves.len() / 2;
     leaves.select_nth_unstable_by(middle, |(_, p), (_, q)| {
@@ -255,8 +268,10 @@ mod tests {
     fn rig(n: usize) -> Vec<Light> {
         (0..n)
             .map(|i| {
-                let position = Vec3::new((i % 8) as f32, 4.0 + (i % 3) as f32 * 0.2, (i / 8) as f32);
-                let tilt = Vec3::new(((i * 7) % 5) as f32 - 2.0, 0.0, ((i * 3) % 5) as f32 - 2.0) * 0.15;
+                let position =
+                    Vec3::new((i % 8) as f32, 4.0 + (i % 3) as f32 * 0.2, (i / 8) as f32);
+                let tilt =
+                    Vec3::new(((i * 7) % 5) as f32 - 2.0, 0.0, ((i * 3) % 5) as f32 - 2.0) * 0.15;
                 if i % 11 == 5 {
                     Light::Point(PointLight {
                         position,
@@ -311,8 +326,14 @@ mod tests {
             for (i, light) in lights.iter().enumerate() {
                 let p = tree.probability_at(x, i);
                 let share = chosen[i] as f32 / n as f32;
-                assert!((share - p).abs() <= 1.5 / n as f32, "light {i}: {share} vs {p}");
-                if light.incident(x, light.sample_point(glam::Vec2::ZERO)).is_some() {
+                assert!(
+                    (share - p).abs() <= 1.5 / n as f32,
+                    "light {i}: {share} vs {p}"
+                );
+                if light
+                    .incident(x, light.sample_point(glam::Vec2::ZERO))
+                    .is_some()
+                {
                     assert!(p > 0.0, "light {i} lights {x} but is never chosen");
                 }
             }
@@ -321,7 +342,13 @@ mod tests {
             origin: Vec3::new(-2.0, 1.0, -1.0),
             direction: Vec3::new(1.0, 0.1, 0.6).normalize(),
         };
-        assert!(lights.iter().filter(|l| l.reach(&ray, 0.0, 20.0).is_some()).count() > 2);
+        assert!(
+            lights
+                .iter()
+                .filter(|l| l.reach(&ray, 0.0, 20.0).is_some())
+                .count()
+                > 2
+        );
         let mut chosen = vec![0u32; lights.len()];
         for k in 0..n {
             let u = (k as f32 + 0.5) / n as f32;
@@ -334,7 +361,10 @@ mod tests {
         for (i, light) in lights.iter().enumerate() {
             let p = tree.probability_along(&lights, &ray, 0.0, 20.0, i);
             let share = chosen[i] as f32 / n as f32;
-            assert!((share - p).abs() <= 1.5 / n as f32, "light {i}: {share} vs {p}");
+            assert!(
+                (share - p).abs() <= 1.5 / n as f32,
+                "light {i}: {share} vs {p}"
+            );
             // Exactly the lights whose beams the segment crosses.
             assert_eq!(light.reach(&ray, 0.0, 20.0).is_some(), p > 0.0, "light {i}");
         }

@@ -141,8 +141,7 @@ impl ChosenLight {
     /// Density with which a point or spot light's samples land at `t`,
     /// all `n` counted (0 if the light is not sampled here).
     pub(super) fn delta_pdf(&self, t: f32) -> f32 {
-        self.samples
-            .map_or(0.0, |l| l.n as f32 * l.sampler.pdf(t))
+        self.samples.map_or(0.0, |l| l.n as f32 * l.sampler.pdf(t))
     }
 
     /// Whether the light is estimated by the segment's samples (and must
