@@ -73,8 +73,10 @@ pub fn check_fog_albedo(albedo: crate::color::Rgb) -> Result<(), String> {
 /// collisions to cross the box where the density is far below its bound.
 pub const MAX_MAJORANT_DEPTH: f32 = 1e5;
 
-/// Most lights a scene may hold. Every integrator visits every light at
-/// each path vertex (each march step), so a render's cost grows with
+/// Most lights a scene may hold. `march` and the GPU path visit every
+/// light at each march step, and `single` and `volpath` every area light
+/// and sun at each vertex (point and spot lights they choose by the light
+/// tree, [`crate::lights::LightTree`]), so a render's cost can grow with
 /// their number; 1024 keeps an 8×8, 1 spp render within seconds.
 pub const MAX_LIGHTS: usize = 1024;
 

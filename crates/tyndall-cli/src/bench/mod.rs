@@ -10,6 +10,7 @@
 
 #[cfg(feature = "gpu")]
 mod gpu;
+mod lights;
 mod load;
 mod maps;
 mod smoke;
@@ -48,9 +49,11 @@ pub struct BenchArgs {
     /// Which part to run: `equal-error` (time to equal error per integrator),
     /// `maps` (shadow maps against shadow rays), `volpath` (the path tracer
     /// against Mitsuba 3's multiple-scattering references), `smoke` (the path tracer in the voxel
-    /// smoke, and its cost against homogeneous media), `load` (loading a
-    /// million-triangle glTF and, with `--vdb`, a sparse OpenVDB cloud) or `all`.
-    #[arg(long, default_value = "all", value_parser = ["all", "equal-error", "maps", "volpath", "smoke", "load"])]
+    /// smoke, and its cost against homogeneous media), `lights` (the stage rig
+    /// with 1, 64 and 1024 spots, every light against the light tree), `load`
+    /// (loading a million-triangle glTF and, with `--vdb`, a sparse OpenVDB
+    /// cloud) or `all`.
+    #[arg(long, default_value = "all", value_parser = ["all", "equal-error", "maps", "volpath", "smoke", "lights", "load"])]
     only: String,
     /// Benchmark the GPU march and single scattering instead (frames per
     /// second; see bench/gpu.rs).
@@ -145,6 +148,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     if all || args.only == "smoke" {
         smoke::run(&args)?;
+    }
+    if all || args.only == "lights" {
+        lights::run(&args)?;
     }
     if all || args.only == "load" {
         load::run(&args)?;
