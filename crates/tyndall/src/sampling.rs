@@ -57,13 +57,6 @@ impl EquiangularSampler {
         (t, self.pdf(t))
     }
 
-    /// `∫_a^b dt/|x(t) − y|² = (θ_b − θ_a)/D`, the integral the density
-    /// normalises (with `D` no less than the smallest distance used).
-    #[inline]
-    pub fn inverse_square_integral(&self) -> f32 {
-        (self.theta_b - self.theta_a) / self.distance
-    }
-
     /// The density at `t` (0 outside `[a, b]`).
     #[inline]
     pub fn pdf(&self, t: f32) -> f32 {
@@ -73,6 +66,24 @@ impl EquiangularSampler {
         let x = t - self.delta;
         self.distance / ((self.theta_b - self.theta_a) * (self.distance * self.distance + x * x))
     }
+}
+
+/// `∫ ds/(D² + s²)` over `[s_a, s_b]` (`s_b` may be infinite), the
+/// inverse-square falloff along a line at distance `D` from a point,
+/// with `s` measured from the line's point nearest it: `(θ_b − θ_a)/D`
+/// with `θ = atan(s/D)`, the normalisation of [`EquiangularSampler`],
+/// here as one `atan2` (the difference of two angles in (−π/2, π/2)).
+/// `D` is held no less than the sampler's smallest distance.
+#[inline]
+pub fn inverse_square_integral(distance: f32, s_a: f32, s_b: f32) -> f32 {
+    let distance = distance.max(MIN_EQUIANGULAR_DISTANCE);
+    let (x_a, x_b) = (s_a / distance, s_b / distance);
+    let spanned = if x_b.is_finite() {
+        (x_b - x_a).atan2(1.0 + x_a * x_b)
+    } else {
+        std::f32::consts::FRAC_PI_2 - x_a.atan()
+    };
+    spanned.max(0.0) / distance
 }
 
 /// Sampling `t ∈ [a, b]` proportionally to the transmittance from `a`,

@@ -14,7 +14,7 @@
 //! cluster's directions towards the receiver lie outside its cones.
 
 use crate::ray::Ray;
-use crate::sampling::EquiangularSampler;
+use crate::sampling::inverse_square_integral;
 use crate::shapes::Bounds;
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -40,14 +40,72 @@ pub struct LightBounds {
     /// The sum of the lights' peak radiant intensities (W/sr, the mean
     /// of the channels).
     pub intensity: f32,
+    cone: EmissionCone,
+}
+
+/// The cone of a cluster's emission, with the cosines and sines its
+/// importance reads (the angles' trigonometry done once, at the build).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct EmissionCone {
     /// The unit axis of the cone of the lights' axes.
-    pub axis: Vec3,
+    axis: Vec3,
     /// Half-angle (radians) of the cone around `axis` holding every
     /// light's own axis.
-    pub theta_o: f32,
+    theta_o: f32,
     /// Half-angle (radians) around its own axis beyond which no light
     /// emits.
-    pub theta_e: f32,
+    theta_e: f32,
+    cos_o: f32,
+    sin_o: f32,
+    /// cos(θ_e + [`CONE_SLACK`]): a receiver whose cos θ' is no more
+    /// than this lies outside every cone.
+    cos_e: f32,
+}
+
+impl EmissionCone {
+    fn new(axis: Vec3, theta_o: f32, theta_e: f32) -> Self {
+        let (sin_o, cos_o) = theta_o.sin_cos();
+        Self {
+            axis,
+            theta_o,
+            theta_e,
+            cos_o,
+            sin_o,
+            cos_e: (theta_e + CONE_SLACK).min(PI).cos(),
+        }
+    }
+
+    /// `cos θ'` for a receiver whose directions from the cluster's centre
+    /// come no nearer to `axis` than an angle of cosine `cos_w`, the
+    /// cluster's box seen from it within an angle of sine `sin_b` (≥ 1:
+    /// the receiver is inside its bounding sphere), where
+    /// `θ' = max(0, θ_w − θ_o − θ_b)` (pbrt-v4's `LightBounds::Importance`,
+    /// in cosines and sines); `None` past the cutoff, where no light of
+    /// the cluster reaches the receiver.
+    fn cos_theta_past(&self, cos_w: f32, sin_b: f32) -> Option<f32> {
+        if sin_b >= 1.0 {
+            return Some(1.0);
+        }
+        let cos_w = cos_w.clamp(-1.0, 1.0);
+        let sin_w = (1.0 - cos_w * cos_w).max(0.0).sqrt();
+        // θ_x = max(0, θ_w − θ_o).
+        let (cos_x, sin_x) = if cos_w >= self.cos_o {
+            (1.0, 0.0)
+        } else {
+            (
+                cos_w * self.cos_o + sin_w * self.sin_o,
+                sin_w * self.cos_o - cos_w * self.sin_o,
+            )
+        };
+        // θ' = max(0, θ_x − θ_b).
+        let cos_b = (1.0 - sin_b * sin_b).max(0.0).sqrt();
+        let cos_past = if cos_x >= cos_b {
+            1.0
+        } else {
+            cos_x * cos_b + sin_x * sin_b
+        };
+        (cos_past > self.cos_e).then_some(cos_past)
+    }
 }
 
 impl LightBounds {
@@ -57,9 +115,7 @@ impl LightBounds {
         Self {
             bounds: Bounds::new(position, position),
             intensity,
-            axis,
-            theta_o: 0.0,
-            theta_e,
+            cone: EmissionCone::new(axis, 0.0, theta_e),
         }
     }
 
@@ -69,9 +125,7 @@ impl LightBounds {
         Self {
             bounds: Bounds::new(position, position),
             intensity,
-            axis: Vec3::Z,
-            theta_o: PI,
-            theta_e: PI / 2.0,
+            cone: EmissionCone::new(Vec3::Z, PI, PI / 2.0),
         }
     }
 
@@ -79,13 +133,12 @@ impl LightBounds {
     /// intensities, and the smallest cone holding both cones of axes
     /// (pbrt-v4's `DirectionCone::Union`).
     pub fn union(&self, other: &LightBounds) -> LightBounds {
-        let (axis, theta_o) = cone_union((self.axis, self.theta_o), (other.axis, other.theta_o));
+        let (a, b) = (&self.cone, &other.cone);
+        let (axis, theta_o) = cone_union((a.axis, a.theta_o), (b.axis, b.theta_o));
         LightBounds {
             bounds: self.bounds.union(other.bounds),
             intensity: self.intensity + other.intensity,
-            axis,
-            theta_o,
-            theta_e: self.theta_e.max(other.theta_e),
+            cone: EmissionCone::new(axis, theta_o, a.theta_e.max(b.theta_e)),
         }
     }
 
@@ -94,41 +147,26 @@ impl LightBounds {
         0.5 * self.bounds.extent().length()
     }
 
-    /// The least angle, past the cones, between any light's emission and
-    /// a direction in the cone from the box's centre of half-angle
-    /// `theta_w` off `axis` widened by `theta_b` (the box seen from the
-    /// receiver): `θ' = max(0, θ_w − θ_o − θ_b)`; `None` where it is
-    /// beyond `theta_e`, so no light of the cluster reaches the receiver.
-    fn angle_past_cones(&self, theta_w: f32, theta_b: f32) -> Option<f32> {
-        let theta = (theta_w - self.theta_o - theta_b).max(0.0);
-        (theta < self.theta_e + CONE_SLACK).then_some(theta)
-    }
-
     /// Importance of the cluster to a receiver at `x`, after pbrt-v4's
     /// `LightBounds::Importance`: `I·cos θ'/d²`, with `d` the distance
     /// from the box's centre (no nearer than the bounding sphere's
     /// radius) and θ' the angle left between the receiver and the cones
-    /// ([`LightBounds`]); 0 where `x` lies outside every light's cone.
+    /// ([`LightBounds`]); 0 only where `x` lies outside every light's
+    /// cone.
     pub fn importance_at(&self, x: Vec3) -> f32 {
         let centre = self.bounds.center();
         let radius = self.radius();
         let to_x = x - centre;
         let d2 = to_x.length_squared();
-        // Inside the bounding sphere the directions to x are unbounded.
-        let theta_b = if d2 > radius * radius {
-            (radius / d2.sqrt()).asin()
+        let d = d2.sqrt();
+        let cos_w = if d > 0.0 {
+            self.cone.axis.dot(to_x) / d
         } else {
-            PI
+            1.0
         };
-        let theta_w = if d2 > 0.0 {
-            angle_between(self.axis, to_x / d2.sqrt())
-        } else {
-            0.0
-        };
-        match self.angle_past_cones(theta_w, theta_b) {
-            Some(theta) => {
-                self.intensity * theta.cos().max(0.0) / d2.max(radius * radius).max(1e-12)
-            }
+        let sin_b = if d > radius { radius / d } else { 1.0 };
+        match self.cone.cos_theta_past(cos_w, sin_b) {
+            Some(cos) => positive(self.intensity * cos / d2.max(radius * radius)),
             None => 0.0,
         }
     }
@@ -136,11 +174,11 @@ impl LightBounds {
     /// Importance of the cluster to the segment `[a, b]` of `ray` (unit
     /// direction; `b` may be infinite) in fog: `I·cos θ'·∫ ds/d(s)²`,
     /// the in-scattering of a point light at the box's centre along the
-    /// segment (the equiangular integral `(θ_b − θ_a)/D` of
-    /// [`EquiangularSampler`], with `D` no less than the bounding sphere's
-    /// radius), times the cone factor of [`LightBounds::importance_at`]
-    /// with θ_w the least angle between `axis` and the directions from
-    /// the centre to the segment; 0 where every point of the segment lies
+    /// segment ([`inverse_square_integral`], with the centre held no
+    /// nearer to the line than the bounding sphere's radius), times the
+    /// cone factor of [`LightBounds::importance_at`] with θ_w the least
+    /// angle between the cone's axis and the directions from the centre
+    /// to the segment; 0 only where every point of the segment lies
     /// outside every light's cone.
     pub fn importance_along(&self, ray: &Ray, a: f32, b: f32) -> f32 {
         // An empty (or NaN) segment receives nothing.
@@ -149,13 +187,9 @@ impl LightBounds {
         }
         let centre = self.bounds.center();
         let radius = self.radius();
-        let nearest = (centre - ray.origin).dot(ray.direction).clamp(a, b);
-        let gap = (ray.at(nearest) - centre).length();
-        let theta_b = if gap > radius {
-            (radius / gap).asin()
-        } else {
-            PI
-        };
+        let along = (centre - ray.origin).dot(ray.direction);
+        let gap = (ray.at(along.clamp(a, b)) - centre).length();
+        let sin_b = if gap > radius { radius / gap } else { 1.0 };
         let end = |t: f32| {
             if t.is_finite() {
                 (ray.at(t) - centre).normalize_or_zero()
@@ -163,54 +197,47 @@ impl LightBounds {
                 ray.direction
             }
         };
-        let theta_w = angle_to_arc(self.axis, end(a), end(b));
-        let Some(theta) = self.angle_past_cones(theta_w, theta_b) else {
+        let cos_w = cos_to_arc(self.cone.axis, end(a), end(b));
+        let Some(cos) = self.cone.cos_theta_past(cos_w, sin_b) else {
             return 0.0;
         };
-        let line = inverse_square_integral(ray, centre, a, b, radius);
-        self.intensity * theta.cos().max(0.0) * line
+        let line_distance = (ray.at(along) - centre).length().max(radius);
+        let line = inverse_square_integral(line_distance, a - along, b - along);
+        positive(self.intensity * cos * line)
     }
 }
 
-/// `∫_a^b ds/|x(s) − y|²` along `ray` for a point `y` held no nearer to
-/// the line than `min_distance`: the equiangular normalisation.
-fn inverse_square_integral(ray: &Ray, y: Vec3, a: f32, b: f32, min_distance: f32) -> f32 {
-    let delta = (y - ray.origin).dot(ray.direction);
-    let distance = (y - ray.at(delta)).length();
-    if distance >= min_distance {
-        return EquiangularSampler::new(ray, y, a, b).map_or(0.0, |e| e.inverse_square_integral());
+/// A receiver the cones do not exclude keeps a chance of being lit,
+/// however small its importance rounds to (a light with no chance where
+/// it shines would bias the estimate): the smallest normal float.
+#[inline]
+fn positive(importance: f32) -> f32 {
+    importance.max(f32::MIN_POSITIVE)
+}
+
+/// The cosine of the least angle between the unit `w` and the shorter
+/// great-circle arc from unit `u0` to unit `u1` (the directions from a
+/// point to the points of a segment that misses it): of the angle to the
+/// arc's plane if `w`'s projection on it falls within the arc, else to
+/// the nearer end.
+fn cos_to_arc(w: Vec3, u0: Vec3, u1: Vec3) -> f32 {
+    let ends = w.dot(u0).max(w.dot(u1));
+    let Some(n) = u0.cross(u1).try_normalize() else {
+        return ends;
+    };
+    let in_plane = w - n * w.dot(n);
+    let within = u0.cross(in_plane).dot(n) >= 0.0 && in_plane.cross(u1).dot(n) >= 0.0;
+    if within {
+        in_plane.length().max(ends)
+    } else {
+        ends
     }
-    // Move y off the line to `min_distance` (a cluster the ray passes
-    // through is as near as its bounding sphere allows).
-    let off = (y - ray.at(delta))
-        .try_normalize()
-        .unwrap_or_else(|| ray.direction.any_orthonormal_vector());
-    let moved = ray.at(delta) + off * min_distance;
-    EquiangularSampler::new(ray, moved, a, b).map_or(0.0, |e| e.inverse_square_integral())
 }
 
 /// The angle (radians) between unit vectors.
 #[inline]
 fn angle_between(u: Vec3, v: Vec3) -> f32 {
     u.dot(v).clamp(-1.0, 1.0).acos()
-}
-
-/// The least angle between the unit `w` and the shorter great-circle arc
-/// from unit `u0` to unit `u1` (the directions from a point to the
-/// points of a segment that misses it): the angle to the arc's plane if
-/// `w`'s projection on it falls within the arc, else to the nearer end.
-fn angle_to_arc(w: Vec3, u0: Vec3, u1: Vec3) -> f32 {
-    let ends = angle_between(w, u0).min(angle_between(w, u1));
-    let Some(n) = u0.cross(u1).try_normalize() else {
-        return ends;
-    };
-    let in_plane = w - n * w.dot(n);
-    let within = u0.cross(in_plane).dot(n) >= 0.0 && in_plane.cross(u1).dot(n) >= 0.0;
-    if within && in_plane.length_squared() > 0.0 {
-        w.dot(n).abs().clamp(0.0, 1.0).asin().min(ends)
-    } else {
-        ends
-    }
 }
 
 /// The smallest cone holding the cones `(axis, half-angle)` `a` and `b`
