@@ -209,10 +209,10 @@ pub struct Overrides {
     /// a lookup per march step instead of a ray; area lights keep rays).
     #[arg(long, value_parser = ["rays", "maps"])]
     pub visibility: Option<String>,
-    /// How estimates choose among lights: `tree` (one point or spot light per
-    /// estimate from a light BVH, by its importance there), `all` (every light
-    /// at every estimate) or `auto` (the tree from 8 point and spot lights on;
-    /// the default). Area lights and suns are always all visited.
+    /// How estimates choose among lights: `tree` (a few point and spot lights
+    /// per estimate from a light BVH, by their importance there), `all` (every
+    /// light at every estimate) or `auto` (the tree from 256 point and spot
+    /// lights on; the default). Area lights and suns are always all visited.
     #[arg(long, value_parser = ["auto", "all", "tree"])]
     pub light_sampling: Option<String>,
     /// Shadow-map resolution, texels per side of each map face (default 512).

@@ -136,6 +136,7 @@ fn generate(script: &Path, spots: usize, out: &Path) -> Result<()> {
         .arg(script)
         .arg(spots.to_string())
         .arg(out)
+        .stdout(std::process::Stdio::null())
         .status()
         .with_context(|| format!("running python3 {}", script.display()))?;
     if !status.success() {

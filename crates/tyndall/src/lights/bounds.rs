@@ -207,6 +207,23 @@ impl LightBounds {
     }
 }
 
+impl LightBounds {
+    /// Whether the cluster's bounding sphere, seen from `x`, subtends a
+    /// half-angle of sine above `sine` (or holds `x`): its lights lie in
+    /// directions and at distances too different for one importance.
+    pub fn looms_at(&self, x: Vec3, sine: f32) -> bool {
+        self.radius() > sine * (x - self.bounds.center()).length()
+    }
+
+    /// [`LightBounds::looms_at`] for the nearest point of the segment
+    /// `[a, b]` of `ray`.
+    pub fn looms_along(&self, ray: &Ray, a: f32, b: f32, sine: f32) -> bool {
+        let centre = self.bounds.center();
+        let along = (centre - ray.origin).dot(ray.direction).clamp(a, b);
+        self.radius() > sine * (ray.at(along) - centre).length()
+    }
+}
+
 /// A receiver the cones do not exclude keeps a chance of being lit,
 /// however small its importance rounds to (a light with no chance where
 /// it shines would bias the estimate): the smallest normal float.

@@ -1,20 +1,23 @@
 //! Which lights an estimate connects to: every light (a handful of lamps),
 //! or the lights the tree cannot hold (suns and area lights, whose MIS
-//! weights against hits read them all) plus one point or spot light
-//! chosen by the [`LightTree`] with its probability. Each chosen light
+//! weights against hits read them all) plus the point and spot lights
+//! the [`LightTree`]'s splitting descent chooses, each with its
+//! probability. Each chosen light
 //! comes with the weight `1/P` that keeps the sum over lights unbiased:
 //! `E[Σ_chosen w_l·F_l] = Σ_l F_l`.
 
 use super::Light;
-use super::tree::LightTree;
+use super::tree::{LightTree, MAX_SPLIT_LIGHTS, SplitChoice};
 use crate::ray::Ray;
 use glam::Vec3;
 
 /// From how many point and spot lights [`LightSampling::Auto`] chooses
-/// one by the tree instead of visiting them all. Below it a visit costs
-/// less than the variance a choice adds (docs/benchmarks.md, "Many
-/// lights").
-pub const TREE_FROM_LIGHTS: usize = 8;
+/// by the tree instead of visiting them all. On the stage rig every light
+/// took 1.3× less time to equal error with 64 spots (a light whose cone
+/// misses the receiver costs a dot product, not a shadow ray), the two
+/// were even at 256 and the tree 3.7× faster at 1024 (docs/benchmarks.md,
+/// "Many lights").
+pub const TREE_FROM_LIGHTS: usize = 256;
 
 /// How a render chooses the lights an estimate connects to.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -25,7 +28,7 @@ pub enum LightSampling {
     Auto,
     /// Every light at every estimate.
     All,
-    /// One point or spot light from the tree, however few there are.
+    /// Point and spot lights from the tree, however few there are.
     Tree,
 }
 
@@ -91,7 +94,12 @@ impl LightSampler {
 
     /// The most lights one estimate connects to.
     pub fn most_chosen(&self) -> usize {
-        self.visited.len() + usize::from(self.tree.is_some())
+        self.visited.len()
+            + if self.tree.is_some() {
+                MAX_SPLIT_LIGHTS
+            } else {
+                0
+            }
     }
 
     /// The tree the point and spot lights are chosen from, if they are.
@@ -104,7 +112,12 @@ impl LightSampler {
     pub fn at(&self, x: Vec3, u: f32) -> Chosen<'_> {
         Chosen {
             visited: self.visited.iter(),
-            drawn: self.tree.as_ref().and_then(|t| t.sample_at(x, u)),
+            drawn: self
+                .tree
+                .as_ref()
+                .map(|t| t.split_at(x, u))
+                .unwrap_or_default(),
+            next: 0,
         }
     }
 
@@ -117,17 +130,21 @@ impl LightSampler {
             drawn: self
                 .tree
                 .as_ref()
-                .and_then(|t| t.sample_along(lights, ray, a, b, u)),
+                .map(|t| t.split_along(lights, ray, a, b, u))
+                .unwrap_or_default(),
+            next: 0,
         }
     }
 }
 
 /// The chosen lights, as `(index, weight)`: the visited lights with
-/// weight 1, then the tree's choice with weight `1/P`.
+/// weight 1, then the tree's choices with weight `1/P` each.
 #[derive(Clone, Debug)]
 pub struct Chosen<'a> {
     visited: std::slice::Iter<'a, u32>,
-    drawn: Option<(usize, f32)>,
+    drawn: SplitChoice,
+    /// How many of `drawn` were given.
+    next: usize,
 }
 
 impl Iterator for Chosen<'_> {
@@ -138,6 +155,8 @@ impl Iterator for Chosen<'_> {
         if let Some(&index) = self.visited.next() {
             return Some((index as usize, 1.0));
         }
-        self.drawn.take().map(|(index, p)| (index, 1.0 / p))
+        let drawn = self.drawn.lights().nth(self.next)?;
+        self.next += 1;
+        Some((drawn.0, 1.0 / drawn.1))
     }
 }

@@ -25,12 +25,47 @@ use glam::Vec3;
 /// numbers stay in `[0, 1)`.
 const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
+/// Most lights one splitting descent reaches ([`LightTree::split_at`]).
+/// On the stage rig 4 took the least time to equal error of 1, 2, 4 and
+/// 8, with 64 and with 1024 spots (docs/benchmarks.md, "Many lights").
+pub const MAX_SPLIT_LIGHTS: usize = 4;
+
+/// A cluster whose bounding sphere subtends a half-angle of sine above
+/// this from the receiver is split: both children are descended.
+const SPLIT_SINE: f32 = 0.5;
+
+/// A cluster of at most this many lights is weighed by the sum of its
+/// lights' own importances instead of its bounds: near the leaves a fan
+/// of spots has cones too wide to exclude a receiver that every beam
+/// misses, and a descent into such a cluster would find no light.
+const EXACT_UP_TO: u32 = 8;
+
+/// The lights a splitting descent reached, each with the probability of
+/// reaching it from the last split above it.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SplitChoice {
+    lights: [(u32, f32); MAX_SPLIT_LIGHTS],
+    len: usize,
+}
+
+impl SplitChoice {
+    /// The reached lights as `(index, probability)`.
+    pub fn lights(&self) -> impl Iterator<Item = (usize, f32)> + '_ {
+        self.lights[..self.len]
+            .iter()
+            .map(|&(l, p)| (l as usize, p))
+    }
+}
+
 /// One node: a leaf holds one light, an interior node two children (the
 /// first right after it, the second at `second`).
 #[derive(Clone, Copy, Debug)]
 struct Node {
     bounds: LightBounds,
     kind: NodeKind,
+    /// How many lights its subtree holds (its nodes are this one and the
+    /// `2·leaves − 2` after it).
+    leaves: u32,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -61,27 +96,60 @@ enum Receiver<'a> {
 }
 
 impl Receiver<'_> {
-    /// The importance of `node` to the receiver. At a leaf along a
-    /// segment it is taken over the part the light reaches (a spot's
-    /// cone, [`Light::reach`]): exactly 0 where the beam misses it.
-    fn importance(&self, node: &Node) -> f32 {
-        let importance = match (*self, node.kind) {
-            (Receiver::Point(x), _) => node.bounds.importance_at(x),
+    /// Whether `node`'s cluster is too wide, seen from the receiver, for
+    /// one choice ([`LightBounds::looms_at`]).
+    fn splits(&self, node: &Node) -> bool {
+        match *self {
+            Receiver::Point(x) => node.bounds.looms_at(x, SPLIT_SINE),
+            Receiver::Segment { ray, a, b, .. } => node.bounds.looms_along(ray, a, b, SPLIT_SINE),
+        }
+    }
+
+    /// The importance of node `index` to the receiver: from its bounds,
+    /// or for a cluster of at most [`EXACT_UP_TO`] lights the sum of its
+    /// lights' own ([`Receiver::light_importance`]).
+    fn importance(&self, nodes: &[Node], index: usize) -> f32 {
+        let node = &nodes[index];
+        let importance = if node.leaves <= EXACT_UP_TO {
+            nodes[index..index + 2 * node.leaves as usize - 1]
+                .iter()
+                .filter(|n| matches!(n.kind, NodeKind::Leaf(_)))
+                .map(|n| finite(self.light_importance(n)))
+                .sum()
+        } else {
+            match *self {
+                Receiver::Point(x) => node.bounds.importance_at(x),
+                Receiver::Segment { ray, a, b, .. } => node.bounds.importance_along(ray, a, b),
+            }
+        };
+        finite(importance)
+    }
+
+    /// A leaf's importance; along a segment taken over the part the
+    /// light reaches (a spot's cone, [`Light::reach`]): exactly 0 where
+    /// the beam misses it.
+    fn light_importance(&self, leaf: &Node) -> f32 {
+        match (*self, leaf.kind) {
+            (Receiver::Point(x), _) => leaf.bounds.importance_at(x),
             (Receiver::Segment { lights, ray, a, b }, NodeKind::Leaf(light)) => lights
                 [light as usize]
                 .reach(ray, a, b)
-                .map_or(0.0, |(a, b)| node.bounds.importance_along(ray, a, b)),
+                .map_or(0.0, |(a, b)| leaf.bounds.importance_along(ray, a, b)),
             (Receiver::Segment { ray, a, b, .. }, NodeKind::Interior(_)) => {
-                node.bounds.importance_along(ray, a, b)
+                leaf.bounds.importance_along(ray, a, b)
             }
-        };
-        // Overflow or 0·∞ must not hide a light: such a node stays a
-        // candidate with a finite weight.
-        if importance.is_finite() {
-            importance.max(0.0)
-        } else {
-            f32::MAX
         }
+    }
+}
+
+/// Overflow or 0·∞ must not hide a light: such a node stays a candidate
+/// with a finite weight.
+#[inline]
+fn finite(importance: f32) -> f32 {
+    if importance.is_finite() {
+        importance.max(0.0)
+    } else {
+        f32::MAX
     }
 }
 
@@ -116,7 +184,7 @@ impl LightTree {
     /// One light for the receiver at `x`, chosen by `u ∈ [0, 1)`, and the
     /// probability it was chosen with; `None` if no light reaches `x`.
     pub fn sample_at(&self, x: Vec3, u: f32) -> Option<(usize, f32)> {
-        self.descend(Receiver::Point(x), u)
+        self.choose(Receiver::Point(x), u, 1).lights().next()
     }
 
     /// One light for the fog segment `[a, b]` of `ray` (`lights` the
@@ -130,7 +198,124 @@ impl LightTree {
         b: f32,
         u: f32,
     ) -> Option<(usize, f32)> {
-        self.descend(Receiver::Segment { lights, ray, a, b }, u)
+        self.choose(Receiver::Segment { lights, ray, a, b }, u, 1)
+            .lights()
+            .next()
+    }
+
+    /// Lights for the receiver at `x` by a descent that splits (Conty
+    /// Estevez & Kulla 2018, §5): where a cluster looms too wide seen
+    /// from the receiver, both children are descended (the second with
+    /// `u` turned by the golden ratio), and in a cluster of at most
+    /// [`EXACT_UP_TO`] lights every light that reaches the receiver is
+    /// taken; elsewhere one is chosen as in [`LightTree::sample_at`]; up
+    /// to [`MAX_SPLIT_LIGHTS`] lights. Each reached light comes with its
+    /// probability below the last split: every subtree's choice is
+    /// unbiased for its lights, so the weights `1/P` sum to an unbiased
+    /// estimate over all the lights.
+    pub fn split_at(&self, x: Vec3, u: f32) -> SplitChoice {
+        self.choose(Receiver::Point(x), u, MAX_SPLIT_LIGHTS)
+    }
+
+    /// [`LightTree::split_at`] for the fog segment `[a, b]` of `ray`.
+    pub fn split_along(&self, lights: &[Light], ray: &Ray, a: f32, b: f32, u: f32) -> SplitChoice {
+        self.choose(Receiver::Segment { lights, ray, a, b }, u, MAX_SPLIT_LIGHTS)
+    }
+
+    /// The lights of the cluster at node `index` (at most
+    /// [`EXACT_UP_TO`]) with their own importances, and their sum.
+    fn cluster(
+        &self,
+        receiver: Receiver,
+        index: usize,
+    ) -> ([(u32, f32); EXACT_UP_TO as usize], usize, f64) {
+        let mut lights = [(0u32, 0.0f32); EXACT_UP_TO as usize];
+        let (mut len, mut total) = (0, 0.0f64);
+        let node = &self.nodes[index];
+        for leaf in &self.nodes[index..index + 2 * node.leaves as usize - 1] {
+            if let NodeKind::Leaf(light) = leaf.kind {
+                let value = finite(receiver.light_importance(leaf));
+                lights[len] = (light, value);
+                len += 1;
+                total += f64::from(value);
+            }
+        }
+        (lights, len, total)
+    }
+
+    /// The descent (see [`LightTree::split_at`]), reaching at most
+    /// `budget` lights: 1 never splits.
+    fn choose(&self, receiver: Receiver, u: f32, budget: usize) -> SplitChoice {
+        /// The golden ratio's fraction: the next branch's `u`.
+        const TURN: f32 = 0.618_034;
+        let mut chosen = SplitChoice::default();
+        // Pending descents: (node, probability so far, u).
+        let mut pending = [(0usize, 1.0f32, u); MAX_SPLIT_LIGHTS];
+        let mut open = 1;
+        while open > 0 {
+            open -= 1;
+            let (mut node, mut probability, mut u) = pending[open];
+            loop {
+                let here = &self.nodes[node];
+                if here.leaves <= EXACT_UP_TO {
+                    let (lights, len, total) = self.cluster(receiver, node);
+                    if total == 0.0 {
+                        break;
+                    }
+                    let reaching = lights[..len].iter().filter(|l| l.1 > 0.0);
+                    let count = reaching.clone().count();
+                    if count > 1 && chosen.len + open + count <= budget && receiver.splits(here) {
+                        for &(light, _) in reaching {
+                            chosen.lights[chosen.len] = (light, probability);
+                            chosen.len += 1;
+                        }
+                        break;
+                    }
+                    // One light by its share of the cluster's importance.
+                    let mut below = 0.0f64;
+                    let target = f64::from(u) * total;
+                    let last = lights[..len].iter().rposition(|l| l.1 > 0.0).unwrap_or(0);
+                    for (k, &(light, value)) in lights[..len].iter().enumerate() {
+                        below += f64::from(value);
+                        if value > 0.0 && (target < below || k == last) {
+                            chosen.lights[chosen.len] =
+                                (light, probability * (f64::from(value) / total) as f32);
+                            chosen.len += 1;
+                            break;
+                        }
+                    }
+                    break;
+                }
+                let NodeKind::Interior(second) = here.kind else {
+                    unreachable!("a node of more than one light is interior")
+                };
+                let (first, second) = (node + 1, second as usize);
+                let w0 = f64::from(receiver.importance(&self.nodes, first));
+                let w1 = f64::from(receiver.importance(&self.nodes, second));
+                if w0 + w1 == 0.0 {
+                    break;
+                }
+                let room = chosen.len + open + 2 <= budget;
+                if room && w0 > 0.0 && w1 > 0.0 && receiver.splits(here) {
+                    let turned = (u + TURN).fract().min(ONE_MINUS_EPSILON);
+                    pending[open] = (second, probability, turned);
+                    open += 1;
+                    node = first;
+                    continue;
+                }
+                let p0 = (w0 / (w0 + w1)) as f32;
+                if u < p0 {
+                    node = first;
+                    probability *= p0;
+                    u = (u / p0).min(ONE_MINUS_EPSILON);
+                } else {
+                    node = second;
+                    probability *= 1.0 - p0;
+                    u = ((u - p0) / (1.0 - p0)).min(ONE_MINUS_EPSILON);
+                }
+            }
+        }
+        chosen
     }
 
     /// The probability with which [`LightTree::sample_at`] chooses light
@@ -159,63 +344,30 @@ impl LightTree {
     /// The probability of reaching the leaf of `light` from `node`, if
     /// it lies below `node`.
     fn probability_below(&self, receiver: Receiver, node: usize, light: u32) -> Option<f32> {
-        match self.nodes[node].kind {
-            NodeKind::Leaf(l) if l == light => {
-                Some(if node == 0 && receiver.importance(&self.nodes[0]) == 0.0 {
-                    0.0
-                } else {
-                    1.0
-                })
-            }
-            NodeKind::Leaf(_) => None,
-            NodeKind::Interior(second) => {
-                let children = [node + 1, second as usize];
-                let weights = children.map(|c| f64::from(receiver.importance(&self.nodes[c])));
-                let total = weights[0] + weights[1];
-                children.iter().zip(weights).find_map(|(&child, weight)| {
-                    let below = self.probability_below(receiver, child, light)?;
-                    Some(if total > 0.0 {
-                        (weight / total) as f32 * below
-                    } else {
-                        0.0
-                    })
-                })
-            }
+        let here = &self.nodes[node];
+        if here.leaves <= EXACT_UP_TO {
+            let (lights, len, total) = self.cluster(receiver, node);
+            let &(_, value) = lights[..len].iter().find(|l| l.0 == light)?;
+            return Some(if total > 0.0 {
+                (f64::from(value) / total) as f32
+            } else {
+                0.0
+            });
         }
-    }
-
-    /// The descent from the root: at each interior node a child by its
-    /// share of the two children's importance, `u` remapped to the chosen
-    /// share.
-    fn descend(&self, receiver: Receiver, mut u: f32) -> Option<(usize, f32)> {
-        let mut node = 0;
-        let mut probability = 1.0f32;
-        if receiver.importance(&self.nodes[0]) == 0.0 {
+        let NodeKind::Interior(second) = here.kind else {
             return None;
-        }
-        loop {
-            match self.nodes[node].kind {
-                NodeKind::Leaf(light) => return Some((light as usize, probability)),
-                NodeKind::Interior(second) => {
-                    let (first, second) = (node + 1, second as usize);
-                    let w0 = f64::from(receiver.importance(&self.nodes[first]));
-                    let w1 = f64::from(receiver.importance(&self.nodes[second]));
-                    if w0 + w1 == 0.0 {
-                        return None;
-                    }
-                    let p0 = (w0 / (w0 + w1)) as f32;
-                    if u < p0 {
-                        node = first;
-                        probability *= p0;
-                        u = (u / p0).min(ONE_MINUS_EPSILON);
-                    } else {
-                        node = second;
-                        probability *= 1.0 - p0;
-                        u = ((u - p0) / (1.0 - p0)).min(ONE_MINUS_EPSILON);
-                    }
-                }
-            }
-        }
+        };
+        let children = [node + 1, second as usize];
+        let weights = children.map(|c| f64::from(receiver.importance(&self.nodes, c)));
+        let total = weights[0] + weights[1];
+        children.iter().zip(weights).find_map(|(&child, weight)| {
+            let below = self.probability_below(receiver, child, light)?;
+            Some(if total > 0.0 {
+                (weight / total) as f32 * below
+            } else {
+                0.0
+            })
+        })
     }
 }
 
@@ -226,6 +378,7 @@ fn build_nodes(leaves: &mut [(u32, LightBounds)], nodes: &mut Vec<Node>) -> Ligh
         nodes.push(Node {
             bounds: *bounds,
             kind: NodeKind::Leaf(*light),
+            leaves: 1,
         });
         return *bounds;
     }
@@ -244,6 +397,7 @@ fn build_nodes(leaves: &mut [(u32, LightBounds)], nodes: &mut Vec<Node>) -> Ligh
     nodes.push(Node {
         bounds: leaves[0].1,
         kind: NodeKind::Interior(0),
+        leaves: leaves.len() as u32,
     });
     let (low, high) = leaves.split_at_mut(middle);
     let first = build_nodes(low, nodes);
@@ -253,6 +407,7 @@ fn build_nodes(leaves: &mut [(u32, LightBounds)], nodes: &mut Vec<Node>) -> Ligh
     nodes[at] = Node {
         bounds,
         kind: NodeKind::Interior(second_index),
+        leaves: (low.len() + high.len()) as u32,
     };
     bounds
 }
@@ -368,6 +523,61 @@ mod tests {
             // Exactly the lights whose beams the segment crosses.
             assert_eq!(light.reach(&ray, 0.0, 20.0).is_some(), p > 0.0, "light {i}");
         }
+    }
+
+    /// The splitting descent is unbiased light by light: over `N`
+    /// stratified `u`, the weights `1/P` it gives each light average to 1
+    /// for every light that reaches the receiver and are 0 for the rest;
+    /// it never reaches more than [`MAX_SPLIT_LIGHTS`] lights, and it does
+    /// split (more than one light for some receivers).
+    #[test]
+    fn splitting_weighs_every_light_once_on_average() {
+        let lights = rig(37);
+        let tree = LightTree::build(&lights).unwrap();
+        let n = 20_000;
+        let ray = Ray {
+            origin: Vec3::new(-2.0, 1.0, -1.0),
+            direction: Vec3::new(1.0, 0.1, 0.6).normalize(),
+        };
+        let mut most = 0;
+        for receiver in 0..4 {
+            let mut weight = vec![0.0f64; lights.len()];
+            for k in 0..n {
+                let u = (k as f32 + 0.5) / n as f32;
+                let x = Vec3::new(1.0 + receiver as f32 * 1.7, 0.5 * receiver as f32, 2.0);
+                let choice = if receiver < 3 {
+                    tree.split_at(x, u)
+                } else {
+                    tree.split_along(&lights, &ray, 0.0, 20.0, u)
+                };
+                most = most.max(choice.lights().count());
+                for (light, p) in choice.lights() {
+                    weight[light] += 1.0 / f64::from(p) / n as f64;
+                }
+            }
+            for (i, light) in lights.iter().enumerate() {
+                let reaches = if receiver < 3 {
+                    let x = Vec3::new(1.0 + receiver as f32 * 1.7, 0.5 * receiver as f32, 2.0);
+                    light
+                        .incident(x, light.sample_point(glam::Vec2::ZERO))
+                        .is_some()
+                } else {
+                    light.reach(&ray, 0.0, 20.0).is_some()
+                };
+                if reaches {
+                    // N·P ± 1 hits of weight 1/P: within 1/(N·P).
+                    let p_min = 1e-3;
+                    assert!(
+                        (weight[i] - 1.0).abs() < 1.0 / (n as f64 * p_min) + 1e-3,
+                        "receiver {receiver}, light {i}: mean weight {}",
+                        weight[i]
+                    );
+                } else {
+                    assert_eq!(weight[i], 0.0, "receiver {receiver}, light {i}");
+                }
+            }
+        }
+        assert!(most > 1 && most <= MAX_SPLIT_LIGHTS, "{most}");
     }
 
     /// 4096 lights build a tree of 2n − 1 nodes.

@@ -21,11 +21,11 @@ use crate::visibility::{RayCounts, Visibility};
 use glam::Vec3;
 
 /// NEE at the free-flight event at `t` on `segment`, towards the lights
-/// chosen for the segment (weight `c` each, see [`EquiangularNee`]): the
+/// chosen at the event's point ([`lights_at`], weight `c` each): the
 /// in-scattered radiance of eq. 1 without σs (the path's throughput
 /// already holds the albedo), MIS-weighted for area lights (against phase
 /// sampling and the segment's equiangular samples) and for point and spot
-/// lights (against the equiangular samples).
+/// lights (against the equiangular samples, see [`EquiangularNee`]).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn medium_nee(
     segment: &FogSegment,
@@ -42,16 +42,17 @@ pub(super) fn medium_nee(
     let medium = &segment.medium;
     let x = medium.ray.at(t);
     let mut sum = Rgb::ZERO;
-    for chosen in equiangular.chosen() {
-        let index = chosen.index;
+    for (index, chosen) in lights_at(medium.scene, x, sampler) {
         let light = &medium.scene.lights[index];
         let Some((incident, p_light)) = sample_light(light, x, sampler) else {
             continue;
         };
         let weight = match p_light {
+            // Area lights are visited by every estimate: the segment's
+            // samples of them, if any, are its own.
             Some(p_light) => {
                 let y = incident.light_point(x);
-                let q = if chosen.sampled() {
+                let q = if equiangular.chosen(index).is_some_and(|c| c.sampled()) {
                     segment_term(segment, t, equiangular.counts, light, y)
                 } else {
                     0.0
@@ -60,14 +61,17 @@ pub(super) fn medium_nee(
                 let p_phase = medium.phase(&incident);
                 p_light / FogEventDensities::new(strategies, p_light, p_phase, q, p_connect).total()
             }
-            None if chosen.sampled() => {
-                let p_flight = segment.flight_pdf(t);
-                p_flight / (p_flight + chosen.delta_pdf(t))
+            None => {
+                let p_equiangular = equiangular.delta_pdf(segment, index, light, t);
+                if p_equiangular > 0.0 {
+                    let p_flight = segment.flight_pdf(t);
+                    p_flight / (p_flight + p_equiangular)
+                } else {
+                    1.0
+                }
             }
-            None => 1.0,
         };
-        sum += scattered_light(medium, index, x, &incident, counts, tracker)
-            * (weight * chosen.weight);
+        sum += scattered_light(medium, index, x, &incident, counts, tracker) * (weight * chosen);
     }
     sum
 }

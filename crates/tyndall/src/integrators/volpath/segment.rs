@@ -7,7 +7,7 @@ use super::Volpath;
 use super::mis::{EquiangularCounts, FogEventDensities, on};
 use crate::color::Rgb;
 use crate::integrators::{MediumQuery, lights_along, media_transmittance, scattered_light};
-use crate::lights::LightPoint;
+use crate::lights::{Light, LightPoint};
 use crate::media::tracking::VolumeTracker;
 use crate::media::{Fog, free_flight, transmittance};
 use crate::ray::Ray;
@@ -98,11 +98,15 @@ pub(super) struct Connections {
 /// combined by the balance heuristic with NEE at the free-flight event
 /// and, for quad lights, with phase-sampled hits of the light.
 ///
-/// The lights are chosen once for the segment ([`lights_along`]: all of
-/// them, or the visited ones and one from the light tree), before the
-/// free-flight event is drawn; the event's NEE connects to the same
-/// lights with the same weights `1/P`, so the balance heuristic between
-/// the two estimators of one light is unchanged.
+/// The lights are chosen for the segment ([`lights_along`]: all of them,
+/// or the visited ones and those the light tree chooses by their
+/// importance to the segment), each estimate weighted by `1/P`. NEE at
+/// the segment's free-flight event chooses its own lights, by their
+/// importance at the event's point; the balance heuristic between the two
+/// estimators of a light reads only their densities in `t`
+/// ([`EquiangularNee::delta_pdf`]), which do not depend on the choices,
+/// so the weights still sum to one and each estimator, divided by its own
+/// choice's probability, stays unbiased.
 ///
 /// For quad lights the strategies are compared in the measure of (t, y),
 /// the scattering distance and the light point: the segment estimator has
@@ -203,9 +207,37 @@ impl EquiangularNee {
         }));
     }
 
-    /// The lights chosen for the segment.
-    pub(super) fn chosen(&self) -> &[ChosenLight] {
-        &self.chosen
+    /// Light `index` if it was chosen for the segment.
+    pub(super) fn chosen(&self, index: usize) -> Option<&ChosenLight> {
+        self.chosen.iter().find(|c| c.index == index)
+    }
+
+    /// Density with which the samples towards point or spot light
+    /// `light` (number `index`) land at `t`, all `n` counted, whether or
+    /// not it was chosen for the segment: a function of the segment and
+    /// the light alone, so that NEE at a free-flight event, which chooses
+    /// its lights anew, weighs against the same density the segment's
+    /// estimator has where it does choose the light.
+    pub(super) fn delta_pdf(
+        &self,
+        segment: &FogSegment,
+        index: usize,
+        light: &Light,
+        t: f32,
+    ) -> f32 {
+        if let Some(chosen) = self.chosen(index) {
+            return chosen.delta_pdf(t);
+        }
+        let n = self.counts.of(light);
+        let ray = &segment.medium.ray;
+        let sampler = (|| {
+            let (ea, eb) = light.reach(ray, segment.a, segment.b)?;
+            EquiangularSampler::new(ray, light.position()?, ea, eb)
+        })();
+        match sampler {
+            Some(sampler) if n > 0 => n as f32 * sampler.pdf(t),
+            _ => 0.0,
+        }
     }
 
     /// In-scattered radiance from lights whose last scattering lies on the
