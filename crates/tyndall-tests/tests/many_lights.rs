@@ -116,6 +116,7 @@ intensity = [{r}, {g}, {b}]
         )
         .unwrap();
     }
+
     scene(&text)
 }
 
@@ -194,7 +195,7 @@ fn check(kind: IntegratorKind, with_medium: bool, size: (u32, u32), spp: (u32, u
 /// `single`: the tree's choice along camera segments and at the floor.
 #[test]
 fn tree_and_every_light_agree_in_single_scattering() {
-    check(IntegratorKind::Single, false, (64, 36), (8, 64));
+    check(IntegratorKind::Single, false, (64, 36), (256, 256));
 }
 
 /// `volpath` to two events: the tree's choice along every fog segment,

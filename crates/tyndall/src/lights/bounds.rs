@@ -24,6 +24,15 @@ use std::f32::consts::PI;
 /// must never cull a light whose own cone test passes.
 const CONE_SLACK: f32 = 1e-3;
 
+/// How near, as a share of a cluster's bounding radius, its light is taken
+/// to be to a receiver inside its bounding sphere. The distance a
+/// cluster's importance uses is the nearest its bounding sphere comes (not
+/// its centre's, as pbrt-v4's): a light of the cluster may lie there, and
+/// a cluster weighed as if all its light came from its centre is chosen
+/// too rarely where one of its lights is close, which an estimate divided
+/// by that small probability pays for in fireflies.
+const NEAREST_SHARE: f32 = 0.05;
+
 /// What bounds the emission of a cluster of point and spot lights: where
 /// the lights are, their summed peak intensity, and a cone of directions
 /// holding every light's emission.
@@ -149,7 +158,7 @@ impl LightBounds {
 
     /// Importance of the cluster to a receiver at `x`, after pbrt-v4's
     /// `LightBounds::Importance`: `I·cos θ'/d²`, with `d` the distance
-    /// from the box's centre (no nearer than the bounding sphere's
+    /// from the bounding sphere (at least [`NEAREST_SHARE`] of its
     /// radius) and θ' the angle left between the receiver and the cones
     /// ([`LightBounds`]); 0 only where `x` lies outside every light's
     /// cone.
@@ -166,7 +175,10 @@ impl LightBounds {
         };
         let sin_b = if d > radius { radius / d } else { 1.0 };
         match self.cone.cos_theta_past(cos_w, sin_b) {
-            Some(cos) => positive(self.intensity * cos / d2.max(radius * radius)),
+            Some(cos) => {
+                let nearest = (d - radius).max(NEAREST_SHARE * radius);
+                positive(self.intensity * cos / (nearest * nearest).max(1e-12))
+            }
             None => 0.0,
         }
     }
@@ -174,8 +186,8 @@ impl LightBounds {
     /// Importance of the cluster to the segment `[a, b]` of `ray` (unit
     /// direction; `b` may be infinite) in fog: `I·cos θ'·∫ ds/d(s)²`,
     /// the in-scattering of a point light at the box's centre along the
-    /// segment ([`inverse_square_integral`], with the centre held no
-    /// nearer to the line than the bounding sphere's radius), times the
+    /// segment ([`inverse_square_integral`], at the distance from the line
+    /// to the bounding sphere, at least [`NEAREST_SHARE`] of its radius), times the
     /// cone factor of [`LightBounds::importance_at`] with θ_w the least
     /// angle between the cone's axis and the directions from the centre
     /// to the segment; 0 only where every point of the segment lies
@@ -201,7 +213,8 @@ impl LightBounds {
         let Some(cos) = self.cone.cos_theta_past(cos_w, sin_b) else {
             return 0.0;
         };
-        let line_distance = (ray.at(along) - centre).length().max(radius);
+        let line_distance =
+            ((ray.at(along) - centre).length() - radius).max(NEAREST_SHARE * radius);
         let line = inverse_square_integral(line_distance, a - along, b - along);
         positive(self.intensity * cos * line)
     }

@@ -25,10 +25,12 @@ use glam::Vec3;
 /// numbers stay in `[0, 1)`.
 const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
-/// Most lights one splitting descent reaches ([`LightTree::split_at`]).
-/// On the stage rig 4 took the least time to equal error of 1, 2, 4 and
-/// 8, with 64 and with 1024 spots (docs/benchmarks.md, "Many lights").
-pub const MAX_SPLIT_LIGHTS: usize = 4;
+/// Most splits along one path of a splitting descent
+/// ([`LightTree::split_at`]).
+const SPLITS: u32 = 2;
+
+/// Most lights one splitting descent reaches: `2^SPLITS`.
+pub const MAX_SPLIT_LIGHTS: usize = 1 << SPLITS;
 
 /// A cluster whose bounding sphere subtends a half-angle of sine above
 /// this from the receiver is split: both children are descended.
@@ -184,7 +186,7 @@ impl LightTree {
     /// One light for the receiver at `x`, chosen by `u ∈ [0, 1)`, and the
     /// probability it was chosen with; `None` if no light reaches `x`.
     pub fn sample_at(&self, x: Vec3, u: f32) -> Option<(usize, f32)> {
-        self.choose(Receiver::Point(x), u, 1).lights().next()
+        self.choose(Receiver::Point(x), u, 0).lights().next()
     }
 
     /// One light for the fog segment `[a, b]` of `ray` (`lights` the
@@ -198,7 +200,7 @@ impl LightTree {
         b: f32,
         u: f32,
     ) -> Option<(usize, f32)> {
-        self.choose(Receiver::Segment { lights, ray, a, b }, u, 1)
+        self.choose(Receiver::Segment { lights, ray, a, b }, u, 0)
             .lights()
             .next()
     }
@@ -206,20 +208,19 @@ impl LightTree {
     /// Lights for the receiver at `x` by a descent that splits (Conty
     /// Estevez & Kulla 2018, §5): where a cluster looms too wide seen
     /// from the receiver, both children are descended (the second with
-    /// `u` turned by the golden ratio), and in a cluster of at most
-    /// [`EXACT_UP_TO`] lights every light that reaches the receiver is
-    /// taken; elsewhere one is chosen as in [`LightTree::sample_at`]; up
-    /// to [`MAX_SPLIT_LIGHTS`] lights. Each reached light comes with its
+    /// `u` turned by the golden ratio), at most twice along any path;
+    /// elsewhere one child is chosen as in [`LightTree::sample_at`]; so at
+    /// most [`MAX_SPLIT_LIGHTS`] lights. Each reached light comes with its
     /// probability below the last split: every subtree's choice is
     /// unbiased for its lights, so the weights `1/P` sum to an unbiased
     /// estimate over all the lights.
     pub fn split_at(&self, x: Vec3, u: f32) -> SplitChoice {
-        self.choose(Receiver::Point(x), u, MAX_SPLIT_LIGHTS)
+        self.choose(Receiver::Point(x), u, SPLITS)
     }
 
     /// [`LightTree::split_at`] for the fog segment `[a, b]` of `ray`.
     pub fn split_along(&self, lights: &[Light], ray: &Ray, a: f32, b: f32, u: f32) -> SplitChoice {
-        self.choose(Receiver::Segment { lights, ray, a, b }, u, MAX_SPLIT_LIGHTS)
+        self.choose(Receiver::Segment { lights, ray, a, b }, u, SPLITS)
     }
 
     /// The lights of the cluster at node `index` (at most
@@ -243,43 +244,45 @@ impl LightTree {
         (lights, len, total)
     }
 
-    /// The descent (see [`LightTree::split_at`]), reaching at most
-    /// `budget` lights: 1 never splits.
-    fn choose(&self, receiver: Receiver, u: f32, budget: usize) -> SplitChoice {
+    /// The descent (see [`LightTree::split_at`]), splitting at most
+    /// `splits` times along any path (so reaching at most `2^splits`
+    /// lights): 0 never splits.
+    ///
+    /// Whether a node splits depends only on the node, the receiver and
+    /// the splits above it, never on what other branches found: each
+    /// branch's `u` is uniform given the node it reaches (a chosen
+    /// child's share is remapped to [0, 1), a split's second child takes
+    /// `u` turned by a constant), so each branch's estimate is unbiased
+    /// for its subtree only if its own course depends on its own `u`
+    /// alone. (A shared budget — split while fewer than N lights are
+    /// reached — makes a branch's course depend on its siblings', and so
+    /// on its `u`: its lights' weights then average 0.65 to 1.8.)
+    fn choose(&self, receiver: Receiver, u: f32, splits: u32) -> SplitChoice {
         /// The golden ratio's fraction: the next branch's `u`.
         const TURN: f32 = 0.618_034;
         let mut chosen = SplitChoice::default();
-        // Pending descents: (node, probability so far, u).
-        let mut pending = [(0usize, 1.0f32, u); MAX_SPLIT_LIGHTS];
+        // Pending descents: (node, probability so far, u, splits left).
+        let mut pending = [(0usize, 1.0f32, u, splits); MAX_SPLIT_LIGHTS];
         let mut open = 1;
         while open > 0 {
             open -= 1;
-            let (mut node, mut probability, mut u) = pending[open];
+            let (mut node, mut probability, mut u, mut splits) = pending[open];
             loop {
                 let here = &self.nodes[node];
                 if here.leaves <= EXACT_UP_TO {
+                    // One light by its share of the cluster's importance.
                     let (lights, len, total) = self.cluster(receiver, node);
                     if total == 0.0 {
                         break;
                     }
-                    let reaching = lights[..len].iter().filter(|l| l.1 > 0.0);
-                    let count = reaching.clone().count();
-                    if count > 1 && chosen.len + open + count <= budget && receiver.splits(here) {
-                        for &(light, _) in reaching {
-                            chosen.lights[chosen.len] = (light, probability);
-                            chosen.len += 1;
-                        }
-                        break;
-                    }
-                    // One light by its share of the cluster's importance.
-                    let mut below = 0.0f64;
                     let target = f64::from(u) * total;
                     let last = lights[..len].iter().rposition(|l| l.1 > 0.0).unwrap_or(0);
+                    let mut below = 0.0f64;
                     for (k, &(light, value)) in lights[..len].iter().enumerate() {
                         below += f64::from(value);
                         if value > 0.0 && (target < below || k == last) {
-                            chosen.lights[chosen.len] =
-                                (light, probability * (f64::from(value) / total) as f32);
+                            let share = (f64::from(value) / total) as f32;
+                            chosen.lights[chosen.len] = (light, probability * share);
                             chosen.len += 1;
                             break;
                         }
@@ -295,10 +298,10 @@ impl LightTree {
                 if w0 + w1 == 0.0 {
                     break;
                 }
-                let room = chosen.len + open + 2 <= budget;
-                if room && w0 > 0.0 && w1 > 0.0 && receiver.splits(here) {
+                if splits > 0 && w0 > 0.0 && w1 > 0.0 && receiver.splits(here) {
+                    splits -= 1;
                     let turned = (u + TURN).fract().min(ONE_MINUS_EPSILON);
-                    pending[open] = (second, probability, turned);
+                    pending[open] = (second, probability, turned, splits);
                     open += 1;
                     node = first;
                     continue;
@@ -527,26 +530,33 @@ mod tests {
 
     /// The splitting descent is unbiased light by light: over `N`
     /// stratified `u`, the weights `1/P` it gives each light average to 1
-    /// for every light that reaches the receiver and are 0 for the rest;
-    /// it never reaches more than [`MAX_SPLIT_LIGHTS`] lights, and it does
-    /// split (more than one light for some receivers).
+    /// (within 1 %) for every light that reaches the receiver; it never
+    /// reaches more than [`MAX_SPLIT_LIGHTS`] lights, and it does split.
+    /// (A split budget shared between branches failed this with weights
+    /// from 0.65 to 1.8.)
     #[test]
     fn splitting_weighs_every_light_once_on_average() {
-        let lights = rig(37);
+        let lights = rig(64);
         let tree = LightTree::build(&lights).unwrap();
-        let n = 20_000;
+        let n = 100_000;
         let ray = Ray {
             origin: Vec3::new(-2.0, 1.0, -1.0),
             direction: Vec3::new(1.0, 0.1, 0.6).normalize(),
         };
+        let point = |receiver: usize| {
+            Vec3::new(
+                0.5 + receiver as f32 * 1.1,
+                0.4 * (receiver % 3) as f32,
+                0.8 + 0.9 * receiver as f32,
+            )
+        };
         let mut most = 0;
-        for receiver in 0..4 {
+        for receiver in 0..7 {
             let mut weight = vec![0.0f64; lights.len()];
             for k in 0..n {
                 let u = (k as f32 + 0.5) / n as f32;
-                let x = Vec3::new(1.0 + receiver as f32 * 1.7, 0.5 * receiver as f32, 2.0);
-                let choice = if receiver < 3 {
-                    tree.split_at(x, u)
+                let choice = if receiver < 6 {
+                    tree.split_at(point(receiver), u)
                 } else {
                     tree.split_along(&lights, &ray, 0.0, 20.0, u)
                 };
@@ -556,8 +566,8 @@ mod tests {
                 }
             }
             for (i, light) in lights.iter().enumerate() {
-                let reaches = if receiver < 3 {
-                    let x = Vec3::new(1.0 + receiver as f32 * 1.7, 0.5 * receiver as f32, 2.0);
+                let reaches = if receiver < 6 {
+                    let x = point(receiver);
                     light
                         .incident(x, light.sample_point(glam::Vec2::ZERO))
                         .is_some()
@@ -565,15 +575,21 @@ mod tests {
                     light.reach(&ray, 0.0, 20.0).is_some()
                 };
                 if reaches {
-                    // N·P ± 1 hits of weight 1/P: within 1/(N·P).
-                    let p_min = 1e-3;
+                    // Each light's weight is constant on a few intervals
+                    // of u: N midpoints average it within a few 1/(N·P).
                     assert!(
-                        (weight[i] - 1.0).abs() < 1.0 / (n as f64 * p_min) + 1e-3,
+                        (weight[i] - 1.0).abs() < 1e-2,
                         "receiver {receiver}, light {i}: mean weight {}",
                         weight[i]
                     );
                 } else {
-                    assert_eq!(weight[i], 0.0, "receiver {receiver}, light {i}");
+                    // A light just outside its cone (within the bounds'
+                    // slack) may still be chosen, with its right weight.
+                    assert!(
+                        weight[i] == 0.0 || (weight[i] - 1.0).abs() < 1e-2,
+                        "receiver {receiver}, light {i}: mean weight {}",
+                        weight[i]
+                    );
                 }
             }
         }
