@@ -13,9 +13,9 @@ use glam::Vec3;
 
 /// From how many point and spot lights [`LightSampling::Auto`] chooses
 /// by the tree instead of visiting them all. On the stage rig every light
-/// took 1.3× less time to equal error with 64 spots (a light whose cone
-/// misses the receiver costs a dot product, not a shadow ray), the two
-/// were even at 256 and the tree 3.7× faster at 1024 (docs/benchmarks.md,
+/// took 1.4× less time to relMSE 10⁻³ with 64 spots (a light whose cone
+/// misses the receiver costs a dot product, not a shadow ray), and the
+/// tree 1.5× less with 256 and 3.3× less with 1024 (docs/benchmarks.md,
 /// "Many lights").
 pub const TREE_FROM_LIGHTS: usize = 256;
 
