@@ -72,24 +72,28 @@ pub(crate) fn sample_light(
     light.sample_li(x, light_sample_u(light, sampler))
 }
 
-/// The lights an estimate at `x` connects to, with their weights
-/// ([`crate::lights::LightSampler::at`]); one sample dimension when the
-/// light tree chooses.
+/// The random number of a light choice: one sample dimension when the
+/// light tree chooses, none when every light is visited.
 #[inline]
-pub(crate) fn lights_at<'s>(scene: &'s Scene, x: Vec3, sampler: &mut PixelSampler) -> Chosen<'s> {
-    let lights = &scene.light_sampler;
-    let u = if lights.chooses() {
+fn choice_u(scene: &Scene, sampler: &mut PixelSampler) -> f32 {
+    if scene.light_sampler.chooses() {
         sampler.next_1d()
     } else {
         0.0
-    };
-    lights.at(x, u)
+    }
+}
+
+/// The lights an estimate at `x` connects to, with their weights
+/// ([`crate::lights::LightSampler::at`]).
+#[inline]
+pub(crate) fn lights_at<'s>(scene: &'s Scene, x: Vec3, sampler: &mut PixelSampler) -> Chosen<'s> {
+    let u = choice_u(scene, sampler);
+    scene.light_sampler.at(x, u)
 }
 
 /// The lights an estimate along the fog segment `[a, b]` of `ray`
 /// connects to, with their weights
-/// ([`crate::lights::LightSampler::along`]); one sample dimension when
-/// the light tree chooses.
+/// ([`crate::lights::LightSampler::along`]).
 #[inline]
 pub(crate) fn lights_along<'s>(
     scene: &'s Scene,
@@ -98,13 +102,8 @@ pub(crate) fn lights_along<'s>(
     b: f32,
     sampler: &mut PixelSampler,
 ) -> Chosen<'s> {
-    let lights = &scene.light_sampler;
-    let u = if lights.chooses() {
-        sampler.next_1d()
-    } else {
-        0.0
-    };
-    lights.along(&scene.lights, ray, a, b, u)
+    let u = choice_u(scene, sampler);
+    scene.light_sampler.along(&scene.lights, ray, a, b, u)
 }
 
 /// Radiance scattered at fog point `x` of the query's ray towards the

@@ -4,8 +4,9 @@
 //! balance heuristic (Veach 1997).
 //!
 //! For each light chosen for the segment (all of them, or the visited ones
-//! and one from the light tree, [`crate::lights::LightSampler`], each
-//! estimate times its weight `1/P`), one emitting point `y` is chosen; then `n` equiangular
+//! and those the light tree chooses, [`crate::lights::LightSampler`],
+//! each estimate times its weight `1/P`), one emitting point `y` is
+//! chosen; then `n` equiangular
 //! samples (restricted to the light's reach: a spotlight's cone) and the
 //! ray's one distance sample (shared by all lights) estimate the
 //! in-scattering integral for that `y`. With densities `p_e`, `p_d`, the

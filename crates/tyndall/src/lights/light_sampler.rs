@@ -1,9 +1,8 @@
 //! Which lights an estimate connects to: every light (a handful of lamps),
 //! or the lights the tree cannot hold (suns and area lights, whose MIS
 //! weights against hits read them all) plus the point and spot lights
-//! the [`LightTree`]'s splitting descent chooses, each with its
-//! probability. Each chosen light
-//! comes with the weight `1/P` that keeps the sum over lights unbiased:
+//! the [`LightTree`]'s splitting descent chooses. Each chosen light comes
+//! with the weight `1/P` that keeps the sum over lights unbiased:
 //! `E[Σ_chosen w_l·F_l] = Σ_l F_l`.
 
 use super::Light;

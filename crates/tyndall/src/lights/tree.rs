@@ -1,6 +1,6 @@
 //! A bounding volume hierarchy over point and spot lights that chooses
-//! one light for a receiving point or a fog segment with probability
-//! roughly proportional to the light it sends there: pbrt-v4's
+//! lights for a receiving point or a fog segment with probability
+//! roughly proportional to the light they send there: pbrt-v4's
 //! `BVHLightSampler` (Pharr, Jakob & Humphreys, *Physically Based
 //! Rendering*, 4th ed., §12.6.3) and the light tree of Cycles (Conty
 //! Estevez & Kulla 2018, "Importance Sampling of Many Lights with
@@ -11,7 +11,11 @@
 //! proportional to its importance ([`LightBounds`]) and multiplying the
 //! probabilities on the way: the choice's probability is exact, so an
 //! estimate divided by it is unbiased, and a light whose importance is 0
-//! sends nothing to the receiver. The tree splits at the median of the
+//! sends nothing to the receiver. Clusters of up to [`EXACT_UP_TO`]
+//! lights are weighed by their lights' own importances, and where a
+//! cluster looms large from the receiver both children are descended
+//! (splitting, Conty Estevez & Kulla §5), at most twice along a path. The
+//! tree is built by splitting at the median of the
 //! lights' positions along the widest axis (pbrt-v4 splits by a surface
 //! area and orientation cost: better for uneven rigs, not yet needed by
 //! the grids of fixtures measured here, docs/benchmarks.md).

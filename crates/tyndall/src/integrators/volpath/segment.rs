@@ -125,8 +125,8 @@ pub(super) struct EquiangularNee {
 /// equiangular samples on the segment if it takes any.
 #[derive(Clone, Copy)]
 pub(super) struct ChosenLight {
-    pub(super) index: usize,
-    pub(super) weight: f32,
+    index: usize,
+    weight: f32,
     samples: Option<SegmentLight>,
 }
 
