@@ -15,10 +15,10 @@
 //! are tested in the core (`lights::tree`).
 mod common;
 
-use common::{Loaded, pool_inflation, render, scene};
+use common::{Loaded, pool_inflation, region_means, render, scene};
 use std::fmt::Write;
+use tyndall::IntegratorKind;
 use tyndall::lights::LightSampling;
-use tyndall::{Image, IntegratorKind};
 
 const REGIONS_X: u32 = 8;
 const REGIONS_Y: u32 = 6;
@@ -120,31 +120,6 @@ intensity = [{r}, {g}, {b}]
     scene(&text)
 }
 
-/// Per region: the mean over its pixels of (r + g + b) of the two seeds'
-/// average, and the squared standard error of that mean.
-fn region_means(a: &Image, b: &Image) -> Vec<(f64, f64)> {
-    let (w, h) = (a.width(), a.height());
-    let mut out = Vec::new();
-    for ry in 0..REGIONS_Y {
-        for rx in 0..REGIONS_X {
-            let (mut sum, mut sq, mut n) = (0.0, 0.0, 0.0);
-            for y in ry * h / REGIONS_Y..(ry + 1) * h / REGIONS_Y {
-                for x in rx * w / REGIONS_X..(rx + 1) * w / REGIONS_X {
-                    let (pa, pb) = (a.pixel(x, y), b.pixel(x, y));
-                    let (va, vb) = ((pa.x + pa.y + pa.z) as f64, (pb.x + pb.y + pb.z) as f64);
-                    sum += 0.5 * (va + vb);
-                    // E[((va − vb)/2)²] = Var((va + vb)/2) for independent
-                    // seeds.
-                    sq += 0.25 * (va - vb) * (va - vb);
-                    n += 1.0;
-                }
-            }
-            out.push((sum / n, sq / (n * n)));
-        }
-    }
-    out
-}
-
 /// Renders the rig with both samplings, two seeds each, and compares
 /// their region means.
 fn check(kind: IntegratorKind, with_medium: bool, size: (u32, u32), spp: (u32, u32)) {
@@ -175,7 +150,10 @@ fn check(kind: IntegratorKind, with_medium: bool, size: (u32, u32), spp: (u32, u
             },
             ((size.0 / REGIONS_X) * (size.1 / REGIONS_Y)) as usize,
         );
-        (region_means(&one(1), &one(2)), inflation)
+        (
+            region_means(&one(1), &one(2), (REGIONS_X, REGIONS_Y)),
+            inflation,
+        )
     };
     let ((every, fa), (chosen, fb)) = (shoot(&all, spp.0), shoot(&tree, spp.1));
     let lit = every.iter().filter(|&&(m, _)| m > 1e-3).count();

@@ -16,37 +16,12 @@
 mod common;
 
 use common::Loaded;
-use common::{pool_inflation, render, repo, scene};
+use common::{pool_inflation, region_means, render, repo, scene};
+use tyndall::IntegratorKind;
 use tyndall::settings::Strategies;
-use tyndall::{Image, IntegratorKind};
 
 const REGIONS_X: u32 = 4;
 const REGIONS_Y: u32 = 3;
-
-/// Per region: the mean over its pixels of (r + g + b) of the two seeds'
-/// average, and the squared standard error of that mean.
-fn region_means(a: &Image, b: &Image) -> Vec<(f64, f64)> {
-    let (w, h) = (a.width(), a.height());
-    let mut out = Vec::new();
-    for ry in 0..REGIONS_Y {
-        for rx in 0..REGIONS_X {
-            let (mut sum, mut sq, mut n) = (0.0, 0.0, 0.0);
-            for y in ry * h / REGIONS_Y..(ry + 1) * h / REGIONS_Y {
-                for x in rx * w / REGIONS_X..(rx + 1) * w / REGIONS_X {
-                    let (pa, pb) = (a.pixel(x, y), b.pixel(x, y));
-                    let (va, vb) = ((pa.x + pa.y + pa.z) as f64, (pb.x + pb.y + pb.z) as f64);
-                    sum += 0.5 * (va + vb);
-                    // E[((va − vb)/2)²] = Var((va + vb)/2) for independent
-                    // seeds.
-                    sq += 0.25 * (va - vb) * (va - vb);
-                    n += 1.0;
-                }
-            }
-            out.push((sum / n, sq / (n * n)));
-        }
-    }
-    out
-}
 
 fn check_scene(file: &str, size: (u32, u32), spp: u32, sets: &[(&str, Strategies)]) {
     let desc = common::load_native(&repo().join(file)).expect("scene");
@@ -72,7 +47,7 @@ fn check(desc: &Loaded, file: &str, size: (u32, u32), spp: u32, sets: &[(&str, S
         |strategies: Strategies| pool_inflation(desc, &settings(strategies, 1), region_pixels);
     let shoot = |strategies: Strategies| {
         let one = |seed: u64| render(desc, |s| *s = settings(strategies, seed));
-        region_means(&one(1), &one(2))
+        region_means(&one(1), &one(2), (REGIONS_X, REGIONS_Y))
     };
     let all = shoot(Strategies::ALL);
     assert!(

@@ -125,6 +125,35 @@ pub fn pool_inflation(desc: &Loaded, settings: &RenderSettings, pixels: usize) -
     (1.0 + pixels as f64 / LightSubpaths::pool_size(per_pass) as f64).sqrt()
 }
 
+/// The image cut into `regions.0 × regions.1` regions: per region, the
+/// mean over its pixels of (r + g + b) of the average of `a` and `b`, two
+/// renders with independent seeds, and the squared standard error of
+/// that mean, estimated from the renders' pixel differences (an unbiased
+/// estimate with as many degrees of freedom as the region has pixels).
+pub fn region_means(a: &Image, b: &Image, regions: (u32, u32)) -> Vec<(f64, f64)> {
+    let (w, h) = (a.width(), a.height());
+    let (nx, ny) = regions;
+    let mut out = Vec::new();
+    for ry in 0..ny {
+        for rx in 0..nx {
+            let (mut sum, mut sq, mut n) = (0.0, 0.0, 0.0);
+            for y in ry * h / ny..(ry + 1) * h / ny {
+                for x in rx * w / nx..(rx + 1) * w / nx {
+                    let (pa, pb) = (a.pixel(x, y), b.pixel(x, y));
+                    let (va, vb) = ((pa.x + pa.y + pa.z) as f64, (pb.x + pb.y + pb.z) as f64);
+                    sum += 0.5 * (va + vb);
+                    // E[((va − vb)/2)²] = Var((va + vb)/2) for independent
+                    // seeds.
+                    sq += 0.25 * (va - vb) * (va - vb);
+                    n += 1.0;
+                }
+            }
+            out.push((sum / n, sq / (n * n)));
+        }
+    }
+    out
+}
+
 /// Mean and standard error of the mean of `n` one-sample estimates of the
 /// radiance along one fixed ray.
 pub fn estimate_ray(

@@ -111,24 +111,13 @@ impl Receiver<'_> {
         }
     }
 
-    /// The importance of node `index` to the receiver: from its bounds,
-    /// or for a cluster of at most [`EXACT_UP_TO`] lights the sum of its
-    /// lights' own ([`Receiver::light_importance`]).
-    fn importance(&self, nodes: &[Node], index: usize) -> f32 {
-        let node = &nodes[index];
-        let importance = if node.leaves <= EXACT_UP_TO {
-            nodes[index..index + 2 * node.leaves as usize - 1]
-                .iter()
-                .filter(|n| matches!(n.kind, NodeKind::Leaf(_)))
-                .map(|n| finite(self.light_importance(n)))
-                .sum()
-        } else {
-            match *self {
-                Receiver::Point(x) => node.bounds.importance_at(x),
-                Receiver::Segment { ray, a, b, .. } => node.bounds.importance_along(ray, a, b),
-            }
-        };
-        finite(importance)
+    /// The importance of a cluster of more than [`EXACT_UP_TO`] lights to
+    /// the receiver, from its bounds.
+    fn bound_importance(&self, node: &Node) -> f32 {
+        finite(match *self {
+            Receiver::Point(x) => node.bounds.importance_at(x),
+            Receiver::Segment { ray, a, b, .. } => node.bounds.importance_along(ray, a, b),
+        })
     }
 
     /// A leaf's importance; along a segment taken over the part the
@@ -229,23 +218,41 @@ impl LightTree {
 
     /// The lights of the cluster at node `index` (at most
     /// [`EXACT_UP_TO`]) with their own importances, and their sum.
-    fn cluster(
-        &self,
-        receiver: Receiver,
-        index: usize,
-    ) -> ([(u32, f32); EXACT_UP_TO as usize], usize, f64) {
-        let mut lights = [(0u32, 0.0f32); EXACT_UP_TO as usize];
-        let (mut len, mut total) = (0, 0.0f64);
+    fn cluster(&self, receiver: Receiver, index: usize) -> Cluster {
+        let mut cluster = Cluster {
+            lights: [(0, 0.0); EXACT_UP_TO as usize],
+            len: 0,
+            total: 0.0,
+        };
         let node = &self.nodes[index];
         for leaf in &self.nodes[index..index + 2 * node.leaves as usize - 1] {
             if let NodeKind::Leaf(light) = leaf.kind {
                 let value = finite(receiver.light_importance(leaf));
-                lights[len] = (light, value);
-                len += 1;
-                total += f64::from(value);
+                cluster.lights[cluster.len] = (light, value);
+                cluster.len += 1;
+                cluster.total += f64::from(value);
             }
         }
-        (lights, len, total)
+        cluster
+    }
+
+    /// Node `index` weighed for the receiver: by its lights' own
+    /// importances (kept, for a descent into it) if it is a cluster of at
+    /// most [`EXACT_UP_TO`], else by its bounds.
+    fn weigh(&self, receiver: Receiver, index: usize) -> Weighed {
+        let node = &self.nodes[index];
+        if node.leaves <= EXACT_UP_TO {
+            let cluster = self.cluster(receiver, index);
+            Weighed {
+                importance: cluster.total,
+                cluster: Some(cluster),
+            }
+        } else {
+            Weighed {
+                importance: f64::from(receiver.bound_importance(node)),
+                cluster: None,
+            }
+        }
     }
 
     /// The descent (see [`LightTree::split_at`]), splitting at most
@@ -265,58 +272,47 @@ impl LightTree {
         /// The golden ratio's fraction: the next branch's `u`.
         const TURN: f32 = 0.618_034;
         let mut chosen = SplitChoice::default();
-        // Pending descents: (node, probability so far, u, splits left).
-        let mut pending = [(0usize, 1.0f32, u, splits); MAX_SPLIT_LIGHTS];
+        // Pending descents: (node, its cluster if weighed as one,
+        // probability so far, u, splits left).
+        let root = self.weigh(receiver, 0);
+        let mut pending = [(0usize, root.cluster, 1.0f32, u, splits); MAX_SPLIT_LIGHTS];
         let mut open = 1;
         while open > 0 {
             open -= 1;
-            let (mut node, mut probability, mut u, mut splits) = pending[open];
+            let (mut node, mut cluster, mut probability, mut u, mut splits) = pending[open];
             loop {
-                let here = &self.nodes[node];
-                if here.leaves <= EXACT_UP_TO {
-                    // One light by its share of the cluster's importance.
-                    let (lights, len, total) = self.cluster(receiver, node);
-                    if total == 0.0 {
-                        break;
-                    }
-                    let target = f64::from(u) * total;
-                    let last = lights[..len].iter().rposition(|l| l.1 > 0.0).unwrap_or(0);
-                    let mut below = 0.0f64;
-                    for (k, &(light, value)) in lights[..len].iter().enumerate() {
-                        below += f64::from(value);
-                        if value > 0.0 && (target < below || k == last) {
-                            let share = (f64::from(value) / total) as f32;
-                            chosen.lights[chosen.len] = (light, probability * share);
-                            chosen.len += 1;
-                            break;
-                        }
+                if let Some(cluster) = cluster {
+                    if let Some((light, share)) = cluster.pick(u) {
+                        chosen.lights[chosen.len] = (light, probability * share);
+                        chosen.len += 1;
                     }
                     break;
                 }
+                let here = &self.nodes[node];
                 let NodeKind::Interior(second) = here.kind else {
-                    unreachable!("a node of more than one light is interior")
+                    unreachable!("a cluster of one light is weighed as a cluster")
                 };
                 let (first, second) = (node + 1, second as usize);
-                let w0 = f64::from(receiver.importance(&self.nodes, first));
-                let w1 = f64::from(receiver.importance(&self.nodes, second));
+                let (c0, c1) = (self.weigh(receiver, first), self.weigh(receiver, second));
+                let (w0, w1) = (c0.importance, c1.importance);
                 if w0 + w1 == 0.0 {
                     break;
                 }
                 if splits > 0 && w0 > 0.0 && w1 > 0.0 && receiver.splits(here) {
                     splits -= 1;
                     let turned = (u + TURN).fract().min(ONE_MINUS_EPSILON);
-                    pending[open] = (second, probability, turned, splits);
+                    pending[open] = (second, c1.cluster, probability, turned, splits);
                     open += 1;
-                    node = first;
+                    (node, cluster) = (first, c0.cluster);
                     continue;
                 }
                 let p0 = (w0 / (w0 + w1)) as f32;
                 if u < p0 {
-                    node = first;
+                    (node, cluster) = (first, c0.cluster);
                     probability *= p0;
                     u = (u / p0).min(ONE_MINUS_EPSILON);
                 } else {
-                    node = second;
+                    (node, cluster) = (second, c1.cluster);
                     probability *= 1.0 - p0;
                     u = ((u - p0) / (1.0 - p0)).min(ONE_MINUS_EPSILON);
                 }
@@ -353,10 +349,12 @@ impl LightTree {
     fn probability_below(&self, receiver: Receiver, node: usize, light: u32) -> Option<f32> {
         let here = &self.nodes[node];
         if here.leaves <= EXACT_UP_TO {
-            let (lights, len, total) = self.cluster(receiver, node);
-            let &(_, value) = lights[..len].iter().find(|l| l.0 == light)?;
-            return Some(if total > 0.0 {
-                (f64::from(value) / total) as f32
+            let cluster = self.cluster(receiver, node);
+            let &(_, value) = cluster.lights[..cluster.len]
+                .iter()
+                .find(|l| l.0 == light)?;
+            return Some(if cluster.total > 0.0 {
+                (f64::from(value) / cluster.total) as f32
             } else {
                 0.0
             });
@@ -365,7 +363,7 @@ impl LightTree {
             return None;
         };
         let children = [node + 1, second as usize];
-        let weights = children.map(|c| f64::from(receiver.importance(&self.nodes, c)));
+        let weights = children.map(|c| self.weigh(receiver, c).importance);
         let total = weights[0] + weights[1];
         children.iter().zip(weights).find_map(|(&child, weight)| {
             let below = self.probability_below(receiver, child, light)?;
@@ -376,6 +374,43 @@ impl LightTree {
             })
         })
     }
+}
+
+/// The lights of a cluster of at most [`EXACT_UP_TO`] with their own
+/// importances for one receiver, and their sum.
+#[derive(Clone, Copy, Debug)]
+struct Cluster {
+    lights: [(u32, f32); EXACT_UP_TO as usize],
+    len: usize,
+    total: f64,
+}
+
+impl Cluster {
+    /// One light by its share of the cluster's importance, chosen by
+    /// `u`, and that share; `None` if no light of it reaches the
+    /// receiver.
+    fn pick(&self, u: f32) -> Option<(u32, f32)> {
+        if self.total == 0.0 {
+            return None;
+        }
+        let lights = &self.lights[..self.len];
+        let target = f64::from(u) * self.total;
+        let last = lights.iter().rposition(|l| l.1 > 0.0)?;
+        let mut below = 0.0f64;
+        lights.iter().enumerate().find_map(|(k, &(light, value))| {
+            below += f64::from(value);
+            (value > 0.0 && (target < below || k == last))
+                .then(|| (light, (f64::from(value) / self.total) as f32))
+        })
+    }
+}
+
+/// A node's weight in a descent, with its lights' own importances if it
+/// is a cluster of at most [`EXACT_UP_TO`].
+#[derive(Clone, Copy, Debug)]
+struct Weighed {
+    importance: f64,
+    cluster: Option<Cluster>,
 }
 
 /// Appends the subtree over `leaves` to `nodes` depth first, splitting at
