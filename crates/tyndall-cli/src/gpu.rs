@@ -24,6 +24,16 @@ fn refuse_unsupported_flags(args: &RenderArgs) -> Result<()> {
                 "the GPU renders whole images",
             ),
             (
+                args.finishing.aov.is_some(),
+                "--aov",
+                "the GPU path writes the radiance only",
+            ),
+            (
+                args.finishing.denoise,
+                "--denoise",
+                "the GPU path keeps no denoising guides",
+            ),
+            (
                 args.samples.is_some(),
                 "--samples",
                 "the GPU renders whole images",

@@ -5,6 +5,7 @@
 //! 0 only when the image was written.
 
 mod bench;
+mod finish;
 #[cfg(feature = "gpu")]
 mod gpu;
 #[cfg(feature = "view")]
@@ -65,8 +66,11 @@ enum Command {
         #[arg(required = true)]
         parts: Vec<PathBuf>,
         /// Output: .exr (a part holding the merged sums, mergeable again) or .png.
+        /// With --denoise or --aov, the .exr is an image (denoised, with its AOV layers), not a part.
         #[arg(short, long)]
         output: PathBuf,
+        #[command(flatten)]
+        finishing: finish::Finishing,
     },
 }
 
@@ -118,6 +122,8 @@ struct RenderArgs {
     /// honour are errors.
     #[arg(long)]
     gpu: bool,
+    #[command(flatten)]
+    finishing: finish::Finishing,
 }
 
 fn parse_tile(s: &str) -> Result<(u32, u32), String> {
@@ -379,11 +385,20 @@ fn render(args: RenderArgs) -> Result<()> {
             output.display()
         );
     }
+    if is_part && args.finishing.denoise {
+        bail!(
+            "--denoise cannot be used with --tile or --samples: a part is denoised after the merge (`tyndall merge --denoise`)"
+        );
+    }
+    let finisher = args.finishing.prepare(&output)?;
     // Ranges were checked at load for the scene's own settings, so an
     // error here is a flag's.
     desc.settings
         .check_ranges()
         .map_err(|e| anyhow::anyhow!("--{}: {e}", e.setting.replace('_', "-")))?;
+    // Parts and checkpoints always keep the guides, so that any part can
+    // be merged and denoised, and a checkpoint resumed with any flags.
+    desc.settings.guides = finisher.needs_guides() || is_part || args.checkpoint.is_some();
     let (settings, loader_warnings) = (desc.settings, std::mem::take(&mut desc.warnings));
     // The description moves into the scene: its grids are not held twice.
     let scene = Scene::from_desc(desc).map_err(SceneError::from)?;
@@ -484,9 +499,7 @@ fn render(args: RenderArgs) -> Result<()> {
         write_part(&output, &part, PartCompression::Rle)
             .with_context(|| "the part was not written")?;
     } else {
-        output_file
-            .finish(&part.accumulation.resolve(), settings.exposure)
-            .with_context(|| "the image was not written")?;
+        finisher.write(output_file, &part.accumulation, settings.exposure)?;
     }
     if !args.quiet {
         report(&settings, &part.accumulation, &stats, &output);
@@ -546,19 +559,21 @@ fn render_on_gpu(_: RenderArgs) -> Result<()> {
     bail!("--gpu: this tyndall was built without the `gpu` feature")
 }
 
-fn merge(paths: &[PathBuf], output: &Path) -> Result<()> {
+fn merge(paths: &[PathBuf], output: &Path, finishing: &finish::Finishing) -> Result<()> {
     let format = ImageFormat::from_path(output)?;
+    let finisher = finishing.prepare(output)?;
     let mut read = Vec::with_capacity(paths.len());
     for path in paths {
         read.push((path.clone(), read_part(path)?));
     }
     let merged = parts::merge(read)?;
     match format {
-        ImageFormat::Exr => {
+        ImageFormat::Exr if !finisher.needs_guides() => {
             write_part(output, &merged, PartCompression::Rle)?;
         }
-        ImageFormat::Png => {
-            tyndall_image::write_image(&merged.accumulation.resolve(), output, 0.0)?
+        _ => {
+            let file = tyndall_image::OutputFile::create(output)?;
+            finisher.write(file, &merged.accumulation, 0.0)?;
         }
     }
     let a = &merged.accumulation;
@@ -663,7 +678,11 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench::run(args),
         #[cfg(feature = "view")]
         Command::View(args) => view::run(args),
-        Command::Merge { parts, output } => merge(&parts, &output),
+        Command::Merge {
+            parts,
+            output,
+            finishing,
+        } => merge(&parts, &output, &finishing),
         Command::Compare {
             candidate,
             reference,

@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use tyndall::Image;
 use tyndall::Rgb;
 use tyndall::color::linear_to_srgb;
+use tyndall::guides::{Aov, Guides};
 
 /// How every OpenEXR file is laid out: run-length-encoded scan lines
 /// stored in increasing order. The order matters: `exr` compresses blocks
@@ -73,14 +74,49 @@ pub fn to_srgb8(image: &Image, exposure: f32) -> Vec<u8> {
         .collect()
 }
 
-/// Encodes `image` into `out` in `format`; `exposure` (stops) applies to
-/// PNG only.
+/// An image written beside the radiance as channels `{name}.{channel}`
+/// of an OpenEXR file (the convention compositors read as a layer named
+/// `name`): an AOV.
+#[derive(Clone, Copy)]
+pub struct AovLayer<'a> {
+    pub name: &'a str,
+    /// One name per channel written, taken from the image's first channels.
+    pub channels: &'a [&'a str],
+    pub image: &'a Image,
+}
+
+impl<'a> AovLayer<'a> {
+    /// The layer of a first-surface guide: `albedo.{R,G,B}`,
+    /// `normal.{X,Y,Z}`, `depth.Z` and `position.{X,Y,Z}`.
+    pub fn guide(aov: Aov, guides: &'a Guides) -> Self {
+        let channels: &[&str] = match aov {
+            Aov::Albedo => &["R", "G", "B"],
+            Aov::Normal | Aov::Position => &["X", "Y", "Z"],
+            Aov::Depth => &["Z"],
+        };
+        AovLayer {
+            name: aov.name(),
+            channels,
+            image: guides.get(aov),
+        }
+    }
+}
+
+/// Encodes `image`, and the layers `aovs` (OpenEXR only), into `out` in
+/// `format`; `exposure` (stops) applies to PNG only.
 pub(crate) fn encode(
     image: &Image,
+    aovs: &[AovLayer],
     format: ImageFormat,
     exposure: f32,
     out: &mut (impl Write + Seek),
 ) -> Result<(), String> {
+    if !aovs.is_empty() {
+        if format != ImageFormat::Exr {
+            return Err("AOVs are written as OpenEXR layers: the output must be an .exr file".into());
+        }
+        return encode_exr_layers(image, aovs, out);
+    }
     match format {
         ImageFormat::Png => {
             use image::ImageEncoder;
@@ -108,6 +144,43 @@ pub(crate) fn encode(
                 .map_err(|e| e.to_string())
         }
     }
+}
+
+/// Writes `image` as the `R`, `G`, `B` channels of one OpenEXR layer and
+/// each of `aovs` as its named channels beside them.
+fn encode_exr_layers(
+    image: &Image,
+    aovs: &[AovLayer],
+    out: &mut (impl Write + Seek),
+) -> Result<(), String> {
+    use exr::prelude::*;
+    let size = (image.width() as usize, image.height() as usize);
+    let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::new();
+    let mut push = |name: String, image: &tyndall::Image, c: usize| {
+        let values = image.pixels().iter().map(|p| p[c]).collect();
+        channels.push(AnyChannel::new(name.as_str(), FlatSamples::F32(values)));
+    };
+    for (c, name) in ["R", "G", "B"].iter().enumerate() {
+        push(name.to_string(), image, c);
+    }
+    for aov in aovs {
+        if (aov.image.width(), aov.image.height()) != (image.width(), image.height()) {
+            return Err(format!("the {} AOV is not the image's size", aov.name));
+        }
+        for (c, channel) in aov.channels.iter().enumerate().take(3) {
+            push(format!("{}.{channel}", aov.name), aov.image, c);
+        }
+    }
+    let layer = Layer::new(
+        size,
+        LayerAttributes::default(),
+        EXR_ENCODING,
+        AnyChannels::sort(channels),
+    );
+    exr::prelude::Image::from_layer(layer)
+        .write()
+        .to_buffered(&mut *out)
+        .map_err(|e| e.to_string())
 }
 
 /// Reads the first RGB(A) layer of an OpenEXR file as linear radiance.
@@ -154,7 +227,7 @@ mod tests {
         let image = Image::from_pixels(1, 1, vec![Rgb::ONE]);
         let mut file = std::fs::OpenOptions::new().write(true).open(full).unwrap();
         let mut out = BufWriter::new(&mut file);
-        let written = encode(&image, ImageFormat::Png, 0.0, &mut out)
+        let written = encode(&image, &[], ImageFormat::Png, 0.0, &mut out)
             .and_then(|()| out.flush().map_err(|e| e.to_string()));
         assert!(written.is_err());
     }

@@ -14,5 +14,5 @@ pub mod output;
 pub mod parts;
 
 pub use compare::{Comparison, compare, compare_files};
-pub use format::{EXR_ENCODING, ImageError, ImageFormat, read_exr};
+pub use format::{AovLayer, EXR_ENCODING, ImageError, ImageFormat, read_exr};
 pub use output::{OutputFile, write_image};

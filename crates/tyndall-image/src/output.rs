@@ -1,6 +1,6 @@
 //! Writing an image file so that it appears complete or not at all.
 
-use crate::format::{ImageError, ImageFormat, encode};
+use crate::format::{AovLayer, ImageError, ImageFormat, encode};
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
@@ -65,14 +65,25 @@ impl OutputFile {
     /// Encodes `image`, flushes and syncs the temporary file and renames
     /// it onto the target. Any failure (a full disk, a size limit) is an
     /// error and leaves the target as it was.
-    pub fn finish(mut self, image: &Image, exposure: f32) -> Result<(), ImageError> {
+    pub fn finish(self, image: &Image, exposure: f32) -> Result<(), ImageError> {
+        self.finish_with_aovs(image, &[], exposure)
+    }
+
+    /// As [`OutputFile::finish`], with the layers `aovs` beside the image
+    /// (OpenEXR only; an error for PNG, before anything is written).
+    pub fn finish_with_aovs(
+        mut self,
+        image: &Image,
+        aovs: &[AovLayer],
+        exposure: f32,
+    ) -> Result<(), ImageError> {
         let io = |message: String| ImageError::Io {
             path: self.target.clone(),
             message,
         };
         let file = self.file.take().expect("an unfinished output has its file");
         let mut out = BufWriter::new(file);
-        encode(image, self.format, exposure, &mut out)
+        encode(image, aovs, self.format, exposure, &mut out)
             .map_err(|e| io(format!("cannot write the image: {e}")))?;
         let file = out
             .into_inner()

@@ -34,6 +34,7 @@ use glam::DVec3;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use tyndall::exact_sum::ExactRgb;
+use tyndall::guides::GuideSum;
 use tyndall::parts::{Fnv1a, Part, PartIdentity};
 use tyndall::region::{PixelRect, RenderRegion};
 use tyndall::render::Accumulation;
@@ -84,16 +85,30 @@ pub fn write_part(
         channels.push(AnyChannel::new(*name, FlatSamples::F32(values)));
     }
     for (c, name) in ["R", "G", "B"].iter().enumerate() {
-        let bits = || a.camera.iter().map(move |s| s[c].to_bits());
-        let hi = bits().map(|b| (b >> 32) as u32).collect();
-        let lo = bits().map(|b| b as u32).collect();
+        push_f64(
+            &mut channels,
+            &format!("sum.camera.{name}"),
+            a.camera.iter().map(|s| s[c]),
+        );
+    }
+    if let Some(guides) = &a.guides {
+        for (c, name) in ["X", "Y", "Z"].iter().enumerate() {
+            for (field, value) in GUIDE_VECTORS {
+                push_f64(
+                    &mut channels,
+                    &format!("sum.guide.{field}.{name}"),
+                    guides.iter().map(|g| value(g)[c]),
+                );
+            }
+        }
+        push_f64(
+            &mut channels,
+            "sum.guide.depth",
+            guides.iter().map(|g| g.depth),
+        );
         channels.push(AnyChannel::new(
-            format!("sum.camera.{name}.hi").as_str(),
-            FlatSamples::U32(hi),
-        ));
-        channels.push(AnyChannel::new(
-            format!("sum.camera.{name}.lo").as_str(),
-            FlatSamples::U32(lo),
+            "sum.guide.hits",
+            FlatSamples::U32(guides.iter().map(|g| g.hits).collect()),
         ));
     }
     let encoding = match compression {
@@ -151,11 +166,40 @@ pub fn write_part(
     })
 }
 
+/// The vector sums of a pixel's guides, by their channel names.
+type GuideVector = (&'static str, fn(&GuideSum) -> DVec3);
+const GUIDE_VECTORS: [GuideVector; 3] = [
+    ("albedo", |g| g.albedo),
+    ("normal", |g| g.normal),
+    ("position", |g| g.position),
+];
+
+/// Adds the f64 `values` as the u32 channels `{name}.hi` and `{name}.lo`,
+/// the high and low halves of their bit patterns.
+fn push_f64(
+    channels: &mut exr::prelude::SmallVec<[exr::prelude::AnyChannel<exr::prelude::FlatSamples>; 4]>,
+    name: &str,
+    values: impl Iterator<Item = f64> + Clone,
+) {
+    use exr::prelude::*;
+    let bits = values.map(f64::to_bits);
+    let hi = bits.clone().map(|b| (b >> 32) as u32).collect();
+    let lo = bits.map(|b| b as u32).collect();
+    channels.push(AnyChannel::new(
+        format!("{name}.hi").as_str(),
+        FlatSamples::U32(hi),
+    ));
+    channels.push(AnyChannel::new(
+        format!("{name}.lo").as_str(),
+        FlatSamples::U32(lo),
+    ));
+}
+
 /// The `tyndall` attribute's text.
 fn describe(part: &Part) -> String {
     let a = &part.accumulation;
     let r = a.region.rect;
-    format!(
+    let mut text = format!(
         "{FORMAT}\nscene-hash {:016x}\nimage {} {}\nrect {} {} {} {}\nsamples {} {}\nseed {}\nlight-paths {}\n",
         part.identity.scene_hash,
         a.width,
@@ -168,7 +212,13 @@ fn describe(part: &Part) -> String {
         a.region.samples.end,
         part.identity.seed,
         a.light.is_some() as u8,
-    )
+    );
+    // Said only when present: parts written before guides existed keep
+    // their header, and so their checksum.
+    if a.guides.is_some() {
+        text.push_str("guides 1\n");
+    }
+    text
 }
 
 /// The checksum of a part: FNV-1a over the header lines `description`
@@ -187,6 +237,15 @@ fn checksum(description: &str, a: &Accumulation) -> u64 {
         for c in s.0 {
             h.update(&c.to_le_bytes());
         }
+    }
+    for g in a.guides.iter().flatten() {
+        for v in [g.albedo, g.normal, g.position] {
+            for c in 0..3 {
+                h.update(&v[c].to_bits().to_le_bytes());
+            }
+        }
+        h.update(&g.depth.to_bits().to_le_bytes());
+        h.update(&g.hits.to_le_bytes());
     }
     h.finish()
 }
@@ -249,14 +308,46 @@ pub fn read_part(path: &Path) -> std::result::Result<Part, PartFileError> {
             .ok_or_else(|| format!("no u32 channel `{name}`"))
     }
     let channel = |layer, name: &str| u32_channel(layer, name).map_err(format);
+    let f64_channel = |name: &str| -> std::result::Result<Vec<f64>, PartFileError> {
+        let hi = channel(layer, &format!("{name}.hi"))?;
+        let lo = channel(layer, &format!("{name}.lo"))?;
+        Ok(hi
+            .iter()
+            .zip(lo)
+            .map(|(h, l)| f64::from_bits((*h as u64) << 32 | *l as u64))
+            .collect())
+    };
     let mut camera = vec![DVec3::ZERO; rect.area()];
     for (c, name) in ["R", "G", "B"].iter().enumerate() {
-        let hi = channel(layer, &format!("sum.camera.{name}.hi"))?;
-        let lo = channel(layer, &format!("sum.camera.{name}.lo"))?;
-        for ((o, h), l) in camera.iter_mut().zip(hi).zip(lo) {
-            o[c] = f64::from_bits((*h as u64) << 32 | *l as u64);
+        let values = f64_channel(&format!("sum.camera.{name}"))?;
+        for (o, v) in camera.iter_mut().zip(values) {
+            o[c] = v;
         }
     }
+    let guides = if header.guides {
+        let mut guides = vec![GuideSum::default(); rect.area()];
+        for (c, name) in ["X", "Y", "Z"].iter().enumerate() {
+            for (field, _) in GUIDE_VECTORS {
+                let values = f64_channel(&format!("sum.guide.{field}.{name}"))?;
+                for (g, v) in guides.iter_mut().zip(values) {
+                    match field {
+                        "albedo" => g.albedo[c] = v,
+                        "normal" => g.normal[c] = v,
+                        _ => g.position[c] = v,
+                    }
+                }
+            }
+        }
+        for (g, v) in guides.iter_mut().zip(f64_channel("sum.guide.depth")?) {
+            g.depth = v;
+        }
+        for (g, v) in guides.iter_mut().zip(channel(layer, "sum.guide.hits")?) {
+            g.hits = *v;
+        }
+        Some(guides)
+    } else {
+        None
+    };
     let light = if header.light {
         let full = header.width as usize * header.height as usize;
         let layer = layer_named(LIGHT_LAYER)
@@ -284,6 +375,7 @@ pub fn read_part(path: &Path) -> std::result::Result<Part, PartFileError> {
         },
         camera,
         light,
+        guides,
     };
     // The checksum covers the header as stored, up to its own line.
     let described = text
@@ -314,6 +406,8 @@ struct Description {
     samples: std::ops::Range<u32>,
     seed: u64,
     light: bool,
+    /// Whether the part holds the guides' sums (absent: it does not).
+    guides: bool,
     checksum: u64,
 }
 
@@ -365,6 +459,10 @@ fn parse_description(text: &str) -> Result<Description, String> {
     let seed: Vec<u64> = numbers(&fields, "seed", 1, false)?;
     let light: Vec<u8> = numbers(&fields, "light-paths", 1, false)?;
     let checksum: Vec<u64> = numbers(&fields, CHECKSUM, 1, true)?;
+    let guides: Vec<u8> = match fields.contains_key("guides") {
+        true => numbers(&fields, "guides", 1, false)?,
+        false => vec![0],
+    };
     Ok(Description {
         scene_hash: hash[0],
         width: image[0],
@@ -378,6 +476,7 @@ fn parse_description(text: &str) -> Result<Description, String> {
         samples: samples[0]..samples[1],
         seed: seed[0],
         light: light[0] != 0,
+        guides: guides[0] != 0,
         checksum: checksum[0],
     })
 }

@@ -10,7 +10,8 @@
 //! non-uniform density for the path tracer.
 //!
 //! Modules follow pbrt's decomposition: [`camera`], [`shapes`], [`accel`],
-//! [`lights`], [`materials`], [`glass`], [`media`], [`phase`], [`film`],
+//! [`lights`], [`materials`], [`glass`], [`media`], [`phase`], [`film`]
+//! and its first-surface [`guides`],
 //! the [`description`] of a scene that loaders produce, the runtime
 //! [`scene`] built from it, the render [`settings`], the [`render()`] loop
 //! and render [`parts`]. The integrators, samplers and visibility are the
@@ -26,6 +27,7 @@ pub mod description;
 pub mod exact_sum;
 pub mod film;
 pub mod glass;
+pub mod guides;
 pub(crate) mod integrators;
 pub mod lights;
 pub mod limits;

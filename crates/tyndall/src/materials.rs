@@ -113,18 +113,30 @@ pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
     0.5 * (r_parallel * r_parallel + r_perpendicular * r_perpendicular)
 }
 
+/// The Fresnel reflectance met by a ray travelling along `incoming` at a
+/// dielectric of index `ior` with geometric normal `normal` (either side).
+pub fn dielectric_reflectance(incoming: Vec3, normal: Vec3, ior: f32) -> f32 {
+    let (n, eta) = dielectric_sides(incoming, normal, ior);
+    fresnel_dielectric(-incoming.dot(n), eta)
+}
+
+/// The normal facing `incoming` at a dielectric of index `ior` with
+/// geometric normal `normal`, and the ratio n_incident / n_transmitted.
+fn dielectric_sides(incoming: Vec3, normal: Vec3, ior: f32) -> (Vec3, f32) {
+    if incoming.dot(normal) < 0.0 {
+        (normal, 1.0 / ior)
+    } else {
+        (-normal, ior)
+    }
+}
+
 /// The next direction of a ray travelling along `incoming` that meets a
 /// dielectric of index `ior` with geometric normal `normal` (either side):
 /// the reflected or the refracted direction, chosen with probability the
 /// Fresnel reflectance by `u`, so the path's weight is unchanged (the
 /// interface neither absorbs nor emits).
 pub fn dielectric_scatter(incoming: Vec3, normal: Vec3, ior: f32, u: f32) -> Vec3 {
-    let entering = incoming.dot(normal) < 0.0;
-    let (n, eta) = if entering {
-        (normal, 1.0 / ior)
-    } else {
-        (-normal, ior)
-    };
+    let (n, eta) = dielectric_sides(incoming, normal, ior);
     let cos_i = -incoming.dot(n);
     let reflectance = fresnel_dielectric(cos_i, eta);
     if u < reflectance {

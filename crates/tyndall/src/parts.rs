@@ -138,11 +138,12 @@ pub fn merge(parts: Vec<(PathBuf, Part)>) -> Result<Part, MergeError> {
     let Some((first_path, first)) = parts.first() else {
         return Err(mismatch("no parts given".into()));
     };
-    let (identity, width, height, light) = (
+    let (identity, width, height, light, guides) = (
         first.identity,
         first.accumulation.width,
         first.accumulation.height,
         first.accumulation.light.is_some(),
+        first.accumulation.guides.is_some(),
     );
     for (path, part) in &parts[1..] {
         let a = &part.accumulation;
@@ -158,9 +159,10 @@ pub fn merge(parts: Vec<(PathBuf, Part)>) -> Result<Part, MergeError> {
         if part.identity.seed != identity.seed
             || (a.width, a.height) != (width, height)
             || a.light.is_some() != light
+            || a.guides.is_some() != guides
         {
             return Err(mismatch(format!(
-                "{} and {} differ in seed, image size or light paths",
+                "{} and {} differ in seed, image size, light paths or guides (AOVs)",
                 first_path.display(),
                 path.display()
             )));
@@ -262,7 +264,7 @@ pub fn merge(parts: Vec<(PathBuf, Part)>) -> Result<Part, MergeError> {
         )));
     }
     let samples = pieces[0].1.region.samples.clone();
-    let mut whole = Accumulation::new((width, height), full, samples.start, light);
+    let mut whole = Accumulation::new((width, height), full, samples.start, light, guides);
     whole.region.samples = samples;
     for (_, piece) in &pieces {
         let r = piece.region.rect;
@@ -271,6 +273,9 @@ pub fn merge(parts: Vec<(PathBuf, Part)>) -> Result<Part, MergeError> {
             let to = full.index(r.x0, y).expect("inside");
             let n = r.width() as usize;
             whole.camera[to..to + n].copy_from_slice(&piece.camera[from..from + n]);
+            if let (Some(w), Some(p)) = (&mut whole.guides, &piece.guides) {
+                w[to..to + n].copy_from_slice(&p[from..from + n]);
+            }
         }
         // The bands' light-path shares partition each pass's paths.
         if let (Some(w), Some(p)) = (&mut whole.light, &piece.light) {

@@ -52,6 +52,10 @@ pub struct RenderSettings {
     /// The estimators `volpath` combines (all by default; a subset is for
     /// checking and measuring them, see [`Strategies`]).
     pub strategies: Strategies,
+    /// Also sum the first-surface guides (albedo, normal, depth,
+    /// position: the AOVs and the denoiser's guides, module
+    /// `crate::guides`) beside the radiance. They change no sample.
+    pub guides: bool,
 }
 
 impl Default for RenderSettings {
@@ -71,6 +75,7 @@ impl Default for RenderSettings {
             max_depth: UNLIMITED_DEPTH,
             exposure: 0.0,
             strategies: Strategies::ALL,
+            guides: false,
         }
     }
 }

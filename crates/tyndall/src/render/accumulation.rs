@@ -5,6 +5,7 @@
 use crate::color::Rgb;
 use crate::exact_sum::ExactRgb;
 use crate::film::Image;
+use crate::guides::{GuideSum, Guides};
 use crate::region::{PixelRect, RenderRegion};
 use glam::DVec3;
 
@@ -28,15 +29,23 @@ pub struct Accumulation {
     /// part's share of each pass's light paths (see the module docs), for
     /// renders that trace them (`volpath` with caustics); `None` otherwise.
     pub light: Option<Vec<ExactRgb>>,
+    /// Per pixel of `region.rect` (row-major), the sums of the
+    /// first-surface guides of samples `region.samples`, for renders that
+    /// compute them ([`RenderSettings::guides`]); `None` otherwise.
+    ///
+    /// [`RenderSettings::guides`]: crate::settings::RenderSettings::guides
+    pub guides: Option<Vec<GuideSum>>,
 }
 
 impl Accumulation {
     /// No samples yet of `rect`, starting at sample index `first_sample`.
+    /// With `guides`, the guides' sums are kept too.
     pub fn new(
         (width, height): (u32, u32),
         rect: PixelRect,
         first_sample: u32,
         light: bool,
+        guides: bool,
     ) -> Self {
         Self {
             width,
@@ -47,6 +56,7 @@ impl Accumulation {
             },
             camera: vec![DVec3::ZERO; rect.area()],
             light: light.then(|| vec![ExactRgb::ZERO; width as usize * height as usize]),
+            guides: guides.then(|| vec![GuideSum::default(); rect.area()]),
         }
     }
 
@@ -90,12 +100,26 @@ impl Accumulation {
         Image::from_pixels(rect.width(), rect.height(), pixels)
     }
 
+    /// The guide images of the rectangle (the means of its samples), if
+    /// this part holds their sums.
+    pub fn resolve_guides(&self) -> Option<Guides> {
+        let rect = self.region.rect;
+        let sums = self.guides.as_ref()?;
+        Some(Guides::resolve(
+            rect.width(),
+            rect.height(),
+            sums,
+            self.passes(),
+        ))
+    }
+
     /// Adds the sums of `next`, the same pixels for the sample indices
     /// that follow this one's.
     pub fn append(&mut self, next: &Accumulation) -> Result<(), String> {
         if (self.width, self.height) != (next.width, next.height)
             || self.region.rect != next.region.rect
             || self.light.is_some() != next.light.is_some()
+            || self.guides.is_some() != next.guides.is_some()
         {
             return Err("the parts hold different images or pixels".into());
         }
@@ -111,6 +135,11 @@ impl Accumulation {
         if let (Some(a), Some(b)) = (&mut self.light, &next.light) {
             for (a, b) in a.iter_mut().zip(b) {
                 a.add_exact(b);
+            }
+        }
+        if let (Some(a), Some(b)) = (&mut self.guides, &next.guides) {
+            for (a, b) in a.iter_mut().zip(b) {
+                a.append(b);
             }
         }
         self.region.samples.end = next.region.samples.end;

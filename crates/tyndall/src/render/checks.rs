@@ -243,6 +243,7 @@ pub(super) fn check_resume(
     size: (u32, u32),
     region: &RenderRegion,
     light: bool,
+    guides: bool,
 ) -> Result<Accumulation, RenderError> {
     let a = saved;
     let fits = (a.width, a.height) == size
@@ -250,28 +251,36 @@ pub(super) fn check_resume(
         && a.region.samples.start == region.samples.start
         && a.region.samples.end <= region.samples.end
         && a.light.is_some() == light
+        && a.guides.is_some() == guides
         && a.camera.len() == region.rect.area()
+        && a.guides.as_ref().is_none_or(|g| g.len() == region.rect.area())
         && a.light
             .as_ref()
             .is_none_or(|l| l.len() == size.0 as usize * size.1 as usize);
     if !fits {
         return Err(RenderError::Resume(format!(
-            "the saved progress holds samples {:?} of pixels {} of a {}×{} image{}, which is not a start of samples {:?} of pixels {} of this {}×{} render{}",
+            "the saved progress holds samples {:?} of pixels {} of a {}×{} image{}{}, which is not a start of samples {:?} of pixels {} of this {}×{} render{}{}",
             a.region.samples,
             a.region.rect,
             a.width,
             a.height,
-            if a.light.is_some() {
-                " with light paths"
-            } else {
-                ""
-            },
+            with_light_paths(a.light.is_some()),
+            with_guides(a.guides.is_some()),
             region.samples,
             region.rect,
             size.0,
             size.1,
-            if light { " with light paths" } else { "" },
+            with_light_paths(light),
+            with_guides(guides),
         )));
     }
     Ok(a)
+}
+
+fn with_light_paths(light: bool) -> &'static str {
+    if light { " with light paths" } else { "" }
+}
+
+fn with_guides(guides: bool) -> &'static str {
+    if guides { " with guides (AOVs)" } else { "" }
 }

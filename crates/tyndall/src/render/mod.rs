@@ -34,6 +34,7 @@ pub use error::RenderError;
 use crate::camera::Camera;
 use crate::exact_sum::ExactRgb;
 use crate::film::Image;
+use crate::guides::{GuideSum, first_surface};
 use crate::integrators::light_tracer::{self, LightPaths};
 use crate::integrators::{Integrator, LightSubpaths, PixelPosition};
 use crate::region::{PixelRect, RegionError, RenderRegion};
@@ -123,8 +124,14 @@ pub fn render_region(
         return Err(RenderError::Region(RegionError::NotBand(region.rect)));
     }
     let mut accumulation = match resume {
-        None => Accumulation::new(size, region.rect, region.samples.start, light),
-        Some(saved) => checks::check_resume(saved, size, region, light)?,
+        None => Accumulation::new(
+            size,
+            region.rect,
+            region.samples.start,
+            light,
+            settings.guides,
+        ),
+        Some(saved) => checks::check_resume(saved, size, region, light, settings.guides)?,
     };
     let pool = {
         let mut builder = rayon::ThreadPoolBuilder::new();
@@ -161,7 +168,10 @@ pub fn render_region(
                 &integrator,
                 rect,
                 s,
-                &mut accumulation.camera,
+                PixelSums {
+                    radiance: &mut accumulation.camera,
+                    guides: accumulation.guides.as_deref_mut(),
+                },
                 &counters,
                 progress,
             )
@@ -209,10 +219,17 @@ impl PassCounters {
     }
 }
 
+/// The per-pixel sums a camera pass adds to (row-major over its
+/// rectangle): the radiance, and the guides if the render keeps them.
+struct PixelSums<'a> {
+    radiance: &'a mut [DVec3],
+    guides: Option<&'a mut [GuideSum]>,
+}
+
 /// Pass `s` of the camera paths: sample `s` of every pixel of `rect`,
 /// rows in parallel on the current pool, each pixel's estimate added to
-/// its sum in `sums` (row-major over `rect`; non-finite estimates
-/// counted as invalid and dropped).
+/// its sum in `sums` (non-finite estimates counted as invalid and
+/// dropped), and the guides of the same camera ray to theirs.
 #[allow(clippy::too_many_arguments)]
 fn camera_pass(
     scene: &Scene,
@@ -221,14 +238,21 @@ fn camera_pass(
     integrator: &Integrator,
     rect: PixelRect,
     s: u32,
-    sums: &mut [DVec3],
+    sums: PixelSums,
     counters: &PassCounters,
     progress: &(dyn Fn(u64) + Sync),
 ) {
     let full_width = settings.width as u64;
-    sums.par_chunks_mut(rect.width() as usize)
+    let width = rect.width() as usize;
+    let mut guide_rows: Vec<Option<&mut [GuideSum]>> = match sums.guides {
+        Some(guides) => guides.chunks_mut(width).map(Some).collect(),
+        None => (0..rect.height()).map(|_| None).collect(),
+    };
+    sums.radiance
+        .par_chunks_mut(width)
+        .zip(guide_rows.par_iter_mut())
         .enumerate()
-        .for_each(|(row, sums)| {
+        .for_each(|(row, (sums, guide_sums))| {
             let y = rect.y0 + row as u32;
             let mut counts = RayCounts::default();
             let mut bad = 0u64;
@@ -244,6 +268,9 @@ fn camera_pass(
                     *sum += l.as_dvec3();
                 } else {
                     bad += 1;
+                }
+                if let Some(guides) = guide_sums.as_deref_mut() {
+                    guides[i].add(&first_surface(scene, ray));
                 }
             }
             counters.add(&counts);

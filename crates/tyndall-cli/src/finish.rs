@@ -1,0 +1,107 @@
+//! What `render` and `merge` write once the sums are in: the image,
+//! denoised if asked (`--denoise`), with the AOVs asked for (`--aov`) as
+//! layers of the OpenEXR file.
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use std::path::Path;
+use tyndall::guides::{Aov, Guides};
+use tyndall::render::Accumulation;
+use tyndall_denoise::{DenoiseGuides, Denoiser};
+use tyndall_image::{AovLayer, ImageFormat, OutputFile};
+
+/// The flags that choose what is written beside and instead of the raw
+/// image.
+#[derive(Args, Clone, Default)]
+pub struct Finishing {
+    /// Also write these first-surface AOVs, comma-separated, as layers of the
+    /// .exr output: `albedo` and `normal` of the first non-specular surface
+    /// (the denoiser's guides), `depth` (distance along the camera ray) and
+    /// `position` of the first surface (docs/scene-format.md, "AOVs").
+    #[arg(long, value_parser = parse_aovs)]
+    pub aov: Option<AovList>,
+    /// Denoise the image with Intel Open Image Denoise, guided by the
+    /// first-surface albedo and normal (prefiltered). OIDN is loaded at run
+    /// time: `pip install pyoidn` and set TYNDALL_OIDN to its library folder
+    /// (an error says how when it is missing). Tiles and sample ranges are
+    /// denoised by `tyndall merge --denoise`, after the merge.
+    #[arg(long)]
+    pub denoise: bool,
+}
+
+/// A list of AOVs, as `--aov` takes it.
+#[derive(Clone, Debug, Default)]
+pub struct AovList(pub Vec<Aov>);
+
+fn parse_aovs(s: &str) -> Result<AovList, String> {
+    Aov::parse_list(s).map(AovList)
+}
+
+/// The finishing, checked and ready: the AOVs and the loaded denoiser.
+pub struct Finisher {
+    aovs: Vec<Aov>,
+    denoiser: Option<Denoiser>,
+}
+
+impl Finishing {
+    /// Checks the flags against the output (`--aov` needs an .exr) and
+    /// loads the denoiser, so that a render never starts whose image
+    /// could not be finished.
+    pub fn prepare(&self, output: &Path) -> Result<Finisher> {
+        let aovs = self.aov.clone().unwrap_or_default().0;
+        if !aovs.is_empty() && ImageFormat::from_path(output)? != ImageFormat::Exr {
+            bail!(
+                "{}: --aov writes the AOVs as OpenEXR layers, so the output must be an .exr file",
+                output.display()
+            );
+        }
+        let denoiser = if self.denoise {
+            Some(Denoiser::find().context("--denoise")?)
+        } else {
+            None
+        };
+        Ok(Finisher { aovs, denoiser })
+    }
+}
+
+impl Finisher {
+    /// Whether the render must keep the first-surface guides.
+    pub fn needs_guides(&self) -> bool {
+        !self.aovs.is_empty() || self.denoiser.is_some()
+    }
+
+    /// Resolves `accumulation`, denoises it if asked, and writes it with
+    /// its AOVs to `output` (`exposure` for PNG).
+    pub fn write(&self, output: OutputFile, accumulation: &Accumulation, exposure: f32) -> Result<()> {
+        let image = accumulation.resolve();
+        let guides = accumulation.resolve_guides();
+        let needed = |what: &str| -> Result<&Guides> {
+            guides.as_ref().with_context(|| {
+                format!("{what} needs the first-surface guides, which these sums do not hold (render the parts with --aov)")
+            })
+        };
+        let image = match &self.denoiser {
+            Some(denoiser) => {
+                let g = needed("--denoise")?;
+                let guides = DenoiseGuides {
+                    albedo: &g.albedo,
+                    normal: &g.normal,
+                };
+                denoiser
+                    .denoise(&image, Some(guides))
+                    .with_context(|| format!("--denoise ({})", denoiser.path().display()))?
+            }
+            None => image,
+        };
+        let layers: Vec<AovLayer> = match self.aovs.is_empty() {
+            true => Vec::new(),
+            false => {
+                let g = needed("--aov")?;
+                self.aovs.iter().map(|&a| AovLayer::guide(a, g)).collect()
+            }
+        };
+        output
+            .finish_with_aovs(&image, &layers, exposure)
+            .context("the image was not written")
+    }
+}
