@@ -72,7 +72,12 @@ impl Finisher {
 
     /// Resolves `accumulation`, denoises it if asked, and writes it with
     /// its AOVs to `output` (`exposure` for PNG).
-    pub fn write(&self, output: OutputFile, accumulation: &Accumulation, exposure: f32) -> Result<()> {
+    pub fn write(
+        &self,
+        output: OutputFile,
+        accumulation: &Accumulation,
+        exposure: f32,
+    ) -> Result<()> {
         let image = accumulation.resolve();
         let guides = accumulation.resolve_guides();
         let needed = |what: &str| -> Result<&Guides> {

@@ -277,7 +277,9 @@ impl<'a> Device<'a> {
         let handle = unsafe { (self.api.new_filter)(self.handle, c("RT").as_ptr()) };
         self.check()?;
         if handle.is_null() {
-            return Err(DenoiseError::Device("the RT filter could not be created".into()));
+            return Err(DenoiseError::Device(
+                "the RT filter could not be created".into(),
+            ));
         }
         let filter = Filter {
             api: self.api,

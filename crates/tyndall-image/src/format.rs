@@ -113,7 +113,9 @@ pub(crate) fn encode(
 ) -> Result<(), String> {
     if !aovs.is_empty() {
         if format != ImageFormat::Exr {
-            return Err("AOVs are written as OpenEXR layers: the output must be an .exr file".into());
+            return Err(
+                "AOVs are written as OpenEXR layers: the output must be an .exr file".into(),
+            );
         }
         return encode_exr_layers(image, aovs, out);
     }

@@ -644,4 +644,16 @@ fn base_colour_texture_colours_points() {
             );
         }
     }
+    // The albedo guide (AOV, issue 24) is the textured reflectance itself:
+    // `factor·texel`, point by point.
+    for (desc, [x, z], expected) in cases {
+        let ray = Ray::new(Vec3::new(x, 1.0, z), Vec3::new(0.0, -1.0, 0.0));
+        let guide = tyndall::guides::first_surface(&desc.scene, ray);
+        let albedo = expected * std::f32::consts::PI;
+        assert!(
+            (guide.albedo - albedo).abs().max_element() < 1e-5,
+            "albedo at ({x}, {z}): {} vs {albedo}",
+            guide.albedo
+        );
+    }
 }

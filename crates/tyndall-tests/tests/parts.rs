@@ -396,3 +396,135 @@ fn damaged_parts_are_refused_never_read_as_other_sums() {
         "{e}"
     );
 }
+
+/// The first-surface guides (AOVs) split and merge as the radiance does:
+/// merged tiles and a resumed render hold the single render's guide sums
+/// bit for bit, merged sample ranges to f64 rounding, and a part without
+/// guides does not merge with parts that have them.
+#[test]
+fn parts_carry_the_guides() {
+    let (desc, plain) = demo_march();
+    let settings = RenderSettings {
+        guides: true,
+        ..plain
+    };
+    let full = PixelRect::full(settings.width, settings.height);
+    let whole = |samples| {
+        part(
+            &desc,
+            &settings,
+            RenderRegion {
+                rect: full,
+                samples,
+            },
+        )
+    };
+    let single = whole(0..settings.spp).accumulation;
+    let single_guides = single.guides.clone().expect("guides kept");
+    assert!(
+        single_guides
+            .iter()
+            .any(|g| g.hits > 0 && g.albedo != glam::DVec3::ZERO)
+    );
+
+    let tiles = (0..3)
+        .map(|i| {
+            let rect = PixelRect::tile(i, 3, settings.width, settings.height).expect("tile");
+            part(
+                &desc,
+                &settings,
+                RenderRegion {
+                    rect,
+                    samples: 0..settings.spp,
+                },
+            )
+        })
+        .collect();
+    let merged = parts::merge(through_files(tiles, "guides-t")).expect("merge");
+    assert_eq!(
+        merged.accumulation.guides.as_ref(),
+        Some(&single_guides),
+        "tiles"
+    );
+
+    let ranges = vec![whole(0..1), whole(1..settings.spp)];
+    let merged = parts::merge(through_files(ranges, "guides-s")).expect("merge");
+    let resolved = merged.accumulation.resolve_guides().expect("guides");
+    let expected = single.resolve_guides().expect("guides");
+    for aov in tyndall::guides::Aov::ALL {
+        let (a, b) = (resolved.get(aov), expected.get(aov));
+        for (p, q) in a.pixels().iter().zip(b.pixels()) {
+            let close = |u: f32, v: f32| u == v || (u - v).abs() <= 1e-6 * v.abs().max(1.0);
+            assert!((0..3).all(|c| close(p[c], q[c])), "{aov:?}: {p} vs {q}");
+        }
+    }
+
+    let region = RenderRegion::full(settings.width, settings.height, settings.spp);
+    let (stopped, _) = render_region(
+        &desc.scene,
+        &settings,
+        &region,
+        None,
+        &|_| {},
+        &mut |a: &Accumulation, _| {
+            if a.passes() == 1 {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        },
+    )
+    .expect("render");
+    let checkpoint = through_files(
+        vec![Part {
+            identity: PartIdentity::new(&desc.scene, &settings),
+            accumulation: stopped,
+        }],
+        "guides-c",
+    );
+    let resume = checkpoint.into_iter().next().expect("one").1.accumulation;
+    // Resumed without guides, the checkpoint does not fit.
+    let refused = render_region(
+        &desc.scene,
+        &plain,
+        &region,
+        Some(resume.clone()),
+        &|_| {},
+        &mut |_, _| ControlFlow::Continue(()),
+    );
+    match refused {
+        Err(e) => assert!(e.to_string().contains("guides"), "{e}"),
+        Ok(_) => panic!("a checkpoint with guides resumed a render without"),
+    }
+    let (resumed, _) = render_region(
+        &desc.scene,
+        &settings,
+        &region,
+        Some(resume),
+        &|_| {},
+        &mut |_, _| ControlFlow::Continue(()),
+    )
+    .expect("resume");
+    assert_eq!(resumed.guides.as_ref(), Some(&single_guides), "resumed");
+
+    let without = part(
+        &desc,
+        &plain,
+        RenderRegion {
+            rect: PixelRect::tile(1, 2, settings.width, settings.height).expect("tile"),
+            samples: 0..settings.spp,
+        },
+    );
+    let with = part(
+        &desc,
+        &settings,
+        RenderRegion {
+            rect: PixelRect::tile(0, 2, settings.width, settings.height).expect("tile"),
+            samples: 0..settings.spp,
+        },
+    );
+    match parts::merge(through_files(vec![with, without], "guides-mixed")) {
+        Err(e) => assert!(e.to_string().contains("guides"), "{e}"),
+        Ok(_) => panic!("merged parts with and without guides"),
+    }
+}

@@ -253,7 +253,9 @@ pub(super) fn check_resume(
         && a.light.is_some() == light
         && a.guides.is_some() == guides
         && a.camera.len() == region.rect.area()
-        && a.guides.as_ref().is_none_or(|g| g.len() == region.rect.area())
+        && a.guides
+            .as_ref()
+            .is_none_or(|g| g.len() == region.rect.area())
         && a.light
             .as_ref()
             .is_none_or(|l| l.len() == size.0 as usize * size.1 as usize);
