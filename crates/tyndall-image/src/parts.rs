@@ -10,11 +10,16 @@
 //!   camera samples, each stored exactly as the high and low 32 bits of its
 //!   IEEE-754 bit pattern (OpenEXR has no f64 channels; two f32s would
 //!   round). Merging ([`tyndall::parts::merge`]) adds these exact sums.
+//!   A part that keeps the first-surface guides ([`GuideSum`]) also has,
+//!   stored the same way, `sum.guide.{albedo,normal,position}.{X,Y,Z}`
+//!   and `sum.guide.depth` (each `.hi`/`.lo`), and `sum.guide.hits`
+//!   (u32), and its header says `guides 1`.
 //!   Its text attribute `tyndall` records what the part holds, one
 //!   `key value` per line: `tyndall-part 1` (the format), `scene-hash`
 //!   (see [`tyndall::parts::scene_hash`]), `image W H`, `rect x0 y0 x1 y1`
 //!   (pixels `[x0, x1) × [y0, y1)`), `samples A B` (sample indices
-//!   `A..B`), `seed`, `light-paths 0|1`, and last `checksum`, the
+//!   `A..B`), `seed`, `light-paths 0|1`, `guides 1` (only when it
+//!   keeps them), and last `checksum`, the
 //!   64-bit FNV-1a hash ([`tyndall::parts::Fnv1a`]) of the lines before
 //!   it and of every sum of both layers (see [`checksum`]): a part or
 //!   checkpoint with a flipped bit in its header or its sums is refused

@@ -3,14 +3,17 @@
 //! `tyndall merge` and `tyndall.merge_parts` assemble.
 
 use crate::part_bytes;
-use crate::value_error;
+use crate::{os_error, value_error};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use std::ops::ControlFlow;
+use std::path::PathBuf;
+use tyndall::guides::Aov;
 use tyndall::parts::{Part, PartIdentity};
 use tyndall::region::{PixelRect, RenderRegion};
 use tyndall::render::Accumulation;
 use tyndall::{IntegratorKind, RenderSettings, Scene, SceneDesc};
+use tyndall_denoise::{DenoiseGuides, Denoiser};
 use tyndall_load::SceneError;
 
 /// A loaded scene: its description (with the render settings its file
@@ -157,9 +160,16 @@ impl NativeScene {
     }
 
     /// Renders; returns (little-endian f32 RGB bytes, height, width) of the
-    /// tile. `progress(done, total)` is called after each pass, with the GIL.
-    #[allow(clippy::too_many_arguments)]
-    #[pyo3(signature = (spp, integrator, width, height, seed, threads, tile, samples, progress))]
+    /// tile, and per AOV named in `aovs` (`tyndall::guides::Aov` names)
+    /// `(name, bytes, channels)`: the AOV's image as f32 RGB bytes and how
+    /// many of its channels are meaningful (1 for depth, else 3). With
+    /// `denoise`, the radiance is denoised by Open Image Denoise, loaded
+    /// from `oidn_library` (a file or folder) or else found as
+    /// `tyndall_denoise::Denoiser::find` finds it; it is loaded before the
+    /// render starts. `progress(done, total)` is called after each pass,
+    /// with the GIL.
+    #[allow(clippy::too_many_arguments, clippy::type_complexity)]
+    #[pyo3(signature = (spp, integrator, width, height, seed, threads, tile, samples, progress, aovs, denoise, oidn_library))]
     fn render<'py>(
         &self,
         py: Python<'py>,
@@ -172,13 +182,64 @@ impl NativeScene {
         tile: Option<(u32, u32)>,
         samples: Option<(u32, u32)>,
         progress: Option<Py<PyAny>>,
-    ) -> PyResult<(Bound<'py, PyBytes>, u32, u32)> {
-        let (settings, region) =
+        aovs: Vec<String>,
+        denoise: bool,
+        oidn_library: Option<PathBuf>,
+    ) -> PyResult<(
+        Bound<'py, PyBytes>,
+        u32,
+        u32,
+        Vec<(String, Bound<'py, PyBytes>, u32)>,
+    )> {
+        let (mut settings, region) =
             self.settings_and_region(spp, integrator, width, height, seed, threads, tile, samples)?;
+        let aovs = match aovs.is_empty() {
+            true => Vec::new(),
+            false => Aov::parse_list(&aovs.join(",")).map_err(value_error)?,
+        };
+        let denoiser = match (denoise, oidn_library) {
+            (false, _) => None,
+            (true, Some(path)) => {
+                let path = if path.is_dir() {
+                    path.join(tyndall_denoise::LIBRARY_NAME)
+                } else {
+                    path
+                };
+                Some(Denoiser::load(&path).map_err(os_error)?)
+            }
+            (true, None) => Some(Denoiser::find().map_err(os_error)?),
+        };
+        settings.guides = denoiser.is_some() || !aovs.is_empty();
         let accumulation = self.accumulate(py, &settings, &region, progress)?;
-        let image = accumulation.resolve();
+        let mut image = accumulation.resolve();
+        let guides = accumulation.resolve_guides();
+        if let (Some(denoiser), Some(g)) = (&denoiser, &guides) {
+            let guides = DenoiseGuides {
+                albedo: &g.albedo,
+                normal: &g.normal,
+            };
+            image = py
+                .detach(|| denoiser.denoise(&image, Some(guides)))
+                .map_err(os_error)?;
+        }
+        let layers = match &guides {
+            Some(g) => aovs
+                .iter()
+                .map(|&aov| {
+                    let channels = if aov == Aov::Depth { 1 } else { 3 };
+                    let bytes = crate::image_bytes(g.get(aov));
+                    (aov.name().to_owned(), PyBytes::new(py, &bytes), channels)
+                })
+                .collect(),
+            None => Vec::new(),
+        };
         let bytes = crate::image_bytes(&image);
-        Ok((PyBytes::new(py, &bytes), image.height(), image.width()))
+        Ok((
+            PyBytes::new(py, &bytes),
+            image.height(),
+            image.width(),
+            layers,
+        ))
     }
 
     /// Renders a part: the bytes of the OpenEXR part file that
@@ -200,8 +261,11 @@ impl NativeScene {
         samples: Option<(u32, u32)>,
         progress: Option<Py<PyAny>>,
     ) -> PyResult<Bound<'py, PyBytes>> {
-        let (settings, region) =
+        let (mut settings, region) =
             self.settings_and_region(spp, integrator, width, height, seed, threads, tile, samples)?;
+        // As `tyndall render --tile` does: a part keeps the guides, so
+        // that it can be merged with any other and denoised.
+        settings.guides = true;
         let accumulation = self.accumulate(py, &settings, &region, progress)?;
         let part = Part {
             identity: PartIdentity::new(&self.scene, &settings),

@@ -221,3 +221,61 @@ def test_frame_picks_the_file_of_a_sequence(tmp_path):
         frame=12,
     )
     assert described.render(**SMALL).max() >= 0.0
+
+
+WALL = {
+    "camera": {"position": [0.0, 0.0, 5.0], "look_at": [0.0, 0.0, 0.0], "fov_y_deg": 40.0},
+    "render": {"width": 21, "height": 15, "spp": 2, "integrator": "single"},
+    "materials": {"wall": {"type": "diffuse", "reflectance": [0.2, 0.5, 0.7]}},
+    "shapes": [
+        {
+            "type": "quad",
+            "corners": [[-50.0, -50.0, 0.0], [50.0, -50.0, 0.0], [50.0, 50.0, 0.0], [-50.0, 50.0, 0.0]],
+            "material": "wall",
+        }
+    ],
+    "lights": [{"type": "point", "position": [0.0, 0.0, 4.0], "intensity": 1.0}],
+}
+
+
+def test_aovs_come_back_as_a_dict_of_arrays():
+    scene = tyndall.Scene.from_dict(WALL)
+    plain = scene.render()
+    out = scene.render(aovs=["albedo", "normal", "depth", "position"])
+    assert sorted(out) == ["albedo", "beauty", "depth", "normal", "position"]
+    # The radiance does not change when the AOVs are kept.
+    assert out["beauty"].tobytes() == plain.tobytes()
+    assert out["albedo"].shape == (15, 21, 3) and out["depth"].shape == (15, 21)
+    assert np.array_equal(out["albedo"], np.broadcast_to(np.float32([0.2, 0.5, 0.7]), (15, 21, 3)))
+    assert np.array_equal(out["normal"], np.broadcast_to(np.float32([0.0, 0.0, 1.0]), (15, 21, 3)))
+    # The wall is 5 away straight ahead; the centre pixel spans under 1°.
+    assert abs(out["depth"][7, 10] - 5.0) < 1e-3
+    assert np.abs(out["position"][:, :, 2]).max() < 1e-5
+    with pytest.raises(ValueError, match="unknown AOV 'shadow'"):
+        scene.render(aovs=["albedo", "shadow"])
+    with pytest.raises(TypeError, match="sequence of names"):
+        scene.render(aovs="albedo")
+
+
+def _oidn_available() -> bool:
+    return tyndall._oidn_library() is not None
+
+
+def test_denoise_without_a_library_says_how_to_get_one(monkeypatch):
+    monkeypatch.setenv("TYNDALL_OIDN", "/nonexistent/oidn")
+    with pytest.raises(OSError, match="/nonexistent/oidn"):
+        tyndall.Scene.from_dict(WALL).render(denoise=True)
+
+
+@pytest.mark.skipif(not _oidn_available(), reason="Open Image Denoise not installed (pip install pyoidn, or set TYNDALL_OIDN)")
+def test_denoising_brings_a_noisy_render_closer_to_a_clean_one():
+    scene = tyndall.load(REPO / "scenes" / "reference" / "cornell-surfaces.toml")
+    size = dict(width=80, height=60)
+    clean = scene.render(spp=256, **size)
+    noisy = scene.render(spp=2, seed=3, **size)
+    denoised = scene.render(spp=2, seed=3, denoise=True, **size)
+
+    def rel_mse(a):
+        return float(np.mean((a - clean) ** 2 / (clean**2 + 1e-2)))
+
+    assert rel_mse(denoised) < rel_mse(noisy)

@@ -23,7 +23,7 @@
 //! normal, and one whose camera ray meets no surface holds the
 //! background's albedo, normal 0 and depth `+∞`. The denoiser is then told
 //! where the surfaces' edges are, and the fog's light is denoised by the
-//! colour image alone (docs/physics.md §6.3).
+//! colour image alone (docs/physics.md §6.1).
 //!
 //! A pixel's guide is the mean over its samples ([`GuideSum`]): albedo
 //! and normal over every sample, depth and position over the samples that

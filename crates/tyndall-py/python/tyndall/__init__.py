@@ -36,7 +36,7 @@ import numpy as np
 
 from . import _tyndall
 
-__all__ = ["Scene", "load", "demo", "merge_parts", "write_exr", "write_png"]
+__all__ = ["AOVS", "Scene", "load", "demo", "merge_parts", "write_exr", "write_png"]
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -136,8 +136,20 @@ class Scene:
         tile: Optional[Tuple[int, int]] = None,
         samples: Optional[Tuple[int, int]] = None,
         progress: Optional[Callable[[int, int], None]] = None,
-    ) -> np.ndarray:
+        aovs: Optional[Sequence[str]] = None,
+        denoise: bool = False,
+    ) -> Union[np.ndarray, Dict[str, np.ndarray]]:
         """Render the scene; returns linear radiance, ``float32``, shape H×W×3.
+
+        ``aovs`` (names from ``AOVS``: ``albedo``, ``normal``, ``depth``,
+        ``position``) asks for the first-surface outputs too: the result is
+        then a dict of arrays, ``"beauty"`` the radiance and one entry per
+        AOV (H×W×3; ``depth`` H×W, ``inf`` where the ray meets nothing; see
+        docs/scene-format.md, "AOVs"). ``denoise=True`` denoises the radiance
+        with Intel Open Image Denoise guided by the albedo and normal; the
+        library is the one ``TYNDALL_OIDN`` names, else the ``pyoidn``
+        package's (``pip install pyoidn``), else a system install, and
+        ``OSError`` says how to get it when none loads (before rendering).
 
         Arguments left ``None`` keep the scene file's settings. ``tile=(i, n)``
         returns only tile ``i``'s rows; ``samples=(a, b)`` averages sample
@@ -151,7 +163,8 @@ class Scene:
         stops the render and propagates. Raises ``ValueError`` for invalid
         settings.
         """
-        data, h, w = self._native.render(
+        names = _aov_names(aovs)
+        data, h, w, layers = self._native.render(
             spp,
             integrator,
             width,
@@ -161,8 +174,18 @@ class Scene:
             None if tile is None else (int(tile[0]), int(tile[1])),
             None if samples is None else (int(samples[0]), int(samples[1])),
             progress,
+            names,
+            bool(denoise),
+            _oidn_library() if denoise else None,
         )
-        return _image_array(data, h, w)
+        beauty = _image_array(data, h, w)
+        if aovs is None:
+            return beauty
+        result = {"beauty": beauty}
+        for name, layer, channels in layers:
+            image = _image_array(layer, h, w)
+            result[name] = image[:, :, 0].copy() if channels == 1 else image
+        return result
 
     def render_part(
         self,
@@ -197,6 +220,41 @@ class Scene:
             None if samples is None else (int(samples[0]), int(samples[1])),
             progress,
         )
+
+
+#: The AOVs ``Scene.render(aovs=...)`` can return.
+AOVS = ("albedo", "normal", "depth", "position")
+
+
+def _aov_names(aovs: Optional[Sequence[str]]) -> List[str]:
+    """The AOV names asked for, checked (unknown or repeated: ValueError)."""
+    if aovs is None:
+        return []
+    if isinstance(aovs, str):
+        raise TypeError("aovs is a sequence of names, e.g. ['albedo', 'depth'], not one string")
+    names = [str(a) for a in aovs]
+    for name in names:
+        if name not in AOVS:
+            raise ValueError(f"unknown AOV {name!r} (known: {', '.join(AOVS)})")
+    if len(set(names)) != len(names):
+        raise ValueError(f"an AOV is named twice in {names!r}")
+    return names
+
+
+def _oidn_library() -> Optional[str]:
+    """The Open Image Denoise library folder to load: ``TYNDALL_OIDN``'s,
+    else the ``pyoidn`` package's (found without importing it), else None
+    (the native side then searches the system)."""
+    named = os.environ.get("TYNDALL_OIDN")
+    if named:
+        return named
+    import importlib.util
+
+    spec = importlib.util.find_spec("pyoidn")
+    if spec is None or not spec.submodule_search_locations:
+        return None
+    folder = os.path.join(list(spec.submodule_search_locations)[0], "oidn", "lib")
+    return folder if os.path.isdir(folder) else None
 
 
 def load(path: PathLike, two_sided: bool = False, frame: Optional[int] = None) -> Scene:

@@ -1,5 +1,5 @@
 import os
-from typing import Any, Callable, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -47,8 +47,11 @@ class Scene:
         tile: Optional[Tuple[int, int]] = None,
         samples: Optional[Tuple[int, int]] = None,
         progress: Optional[Callable[[int, int], None]] = None,
-    ) -> npt.NDArray[np.float32]:
-        """Render; linear radiance, float32, shape H×W×3."""
+        aovs: Optional[Sequence[str]] = None,
+        denoise: bool = False,
+    ) -> Union[npt.NDArray[np.float32], Dict[str, npt.NDArray[np.float32]]]:
+        """Render; linear radiance, float32, shape H×W×3 (with `aovs`, a dict
+        of arrays: "beauty" and each AOV); `denoise` runs Open Image Denoise."""
         ...
     def render_part(
         self,
@@ -64,6 +67,8 @@ class Scene:
     ) -> bytes:
         """Render a part; the bytes of the OpenEXR part file `tyndall render --tile` writes."""
         ...
+
+AOVS: Tuple[str, ...]
 
 def load(path: PathLike, two_sided: bool = False, frame: Optional[int] = None) -> Scene: ...
 def demo() -> Scene: ...

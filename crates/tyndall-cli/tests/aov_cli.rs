@@ -1,0 +1,146 @@
+//! `render --aov` and `--denoise` from the command line (issue 24): the
+//! AOVs are layers of the EXR beside an unchanged radiance, merged tiles
+//! carry them, and bad requests fail before rendering and leave no image.
+mod common;
+
+use common::{repo, stderr, temp, tyndall};
+use std::path::Path;
+
+/// The channels of an EXR file, by name.
+fn channels(path: &Path) -> Vec<(String, Vec<f32>)> {
+    use exr::prelude::*;
+    let image = read_all_flat_layers_from_file(path).expect("exr");
+    let layer = &image.layer_data[0];
+    layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| {
+            let values = match &c.sample_data {
+                FlatSamples::F32(v) => v.clone(),
+                other => panic!("{}: not f32: {other:?}", c.name),
+            };
+            (c.name.to_string(), values)
+        })
+        .collect()
+}
+
+const SIZE: [&str; 6] = ["--width", "24", "--height", "16", "--spp", "2"];
+
+fn render(extra: &[&str], output: &Path) -> std::process::Output {
+    let scene = repo().join("scenes/reference/fog-spot-sphere.toml");
+    let mut args = vec!["render", scene.to_str().expect("path"), "-q", "-o"];
+    args.push(output.to_str().expect("path"));
+    args.extend(SIZE);
+    args.extend(extra);
+    tyndall(&args)
+}
+
+#[test]
+fn aovs_are_exr_layers_beside_the_same_radiance() {
+    let (plain, with) = (temp("plain.exr"), temp("aovs.exr"));
+    assert!(render(&[], &plain).status.success());
+    let out = render(&["--aov", "albedo,normal,depth,position"], &with);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let plain = channels(&plain);
+    let with = channels(&with);
+    let names: Vec<&str> = with.iter().map(|(n, _)| n.as_str()).collect();
+    for name in [
+        "B",
+        "G",
+        "R",
+        "albedo.B",
+        "albedo.G",
+        "albedo.R",
+        "depth.Z",
+        "normal.X",
+        "normal.Y",
+        "normal.Z",
+        "position.X",
+        "position.Y",
+        "position.Z",
+    ] {
+        assert!(names.contains(&name), "{name} missing from {names:?}");
+    }
+    for (name, values) in &plain {
+        let same = with.iter().find(|(n, _)| n == name).expect("channel");
+        assert_eq!(&same.1, values, "{name}: the radiance changed");
+    }
+    // The floor is grey 0.5 and diffuse: wherever a pixel sees only it,
+    // the albedo is 0.5; the normal is a unit vector or (at edges) shorter.
+    let albedo = &with
+        .iter()
+        .find(|(n, _)| n == "albedo.R")
+        .expect("albedo")
+        .1;
+    assert!(albedo.contains(&0.5), "{albedo:?}");
+    assert!(albedo.iter().all(|&a| (0.0..=1.0).contains(&a)));
+}
+
+#[test]
+fn merged_tiles_carry_the_aovs() {
+    let (a, b, merged) = (temp("t0.exr"), temp("t1.exr"), temp("merged.exr"));
+    for (tile, path) in [("0/2", &a), ("1/2", &b)] {
+        let out = render(&["--tile", tile], path);
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    let out = tyndall(&[
+        "merge",
+        a.to_str().expect("path"),
+        b.to_str().expect("path"),
+        "-o",
+        merged.to_str().expect("path"),
+        "--aov",
+        "depth",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let whole = temp("whole.exr");
+    assert!(render(&["--aov", "depth"], &whole).status.success());
+    assert_eq!(channels(&merged), channels(&whole));
+}
+
+#[test]
+fn bad_requests_fail_before_rendering_and_write_nothing() {
+    let cases: [(&[&str], &str, &str); 4] = [
+        (&["--aov", "albedo,shadow"], "x.exr", "unknown AOV `shadow`"),
+        (&["--aov", "albedo"], "x.png", "must be an .exr"),
+        (&["--denoise", "--tile", "0/2"], "x.exr", "merge --denoise"),
+        (
+            &["--gpu", "--aov", "depth"],
+            "x.exr",
+            "--aov cannot be used with --gpu",
+        ),
+    ];
+    for (flags, name, says) in cases {
+        let output = temp(name);
+        let out = render(flags, &output);
+        assert!(!out.status.success(), "{flags:?} succeeded");
+        assert!(stderr(&out).contains(says), "{flags:?}: {}", stderr(&out));
+        assert!(!output.exists(), "{flags:?} wrote {}", output.display());
+    }
+    // An OIDN that cannot be loaded: named, and no image.
+    for library in ["/nonexistent/libOpenImageDenoise.so.2", "/dev/null"] {
+        let output = temp("denoised.png");
+        let scene = repo().join("scenes/reference/fog-spot-sphere.toml");
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_tyndall"))
+            .args([
+                "render",
+                scene.to_str().expect("path"),
+                "-q",
+                "--denoise",
+                "-o",
+            ])
+            .arg(&output)
+            .args(SIZE)
+            .env("TYNDALL_OIDN", library)
+            .output()
+            .expect("run");
+        assert!(!out.status.success());
+        let text = stderr(&out);
+        assert!(
+            text.contains("--denoise") && text.contains(library),
+            "{text}"
+        );
+        assert!(!output.exists());
+    }
+}
