@@ -5,7 +5,8 @@
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use std::path::Path;
-use tyndall::guides::{Aov, Guides};
+use tyndall::aov::Aov;
+use tyndall::guides::Guides;
 use tyndall::render::Accumulation;
 use tyndall_denoise::{DenoiseGuides, Denoiser};
 use tyndall_image::{AovLayer, ImageFormat, OutputFile};
@@ -14,10 +15,12 @@ use tyndall_image::{AovLayer, ImageFormat, OutputFile};
 /// image.
 #[derive(Args, Clone, Default)]
 pub struct Finishing {
-    /// Also write these first-surface AOVs, comma-separated, as layers of the
-    /// .exr output: `albedo` and `normal` of the first non-specular surface
-    /// (the denoiser's guides), `depth` (distance along the camera ray) and
-    /// `position` of the first surface (docs/scene-format.md, "AOVs").
+    /// Also write these AOVs, comma-separated, as layers of the .exr output:
+    /// `albedo` and `normal` of the first non-specular surface (the
+    /// denoiser's guides), `depth` (distance along the camera ray) and
+    /// `position` of the first surface, and the radiance's components
+    /// `emission`, `direct`, `indirect` and `volume`, which sum to it
+    /// (docs/scene-format.md, "AOVs and denoising"). They are not denoised.
     #[arg(long, value_parser = parse_aovs)]
     pub aov: Option<AovList>,
     /// Denoise the image with Intel Open Image Denoise, guided by the
@@ -67,6 +70,16 @@ impl Finishing {
 impl Finisher {
     /// Whether the render must keep the first-surface guides.
     pub fn needs_guides(&self) -> bool {
+        self.aovs.iter().any(|a| a.is_guide()) || self.denoiser.is_some()
+    }
+
+    /// Whether the render must keep the radiance's components.
+    pub fn needs_components(&self) -> bool {
+        self.aovs.iter().any(|a| !a.is_guide())
+    }
+
+    /// Whether anything but the raw image is written.
+    pub fn finishes(&self) -> bool {
         !self.aovs.is_empty() || self.denoiser.is_some()
     }
 
@@ -80,9 +93,10 @@ impl Finisher {
     ) -> Result<()> {
         let image = accumulation.resolve();
         let guides = accumulation.resolve_guides();
+        let components = accumulation.resolve_components();
         let needed = |what: &str| -> Result<&Guides> {
             guides.as_ref().with_context(|| {
-                format!("{what} needs the first-surface guides, which these sums do not hold (render the parts with --aov)")
+                format!("{what} needs the first-surface guides, which these sums do not hold")
             })
         };
         let image = match &self.denoiser {
@@ -98,13 +112,16 @@ impl Finisher {
             }
             None => image,
         };
-        let layers: Vec<AovLayer> = match self.aovs.is_empty() {
-            true => Vec::new(),
-            false => {
-                let g = needed("--aov")?;
-                self.aovs.iter().map(|&a| AovLayer::guide(a, g)).collect()
-            }
-        };
+        let mut layers: Vec<AovLayer> = Vec::with_capacity(self.aovs.len());
+        for &aov in &self.aovs {
+            let image = match aov {
+                Aov::Component(c) => components.as_ref().map(|k| k.get(c)).with_context(|| {
+                    format!("--aov {}: these sums do not hold the radiance's components (parts of renders with light paths do not)", aov.name())
+                })?,
+                guide => needed("--aov")?.get(guide).expect("a guide"),
+            };
+            layers.push(AovLayer::new(aov, image));
+        }
         output
             .finish_with_aovs(&image, &layers, exposure)
             .context("the image was not written")

@@ -398,10 +398,19 @@ fn render(args: RenderArgs) -> Result<()> {
         .map_err(|e| anyhow::anyhow!("--{}: {e}", e.setting.replace('_', "-")))?;
     // Parts and checkpoints always keep the guides, so that any part can
     // be merged and denoised, and a checkpoint resumed with any flags.
-    desc.settings.guides = finisher.needs_guides() || is_part || args.checkpoint.is_some();
+    let keeps_all = is_part || args.checkpoint.is_some();
+    desc.settings.guides = finisher.needs_guides() || keeps_all;
     let (settings, loader_warnings) = (desc.settings, std::mem::take(&mut desc.warnings));
     // The description moves into the scene: its grids are not held twice.
     let scene = Scene::from_desc(desc).map_err(SceneError::from)?;
+    // Renders with light paths cannot split their components: asking for
+    // them is an error (from the render), keeping them for a part is not
+    // attempted.
+    let settings = tyndall::RenderSettings {
+        components: finisher.needs_components()
+            || (keeps_all && !tyndall::render::traces_light_paths(&scene, &settings)),
+        ..settings
+    };
     settings.validate(&scene)?;
     let rect = match args.tile {
         Some((i, n)) => PixelRect::tile(i, n, settings.width, settings.height)?,
@@ -568,7 +577,7 @@ fn merge(paths: &[PathBuf], output: &Path, finishing: &finish::Finishing) -> Res
     }
     let merged = parts::merge(read)?;
     match format {
-        ImageFormat::Exr if !finisher.needs_guides() => {
+        ImageFormat::Exr if !finisher.finishes() => {
             write_part(output, &merged, PartCompression::Rle)?;
         }
         _ => {

@@ -40,7 +40,13 @@ fn render(extra: &[&str], output: &Path) -> std::process::Output {
 fn aovs_are_exr_layers_beside_the_same_radiance() {
     let (plain, with) = (temp("plain.exr"), temp("aovs.exr"));
     assert!(render(&[], &plain).status.success());
-    let out = render(&["--aov", "albedo,normal,depth,position"], &with);
+    let out = render(
+        &[
+            "--aov",
+            "albedo,normal,depth,position,emission,direct,indirect,volume",
+        ],
+        &with,
+    );
     assert!(out.status.success(), "{}", stderr(&out));
     let plain = channels(&plain);
     let with = channels(&with);
@@ -65,6 +71,21 @@ fn aovs_are_exr_layers_beside_the_same_radiance() {
     for (name, values) in &plain {
         let same = with.iter().find(|(n, _)| n == name).expect("channel");
         assert_eq!(&same.1, values, "{name}: the radiance changed");
+    }
+    // The components sum to the radiance, to f32 rounding.
+    let channel = |name: &str| &with.iter().find(|(n, _)| n == name).expect(name).1;
+    for c in ["R", "G", "B"] {
+        let beauty = channel(c);
+        for (i, b) in beauty.iter().enumerate() {
+            let sum: f32 = ["emission", "direct", "indirect", "volume"]
+                .iter()
+                .map(|k| channel(&format!("{k}.{c}"))[i])
+                .sum();
+            assert!(
+                (sum - b).abs() <= 64.0 * f32::EPSILON * b.abs() + 1e-12,
+                "{c} {i}: {sum} vs {b}"
+            );
+        }
     }
     // The floor is grey 0.5 and diffuse: wherever a pixel sees only it,
     // the albedo is 0.5; the normal is a unit vector or (at edges) shorter.
@@ -118,6 +139,27 @@ fn bad_requests_fail_before_rendering_and_write_nothing() {
         assert!(stderr(&out).contains(says), "{flags:?}: {}", stderr(&out));
         assert!(!output.exists(), "{flags:?} wrote {}", output.display());
     }
+    // Components of a render with light paths (caustics): refused.
+    let output = temp("caustic.exr");
+    let scene = repo().join("scenes/glass-sphere-focus.toml");
+    let out = tyndall(&[
+        "render",
+        scene.to_str().expect("path"),
+        "-q",
+        "--aov",
+        "volume",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--spp",
+        "1",
+        "-o",
+        output.to_str().expect("path"),
+    ]);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("light paths"), "{}", stderr(&out));
+    assert!(!output.exists());
     // An OIDN that cannot be loaded: named, and no image.
     for library in ["/nonexistent/libOpenImageDenoise.so.2", "/dev/null"] {
         let output = temp("denoised.png");

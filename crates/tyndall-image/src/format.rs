@@ -9,8 +9,8 @@ use std::io::{Seek, Write};
 use std::path::{Path, PathBuf};
 use tyndall::Image;
 use tyndall::Rgb;
+use tyndall::aov::Aov;
 use tyndall::color::linear_to_srgb;
-use tyndall::guides::{Aov, Guides};
 
 /// How every OpenEXR file is laid out: run-length-encoded scan lines
 /// stored in increasing order. The order matters: `exr` compresses blocks
@@ -86,18 +86,19 @@ pub struct AovLayer<'a> {
 }
 
 impl<'a> AovLayer<'a> {
-    /// The layer of a first-surface guide: `albedo.{R,G,B}`,
-    /// `normal.{X,Y,Z}`, `depth.Z` and `position.{X,Y,Z}`.
-    pub fn guide(aov: Aov, guides: &'a Guides) -> Self {
+    /// The layer of `aov`, whose image is `image`: `albedo.{R,G,B}`,
+    /// `normal.{X,Y,Z}`, `depth.Z`, `position.{X,Y,Z}` and, for a
+    /// radiance component, `{name}.{R,G,B}` (`direct.R`, ...).
+    pub fn new(aov: Aov, image: &'a Image) -> Self {
         let channels: &[&str] = match aov {
-            Aov::Albedo => &["R", "G", "B"],
+            Aov::Albedo | Aov::Component(_) => &["R", "G", "B"],
             Aov::Normal | Aov::Position => &["X", "Y", "Z"],
             Aov::Depth => &["Z"],
         };
         AovLayer {
             name: aov.name(),
             channels,
-            image: guides.get(aov),
+            image,
         }
     }
 }

@@ -13,7 +13,9 @@
 //!   A part that keeps the first-surface guides ([`GuideSum`]) also has,
 //!   stored the same way, `sum.guide.{albedo,normal,position}.{X,Y,Z}`
 //!   and `sum.guide.depth` (each `.hi`/`.lo`), and `sum.guide.hits`
-//!   (u32), and its header says `guides 1`.
+//!   (u32), and its header says `guides 1`. One that keeps the radiance's
+//!   components has `sum.{emission,direct,indirect,volume}.{R,G,B}`
+//!   (`.hi`/`.lo`) and says `components 1`.
 //!   Its text attribute `tyndall` records what the part holds, one
 //!   `key value` per line: `tyndall-part 1` (the format), `scene-hash`
 //!   (see [`tyndall::parts::scene_hash`]), `image W H`, `rect x0 y0 x1 y1`
@@ -38,6 +40,7 @@ use crate::format::EXR_ENCODING;
 use glam::DVec3;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use tyndall::aov::{Component, ComponentSum};
 use tyndall::exact_sum::ExactRgb;
 use tyndall::guides::GuideSum;
 use tyndall::parts::{Fnv1a, Part, PartIdentity};
@@ -115,6 +118,17 @@ pub fn write_part(
             "sum.guide.hits",
             FlatSamples::U32(guides.iter().map(|g| g.hits).collect()),
         ));
+    }
+    if let Some(components) = &a.components {
+        for component in Component::ALL {
+            for (c, name) in ["R", "G", "B"].iter().enumerate() {
+                push_f64(
+                    &mut channels,
+                    &format!("sum.{}.{name}", component.name()),
+                    components.iter().map(|s| s[component.index()][c]),
+                );
+            }
+        }
     }
     let encoding = match compression {
         PartCompression::Rle => EXR_ENCODING,
@@ -223,6 +237,9 @@ fn describe(part: &Part) -> String {
     if a.guides.is_some() {
         text.push_str("guides 1\n");
     }
+    if a.components.is_some() {
+        text.push_str("components 1\n");
+    }
     text
 }
 
@@ -251,6 +268,13 @@ fn checksum(description: &str, a: &Accumulation) -> u64 {
         }
         h.update(&g.depth.to_bits().to_le_bytes());
         h.update(&g.hits.to_le_bytes());
+    }
+    for s in a.components.iter().flatten() {
+        for v in s {
+            for c in 0..3 {
+                h.update(&v[c].to_bits().to_le_bytes());
+            }
+        }
     }
     h.finish()
 }
@@ -353,6 +377,20 @@ pub fn read_part(path: &Path) -> std::result::Result<Part, PartFileError> {
     } else {
         None
     };
+    let components = if header.components {
+        let mut components = vec![ComponentSum::default(); rect.area()];
+        for component in Component::ALL {
+            for (c, name) in ["R", "G", "B"].iter().enumerate() {
+                let values = f64_channel(&format!("sum.{}.{name}", component.name()))?;
+                for (s, v) in components.iter_mut().zip(values) {
+                    s[component.index()][c] = v;
+                }
+            }
+        }
+        Some(components)
+    } else {
+        None
+    };
     let light = if header.light {
         let full = header.width as usize * header.height as usize;
         let layer = layer_named(LIGHT_LAYER)
@@ -381,6 +419,7 @@ pub fn read_part(path: &Path) -> std::result::Result<Part, PartFileError> {
         camera,
         light,
         guides,
+        components,
     };
     // The checksum covers the header as stored, up to its own line.
     let described = text
@@ -413,6 +452,8 @@ struct Description {
     light: bool,
     /// Whether the part holds the guides' sums (absent: it does not).
     guides: bool,
+    /// Whether the part holds the components' sums (absent: it does not).
+    components: bool,
     checksum: u64,
 }
 
@@ -464,10 +505,13 @@ fn parse_description(text: &str) -> Result<Description, String> {
     let seed: Vec<u64> = numbers(&fields, "seed", 1, false)?;
     let light: Vec<u8> = numbers(&fields, "light-paths", 1, false)?;
     let checksum: Vec<u64> = numbers(&fields, CHECKSUM, 1, true)?;
-    let guides: Vec<u8> = match fields.contains_key("guides") {
-        true => numbers(&fields, "guides", 1, false)?,
-        false => vec![0],
+    let flag = |key: &str| -> Result<bool, String> {
+        match fields.contains_key(key) {
+            true => Ok(numbers::<u8>(&fields, key, 1, false)?[0] != 0),
+            false => Ok(false),
+        }
     };
+    let (guides, components) = (flag("guides")?, flag("components")?);
     Ok(Description {
         scene_hash: hash[0],
         width: image[0],
@@ -481,7 +525,8 @@ fn parse_description(text: &str) -> Result<Description, String> {
         samples: samples[0]..samples[1],
         seed: seed[0],
         light: light[0] != 0,
-        guides: guides[0] != 0,
+        guides,
+        components,
         checksum: checksum[0],
     })
 }

@@ -8,7 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use std::ops::ControlFlow;
 use std::path::PathBuf;
-use tyndall::guides::Aov;
+use tyndall::aov::Aov;
 use tyndall::parts::{Part, PartIdentity};
 use tyndall::region::{PixelRect, RenderRegion};
 use tyndall::render::Accumulation;
@@ -209,10 +209,12 @@ impl NativeScene {
             }
             (true, None) => Some(Denoiser::find().map_err(os_error)?),
         };
-        settings.guides = denoiser.is_some() || !aovs.is_empty();
+        settings.guides = denoiser.is_some() || aovs.iter().any(|a| a.is_guide());
+        settings.components = aovs.iter().any(|a| !a.is_guide());
         let accumulation = self.accumulate(py, &settings, &region, progress)?;
         let mut image = accumulation.resolve();
         let guides = accumulation.resolve_guides();
+        let components = accumulation.resolve_components();
         if let (Some(denoiser), Some(g)) = (&denoiser, &guides) {
             let guides = DenoiseGuides {
                 albedo: &g.albedo,
@@ -222,17 +224,18 @@ impl NativeScene {
                 .detach(|| denoiser.denoise(&image, Some(guides)))
                 .map_err(os_error)?;
         }
-        let layers = match &guides {
-            Some(g) => aovs
-                .iter()
-                .map(|&aov| {
-                    let channels = if aov == Aov::Depth { 1 } else { 3 };
-                    let bytes = crate::image_bytes(g.get(aov));
-                    (aov.name().to_owned(), PyBytes::new(py, &bytes), channels)
-                })
-                .collect(),
-            None => Vec::new(),
-        };
+        let mut layers = Vec::with_capacity(aovs.len());
+        for aov in aovs {
+            let image = match aov {
+                Aov::Component(c) => components.as_ref().map(|k| k.get(c)),
+                guide => guides.as_ref().and_then(|g| g.get(guide)),
+            };
+            // Kept by the settings above whenever asked for.
+            let image = image.expect("the render kept what was asked for");
+            let channels = if aov == Aov::Depth { 1 } else { 3 };
+            let bytes = crate::image_bytes(image);
+            layers.push((aov.name().to_owned(), PyBytes::new(py, &bytes), channels));
+        }
         let bytes = crate::image_bytes(&image);
         Ok((
             PyBytes::new(py, &bytes),
@@ -263,9 +266,11 @@ impl NativeScene {
     ) -> PyResult<Bound<'py, PyBytes>> {
         let (mut settings, region) =
             self.settings_and_region(spp, integrator, width, height, seed, threads, tile, samples)?;
-        // As `tyndall render --tile` does: a part keeps the guides, so
-        // that it can be merged with any other and denoised.
+        // As `tyndall render --tile` does: a part keeps the guides and
+        // (without light paths) the components, so that it can be merged
+        // with any other and denoised.
         settings.guides = true;
+        settings.components = !tyndall::render::traces_light_paths(&self.scene, &settings);
         let accumulation = self.accumulate(py, &settings, &region, progress)?;
         let part = Part {
             identity: PartIdentity::new(&self.scene, &settings),

@@ -281,3 +281,14 @@ def test_denoising_brings_a_noisy_render_closer_to_a_clean_one():
         return float(np.mean((a - clean) ** 2 / (clean**2 + 1e-2)))
 
     assert rel_mse(denoised) < rel_mse(noisy)
+
+
+def test_the_components_sum_to_the_beauty():
+    scene = tyndall.load(REPO / "scenes" / "reference" / "fog-room-multi.toml")
+    out = scene.render(width=32, height=24, spp=2, aovs=["emission", "direct", "indirect", "volume"])
+    total = out["emission"] + out["direct"] + out["indirect"] + out["volume"]
+    assert np.allclose(total, out["beauty"], rtol=1e-5, atol=1e-7)
+    for name in ("direct", "indirect", "volume"):
+        assert out[name].max() > 0.0, name
+    with pytest.raises(ValueError, match="light paths"):
+        tyndall.load(FOCUS).render(width=8, height=8, spp=1, aovs=["volume"])

@@ -8,7 +8,8 @@ mod common;
 use common::{Loaded, scene};
 use glam::Vec3;
 use std::ops::ControlFlow;
-use tyndall::guides::{Aov, Guides};
+use tyndall::aov::Aov;
+use tyndall::guides::Guides;
 use tyndall::region::RenderRegion;
 use tyndall::render::render_region;
 use tyndall::{IntegratorKind, Rgb};
@@ -228,20 +229,21 @@ fn the_sky() {
     }
 }
 
-/// Keeping the guides changes no sample of the radiance (bit for bit),
-/// for every integrator on the demo.
+/// Keeping the guides and the components changes no sample of the
+/// radiance (bit for bit), for every integrator on the demo.
 #[test]
-fn guides_change_no_sample() {
+fn aovs_change_no_sample() {
     let desc = common::demo().expect("demo");
     for kind in IntegratorKind::ALL {
-        let settings = |guides| tyndall::RenderSettings {
+        let settings = |kept| tyndall::RenderSettings {
             width: 32,
             height: 18,
             spp: 2,
             integrator: kind,
             step: 0.25,
             threads: Some(2),
-            guides,
+            guides: kept,
+            components: kept,
             ..desc.settings
         };
         let without = tyndall::render(&desc.scene, &settings(false), &|_| {}).expect("render");
@@ -258,8 +260,12 @@ fn aov_names() {
         assert_eq!(Aov::from_name(aov.name()), Some(aov));
     }
     assert_eq!(
-        Aov::parse_list("albedo, depth").expect("parses"),
-        vec![Aov::Albedo, Aov::Depth]
+        Aov::parse_list("albedo, depth,volume").expect("parses"),
+        vec![
+            Aov::Albedo,
+            Aov::Depth,
+            Aov::Component(tyndall::aov::Component::Volume)
+        ]
     );
     let e = Aov::parse_list("albedo,shadow").expect_err("unknown");
     assert!(e.contains("`shadow`") && e.contains("position"), "{e}");

@@ -397,15 +397,17 @@ fn damaged_parts_are_refused_never_read_as_other_sums() {
     );
 }
 
-/// The first-surface guides (AOVs) split and merge as the radiance does:
-/// merged tiles and a resumed render hold the single render's guide sums
-/// bit for bit, merged sample ranges to f64 rounding, and a part without
-/// guides does not merge with parts that have them.
+/// The AOVs (first-surface guides and radiance components) split and
+/// merge as the radiance does: merged tiles and a resumed render hold the
+/// single render's sums bit for bit, merged sample ranges to f64
+/// rounding, and a part without them does not merge with parts that have
+/// them.
 #[test]
-fn parts_carry_the_guides() {
+fn parts_carry_the_aovs() {
     let (desc, plain) = demo_march();
     let settings = RenderSettings {
         guides: true,
+        components: true,
         ..plain
     };
     let full = PixelRect::full(settings.width, settings.height);
@@ -446,13 +448,24 @@ fn parts_carry_the_guides() {
         Some(&single_guides),
         "tiles"
     );
+    assert_eq!(merged.accumulation.components, single.components, "tiles");
+    assert!(
+        single
+            .components
+            .iter()
+            .flatten()
+            .any(|c| c[1] != glam::DVec3::ZERO)
+    );
 
     let ranges = vec![whole(0..1), whole(1..settings.spp)];
     let merged = parts::merge(through_files(ranges, "guides-s")).expect("merge");
     let resolved = merged.accumulation.resolve_guides().expect("guides");
     let expected = single.resolve_guides().expect("guides");
-    for aov in tyndall::guides::Aov::ALL {
-        let (a, b) = (resolved.get(aov), expected.get(aov));
+    for aov in tyndall::aov::Aov::ALL.into_iter().filter(|a| a.is_guide()) {
+        let (a, b) = (
+            resolved.get(aov).expect("a guide"),
+            expected.get(aov).expect("a guide"),
+        );
         for (p, q) in a.pixels().iter().zip(b.pixels()) {
             let close = |u: f32, v: f32| u == v || (u - v).abs() <= 1e-6 * v.abs().max(1.0);
             assert!((0..3).all(|c| close(p[c], q[c])), "{aov:?}: {p} vs {q}");
@@ -506,6 +519,7 @@ fn parts_carry_the_guides() {
     )
     .expect("resume");
     assert_eq!(resumed.guides.as_ref(), Some(&single_guides), "resumed");
+    assert_eq!(resumed.components, single.components, "resumed");
 
     let without = part(
         &desc,

@@ -29,6 +29,7 @@
 //! and normal over every sample, depth and position over the samples that
 //! met a surface.
 
+use crate::aov::Aov;
 use crate::color::Rgb;
 use crate::film::Image;
 use crate::integrators::{MAX_GLASS_CROSSINGS, SurfaceHit};
@@ -40,53 +41,6 @@ use glam::{DVec3, Vec3};
 /// Most mirror reflections and dielectric interfaces a guide ray follows
 /// before it takes the surface it is on.
 pub const MAX_GUIDE_BOUNCES: u32 = 8;
-
-/// One of the outputs a render can write beside the radiance.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Aov {
-    /// Reflectance of the first non-specular surface (RGB, 0–1).
-    Albedo,
-    /// Its world-space shading normal (XYZ, −1–1).
-    Normal,
-    /// Distance along the camera ray to the first surface (scene units).
-    Depth,
-    /// World-space point of the first surface (XYZ, scene units).
-    Position,
-}
-
-impl Aov {
-    pub const ALL: [Aov; 4] = [Aov::Albedo, Aov::Normal, Aov::Depth, Aov::Position];
-
-    /// Its name in flags, files and the Python API.
-    pub fn name(self) -> &'static str {
-        match self {
-            Aov::Albedo => "albedo",
-            Aov::Normal => "normal",
-            Aov::Depth => "depth",
-            Aov::Position => "position",
-        }
-    }
-
-    pub fn from_name(name: &str) -> Option<Aov> {
-        Aov::ALL.into_iter().find(|a| a.name() == name)
-    }
-
-    /// Parses a comma-separated list of names (`albedo,normal`), each once.
-    pub fn parse_list(list: &str) -> Result<Vec<Aov>, String> {
-        let mut aovs = Vec::new();
-        for name in list.split(',').map(str::trim) {
-            let aov = Aov::from_name(name).ok_or_else(|| {
-                let known: Vec<_> = Aov::ALL.iter().map(|a| a.name()).collect();
-                format!("unknown AOV `{name}` (known: {})", known.join(", "))
-            })?;
-            if aovs.contains(&aov) {
-                return Err(format!("AOV `{name}` is named twice"));
-            }
-            aovs.push(aov);
-        }
-        Ok(aovs)
-    }
-}
 
 /// What one camera sample's ray sees first (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -254,13 +208,14 @@ impl Guides {
         }
     }
 
-    /// The image of `aov`.
-    pub fn get(&self, aov: Aov) -> &Image {
+    /// The image of `aov`, if it is a guide.
+    pub fn get(&self, aov: Aov) -> Option<&Image> {
         match aov {
-            Aov::Albedo => &self.albedo,
-            Aov::Normal => &self.normal,
-            Aov::Depth => &self.depth,
-            Aov::Position => &self.position,
+            Aov::Albedo => Some(&self.albedo),
+            Aov::Normal => Some(&self.normal),
+            Aov::Depth => Some(&self.depth),
+            Aov::Position => Some(&self.position),
+            Aov::Component(_) => None,
         }
     }
 }

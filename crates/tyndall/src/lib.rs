@@ -11,7 +11,7 @@
 //!
 //! Modules follow pbrt's decomposition: [`camera`], [`shapes`], [`accel`],
 //! [`lights`], [`materials`], [`glass`], [`media`], [`phase`], [`film`]
-//! and its first-surface [`guides`],
+//! with its [`aov`]s and first-surface [`guides`],
 //! the [`description`] of a scene that loaders produce, the runtime
 //! [`scene`] built from it, the render [`settings`], the [`render()`] loop
 //! and render [`parts`]. The integrators, samplers and visibility are the
@@ -21,6 +21,7 @@
 //! `tyndall-image` crate's.
 
 pub mod accel;
+pub mod aov;
 pub mod camera;
 pub mod color;
 pub mod description;

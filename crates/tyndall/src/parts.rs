@@ -138,12 +138,12 @@ pub fn merge(parts: Vec<(PathBuf, Part)>) -> Result<Part, MergeError> {
     let Some((first_path, first)) = parts.first() else {
         return Err(mismatch("no parts given".into()));
     };
-    let (identity, width, height, light, guides) = (
+    let (identity, width, height, light, kept) = (
         first.identity,
         first.accumulation.width,
         first.accumulation.height,
         first.accumulation.light.is_some(),
-        first.accumulation.guides.is_some(),
+        first.accumulation.kept(),
     );
     for (path, part) in &parts[1..] {
         let a = &part.accumulation;
@@ -159,10 +159,10 @@ pub fn merge(parts: Vec<(PathBuf, Part)>) -> Result<Part, MergeError> {
         if part.identity.seed != identity.seed
             || (a.width, a.height) != (width, height)
             || a.light.is_some() != light
-            || a.guides.is_some() != guides
+            || a.kept() != kept
         {
             return Err(mismatch(format!(
-                "{} and {} differ in seed, image size, light paths or guides (AOVs)",
+                "{} and {} differ in seed, image size, light paths, guides or radiance components (AOVs)",
                 first_path.display(),
                 path.display()
             )));
@@ -264,7 +264,7 @@ pub fn merge(parts: Vec<(PathBuf, Part)>) -> Result<Part, MergeError> {
         )));
     }
     let samples = pieces[0].1.region.samples.clone();
-    let mut whole = Accumulation::new((width, height), full, samples.start, light, guides);
+    let mut whole = Accumulation::new((width, height), full, samples.start, light, kept);
     whole.region.samples = samples;
     for (_, piece) in &pieces {
         let r = piece.region.rect;
@@ -274,6 +274,9 @@ pub fn merge(parts: Vec<(PathBuf, Part)>) -> Result<Part, MergeError> {
             let n = r.width() as usize;
             whole.camera[to..to + n].copy_from_slice(&piece.camera[from..from + n]);
             if let (Some(w), Some(p)) = (&mut whole.guides, &piece.guides) {
+                w[to..to + n].copy_from_slice(&p[from..from + n]);
+            }
+            if let (Some(w), Some(p)) = (&mut whole.components, &piece.components) {
                 w[to..to + n].copy_from_slice(&p[from..from + n]);
             }
         }

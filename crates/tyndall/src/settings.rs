@@ -56,6 +56,10 @@ pub struct RenderSettings {
     /// position: the AOVs and the denoiser's guides, module
     /// `crate::guides`) beside the radiance. They change no sample.
     pub guides: bool,
+    /// Also sum the radiance's components (emission, direct, indirect,
+    /// volume: `crate::aov::Component`) beside it. They change no sample.
+    /// Not for renders that trace light paths (caustics).
+    pub components: bool,
 }
 
 impl Default for RenderSettings {
@@ -76,6 +80,7 @@ impl Default for RenderSettings {
             exposure: 0.0,
             strategies: Strategies::ALL,
             guides: false,
+            components: false,
         }
     }
 }

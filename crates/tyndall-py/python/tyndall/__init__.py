@@ -141,11 +141,15 @@ class Scene:
     ) -> Union[np.ndarray, Dict[str, np.ndarray]]:
         """Render the scene; returns linear radiance, ``float32``, shape H×W×3.
 
-        ``aovs`` (names from ``AOVS``: ``albedo``, ``normal``, ``depth``,
-        ``position``) asks for the first-surface outputs too: the result is
-        then a dict of arrays, ``"beauty"`` the radiance and one entry per
-        AOV (H×W×3; ``depth`` H×W, ``inf`` where the ray meets nothing; see
-        docs/scene-format.md, "AOVs"). ``denoise=True`` denoises the radiance
+        ``aovs`` (names from ``AOVS``: the first-surface ``albedo``,
+        ``normal``, ``depth``, ``position``, and the radiance's components
+        ``emission``, ``direct``, ``indirect``, ``volume``, which sum to it)
+        asks for these outputs too: the result is then a dict of arrays,
+        ``"beauty"`` the radiance and one entry per AOV (H×W×3; ``depth``
+        H×W, ``inf`` where the ray meets nothing; see docs/scene-format.md,
+        "AOVs and denoising"). The AOVs are never denoised; the components
+        cannot be split for renders that trace light paths (caustics:
+        ``ValueError``). ``denoise=True`` denoises the radiance
         with Intel Open Image Denoise guided by the albedo and normal; the
         library is the one ``TYNDALL_OIDN`` names, else the ``pyoidn``
         package's (``pip install pyoidn``), else a system install, and
@@ -223,7 +227,7 @@ class Scene:
 
 
 #: The AOVs ``Scene.render(aovs=...)`` can return.
-AOVS = ("albedo", "normal", "depth", "position")
+AOVS = ("albedo", "normal", "depth", "position", "emission", "direct", "indirect", "volume")
 
 
 def _aov_names(aovs: Optional[Sequence[str]]) -> List[str]:

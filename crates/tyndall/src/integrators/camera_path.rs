@@ -5,10 +5,12 @@
 
 use super::lighting::{MediumQuery, TRACKING_STREAM, lambert_direct_lighting};
 use super::march;
+use super::path_radiance::{PathRadiance, ScatteringHistory};
 use super::single;
 use super::surfaces::{
     MAX_GLASS_CROSSINGS, SolidDepth, SurfaceHit, SurfaceNormals, refract_or_reflect,
 };
+use crate::aov::Scattering;
 use crate::color::Rgb;
 use crate::materials::{Surface, SurfaceEvent};
 use crate::media::tracking::VolumeTracker;
@@ -63,15 +65,19 @@ impl InScattering {
 }
 
 impl CameraPath<'_> {
-    /// Radiance arriving along `ray`.
+    /// Radiance arriving along `ray`, split into its components if
+    /// `split`.
     pub fn radiance(
         &self,
         scene: &Scene,
         mut ray: Ray,
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
-    ) -> Rgb {
-        let mut radiance = Rgb::ZERO;
+        split: bool,
+    ) -> PathRadiance {
+        let mut radiance = PathRadiance::new(split);
+        // Glossy reflections scatter; mirrors and glass do not.
+        let mut history = ScatteringHistory::default();
         let mut throughput = Rgb::ONE;
         let (mut bounces, mut crossings) = (0u32, 0u32);
         let mut solids = SolidDepth::default();
@@ -90,14 +96,18 @@ impl CameraPath<'_> {
                     ray,
                     t_hit,
                 };
-                radiance += throughput
-                    * self
-                        .in_scattering
-                        .estimate(&medium, sampler, counts, &mut tracker);
+                radiance.add(
+                    history.then(Scattering::Medium).component(),
+                    throughput
+                        * self
+                            .in_scattering
+                            .estimate(&medium, sampler, counts, &mut tracker),
+                );
                 throughput *= fog.transmittance(&ray, 0.0, t_hit);
             }
             let Some(hit) = hit else {
-                return radiance + throughput * scene.background;
+                radiance.add(history.component(), throughput * scene.background);
+                return radiance;
             };
             if throughput == Rgb::ZERO {
                 return radiance;
@@ -116,7 +126,7 @@ impl CameraPath<'_> {
                 // lamps too.
                 SurfaceEvent::Emitter { emitted, .. } => {
                     if let Some(le) = emitted {
-                        radiance += throughput * le;
+                        radiance.add(history.component(), throughput * le);
                     }
                     return radiance;
                 }
@@ -144,8 +154,19 @@ impl CameraPath<'_> {
                 // Glass drawn opaque is a diffuse surface of its colour.
                 SurfaceEvent::Reflector(surface) => scene.surface_at(surface, hit.primitive, p),
             };
-            radiance += throughput
-                * self.direct_lighting(scene, &surface, p, normals, sampler, counts, &mut tracker);
+            radiance.add(
+                history.then(Scattering::Surface).component(),
+                throughput
+                    * self.direct_lighting(
+                        scene,
+                        &surface,
+                        p,
+                        normals,
+                        sampler,
+                        counts,
+                        &mut tracker,
+                    ),
+            );
             if !surface.has_specular() || bounces >= self.max_bounces {
                 return radiance;
             }
@@ -158,6 +179,9 @@ impl CameraPath<'_> {
                 return radiance;
             }
             bounces += 1;
+            if surface.roughness > 0.0 {
+                history = history.then(Scattering::Surface);
+            }
             throughput *= surface.specular;
             ray = Ray {
                 origin: offset_origin(p, geometric_normal, direction),

@@ -4,6 +4,7 @@
 use super::PixelPosition;
 use super::camera_path::{CameraPath, InScattering};
 use super::march::{self, March};
+use super::path_radiance::PathRadiance;
 use super::single::Single;
 use super::volpath::{self, LightSubpaths, Volpath};
 use crate::color::Rgb;
@@ -75,6 +76,21 @@ impl<'a> Integrator<'a> {
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
     ) -> Rgb {
+        self.sample(scene, ray, pixel, sampler, counts, false)
+            .total()
+    }
+
+    /// As [`Integrator::radiance`], split into its components
+    /// ([`crate::aov::Component`]) if `split`; the total is the same.
+    pub(crate) fn sample(
+        &self,
+        scene: &Scene,
+        ray: Ray,
+        pixel: PixelPosition,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+        split: bool,
+    ) -> PathRadiance {
         let path = match self {
             Integrator::March(march) => CameraPath {
                 visibility: march.visibility,
@@ -92,10 +108,10 @@ impl<'a> Integrator<'a> {
                 },
             },
             Integrator::Volpath(volpath) => {
-                return volpath::radiance(volpath, scene, ray, sampler, counts);
+                return volpath::radiance(volpath, scene, ray, sampler, counts, split);
             }
         };
-        path.radiance(scene, ray, sampler, counts)
+        path.radiance(scene, ray, sampler, counts, split)
     }
 }
 

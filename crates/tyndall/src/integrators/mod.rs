@@ -19,14 +19,16 @@
 //! The modules: [`integrator`] (the dispatch), `camera_path` (the
 //! single-scattering integrators' shared path), and what every integrator
 //! shares, `lighting` (light sampling, eq. 1, connections, direct
-//! lighting), `surfaces` (surface hits, solid dielectrics) and
-//! `scatterer` (a connection's vertex).
+//! lighting), `surfaces` (surface hits, solid dielectrics), `scatterer`
+//! (a connection's vertex) and `path_radiance` (a sample's radiance and
+//! its components).
 
 mod camera_path;
 pub mod integrator;
 pub mod light_tracer;
 pub(crate) mod lighting;
 pub mod march;
+pub(crate) mod path_radiance;
 mod scatterer;
 pub mod single;
 mod surfaces;

@@ -2,6 +2,7 @@
 //! checkpoint — and the share of each pass's light paths a band of rows
 //! traces.
 
+use crate::aov::{ComponentSum, Components};
 use crate::color::Rgb;
 use crate::exact_sum::ExactRgb;
 use crate::film::Image;
@@ -35,17 +36,24 @@ pub struct Accumulation {
     ///
     /// [`RenderSettings::guides`]: crate::settings::RenderSettings::guides
     pub guides: Option<Vec<GuideSum>>,
+    /// Per pixel of `region.rect` (row-major), the sums of the radiance's
+    /// components of samples `region.samples`, for renders that keep them
+    /// ([`RenderSettings::components`]); `None` otherwise. They add up to
+    /// `camera` to rounding.
+    ///
+    /// [`RenderSettings::components`]: crate::settings::RenderSettings::components
+    pub components: Option<Vec<ComponentSum>>,
 }
 
 impl Accumulation {
     /// No samples yet of `rect`, starting at sample index `first_sample`.
-    /// With `guides`, the guides' sums are kept too.
+    /// With `kept.guides` and `kept.components`, their sums are kept too.
     pub fn new(
         (width, height): (u32, u32),
         rect: PixelRect,
         first_sample: u32,
         light: bool,
-        guides: bool,
+        kept: Kept,
     ) -> Self {
         Self {
             width,
@@ -56,7 +64,10 @@ impl Accumulation {
             },
             camera: vec![DVec3::ZERO; rect.area()],
             light: light.then(|| vec![ExactRgb::ZERO; width as usize * height as usize]),
-            guides: guides.then(|| vec![GuideSum::default(); rect.area()]),
+            guides: kept.guides.then(|| vec![GuideSum::default(); rect.area()]),
+            components: kept
+                .components
+                .then(|| vec![ComponentSum::default(); rect.area()]),
         }
     }
 
@@ -113,13 +124,34 @@ impl Accumulation {
         ))
     }
 
+    /// The component images of the rectangle (the means of its samples),
+    /// if this part holds their sums.
+    pub fn resolve_components(&self) -> Option<Components> {
+        let rect = self.region.rect;
+        let sums = self.components.as_ref()?;
+        Some(Components::resolve(
+            rect.width(),
+            rect.height(),
+            sums,
+            self.passes(),
+        ))
+    }
+
+    /// What this part keeps beside the radiance.
+    pub fn kept(&self) -> Kept {
+        Kept {
+            guides: self.guides.is_some(),
+            components: self.components.is_some(),
+        }
+    }
+
     /// Adds the sums of `next`, the same pixels for the sample indices
     /// that follow this one's.
     pub fn append(&mut self, next: &Accumulation) -> Result<(), String> {
         if (self.width, self.height) != (next.width, next.height)
             || self.region.rect != next.region.rect
             || self.light.is_some() != next.light.is_some()
-            || self.guides.is_some() != next.guides.is_some()
+            || self.kept() != next.kept()
         {
             return Err("the parts hold different images or pixels".into());
         }
@@ -142,8 +174,33 @@ impl Accumulation {
                 a.append(b);
             }
         }
+        if let (Some(a), Some(b)) = (&mut self.components, &next.components) {
+            for (a, b) in a.iter_mut().zip(b) {
+                for (a, b) in a.iter_mut().zip(b) {
+                    *a += *b;
+                }
+            }
+        }
         self.region.samples.end = next.region.samples.end;
         Ok(())
+    }
+}
+
+/// What a part keeps beside the radiance: the first-surface guides and
+/// the radiance's components.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Kept {
+    pub guides: bool,
+    pub components: bool,
+}
+
+impl Kept {
+    /// What a render with `settings` keeps.
+    pub fn by(settings: &crate::settings::RenderSettings) -> Kept {
+        Kept {
+            guides: settings.guides,
+            components: settings.components,
+        }
     }
 }
 

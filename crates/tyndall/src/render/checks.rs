@@ -3,7 +3,7 @@
 //! endless lossless fog; the warnings of a render; and whether saved
 //! progress (a checkpoint) is a start of the render asked for.
 
-use super::accumulation::Accumulation;
+use super::accumulation::{Accumulation, Kept};
 use super::error::RenderError;
 use crate::color::Rgb;
 use crate::exact_sum::ExactRgb;
@@ -243,7 +243,7 @@ pub(super) fn check_resume(
     size: (u32, u32),
     region: &RenderRegion,
     light: bool,
-    guides: bool,
+    kept: Kept,
 ) -> Result<Accumulation, RenderError> {
     let a = saved;
     let fits = (a.width, a.height) == size
@@ -251,11 +251,14 @@ pub(super) fn check_resume(
         && a.region.samples.start == region.samples.start
         && a.region.samples.end <= region.samples.end
         && a.light.is_some() == light
-        && a.guides.is_some() == guides
+        && a.kept() == kept
         && a.camera.len() == region.rect.area()
         && a.guides
             .as_ref()
             .is_none_or(|g| g.len() == region.rect.area())
+        && a.components
+            .as_ref()
+            .is_none_or(|c| c.len() == region.rect.area())
         && a.light
             .as_ref()
             .is_none_or(|l| l.len() == size.0 as usize * size.1 as usize);
@@ -267,13 +270,13 @@ pub(super) fn check_resume(
             a.width,
             a.height,
             with_light_paths(a.light.is_some()),
-            with_guides(a.guides.is_some()),
+            with_kept(a.kept()),
             region.samples,
             region.rect,
             size.0,
             size.1,
             with_light_paths(light),
-            with_guides(guides),
+            with_kept(kept),
         )));
     }
     Ok(a)
@@ -283,6 +286,11 @@ fn with_light_paths(light: bool) -> &'static str {
     if light { " with light paths" } else { "" }
 }
 
-fn with_guides(guides: bool) -> &'static str {
-    if guides { " with guides (AOVs)" } else { "" }
+fn with_kept(kept: Kept) -> &'static str {
+    match (kept.guides, kept.components) {
+        (false, false) => "",
+        (true, false) => " with guides (AOVs)",
+        (false, true) => " with radiance components (AOVs)",
+        (true, true) => " with guides and radiance components (AOVs)",
+    }
 }

@@ -47,4 +47,8 @@ pub enum RenderError {
     Region(#[from] RegionError),
     #[error("cannot resume: {0}")]
     Resume(String),
+    #[error(
+        "the radiance's components (the emission, direct, indirect and volume AOVs) are not split for renders that trace light paths (`volpath` with a dielectric and a point or spot light: the caustics); the other AOVs are"
+    )]
+    ComponentsWithLightPaths,
 }

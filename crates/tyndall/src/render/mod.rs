@@ -27,10 +27,11 @@ mod accumulation;
 mod checks;
 mod error;
 
-pub use accumulation::{Accumulation, light_share};
+pub use accumulation::{Accumulation, Kept, light_share};
 pub use checks::{LOSSLESS_FOG_DEPTH, MAX_RENDER_BYTES, traces_light_paths};
 pub use error::RenderError;
 
+use crate::aov::ComponentSum;
 use crate::camera::Camera;
 use crate::exact_sum::ExactRgb;
 use crate::film::Image;
@@ -123,15 +124,13 @@ pub fn render_region(
     if light && (region.rect.x0, region.rect.x1) != (0, settings.width) {
         return Err(RenderError::Region(RegionError::NotBand(region.rect)));
     }
+    if light && settings.components {
+        return Err(RenderError::ComponentsWithLightPaths);
+    }
+    let kept = Kept::by(settings);
     let mut accumulation = match resume {
-        None => Accumulation::new(
-            size,
-            region.rect,
-            region.samples.start,
-            light,
-            settings.guides,
-        ),
-        Some(saved) => checks::check_resume(saved, size, region, light, settings.guides)?,
+        None => Accumulation::new(size, region.rect, region.samples.start, light, kept),
+        Some(saved) => checks::check_resume(saved, size, region, light, kept)?,
     };
     let pool = {
         let mut builder = rayon::ThreadPoolBuilder::new();
@@ -171,6 +170,7 @@ pub fn render_region(
                 PixelSums {
                     radiance: &mut accumulation.camera,
                     guides: accumulation.guides.as_deref_mut(),
+                    components: accumulation.components.as_deref_mut(),
                 },
                 &counters,
                 progress,
@@ -220,10 +220,20 @@ impl PassCounters {
 }
 
 /// The per-pixel sums a camera pass adds to (row-major over its
-/// rectangle): the radiance, and the guides if the render keeps them.
+/// rectangle): the radiance, and the guides and the components if the
+/// render keeps them.
 struct PixelSums<'a> {
     radiance: &'a mut [DVec3],
     guides: Option<&'a mut [GuideSum]>,
+    components: Option<&'a mut [ComponentSum]>,
+}
+
+/// `sums` (if kept) cut into rows of `width`, or a `None` per row.
+fn rows_of<T>(sums: Option<&mut [T]>, width: usize, rows: u32) -> Vec<Option<&mut [T]>> {
+    match sums {
+        Some(sums) => sums.chunks_mut(width).map(Some).collect(),
+        None => (0..rows).map(|_| None).collect(),
+    }
 }
 
 /// Pass `s` of the camera paths: sample `s` of every pixel of `rect`,
@@ -244,15 +254,15 @@ fn camera_pass(
 ) {
     let full_width = settings.width as u64;
     let width = rect.width() as usize;
-    let mut guide_rows: Vec<Option<&mut [GuideSum]>> = match sums.guides {
-        Some(guides) => guides.chunks_mut(width).map(Some).collect(),
-        None => (0..rect.height()).map(|_| None).collect(),
-    };
+    let mut guide_rows = rows_of(sums.guides, width, rect.height());
+    let mut component_rows = rows_of(sums.components, width, rect.height());
+    let split = component_rows.first().is_some_and(Option::is_some);
     sums.radiance
         .par_chunks_mut(width)
         .zip(guide_rows.par_iter_mut())
+        .zip(component_rows.par_iter_mut())
         .enumerate()
-        .for_each(|(row, (sums, guide_sums))| {
+        .for_each(|(row, ((sums, guide_sums), component_sums))| {
             let y = rect.y0 + row as u32;
             let mut counts = RayCounts::default();
             let mut bad = 0u64;
@@ -263,9 +273,16 @@ fn camera_pass(
                 let film = Vec2::new(x as f32, y as f32) + sampler.next_2d();
                 let ray = camera.ray(film);
                 let pixel = PixelPosition { x, y };
-                let l = integrator.radiance(scene, ray, pixel, &mut sampler, &mut counts);
-                if l.is_finite() {
-                    *sum += l.as_dvec3();
+                let l = integrator.sample(scene, ray, pixel, &mut sampler, &mut counts, split);
+                if l.total().is_finite() {
+                    *sum += l.total().as_dvec3();
+                    if let (Some(sums), Some(parts)) =
+                        (component_sums.as_deref_mut(), l.components())
+                    {
+                        for (s, c) in sums[i].iter_mut().zip(parts) {
+                            *s += c.as_dvec3();
+                        }
+                    }
                 } else {
                     bad += 1;
                 }

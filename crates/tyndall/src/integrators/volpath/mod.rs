@@ -78,10 +78,12 @@ mod segment_weights;
 pub use crate::settings::Strategies;
 pub use light_subpaths::LightSubpaths;
 
+use super::path_radiance::{PathRadiance, ScatteringHistory};
 use super::{
     MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, SurfaceHit, TRACKING_STREAM,
     lambert_direct_lighting, refract_or_reflect,
 };
+use crate::aov::Scattering;
 use crate::color::Rgb;
 use crate::materials::{Lobe, SurfaceEvent};
 use crate::media::emitters::HitWeighting;
@@ -155,8 +157,13 @@ pub(crate) fn radiance(
     mut ray: Ray,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
-) -> Rgb {
-    let mut radiance = Rgb::ZERO;
+    split: bool,
+) -> PathRadiance {
+    let mut radiance = PathRadiance::new(split);
+    // Where the path scattered, for the components: surfaces with a
+    // diffuse or glossy lobe and media scatter; interfaces and mirrors
+    // do not.
+    let mut history = ScatteringHistory::default();
     let mut throughput = Rgb::ONE;
     let mut depth = 0u32;
     let mut crossings = 0u32;
@@ -191,8 +198,10 @@ pub(crate) fn radiance(
             };
             equiangular.prepare(&segment, samples, sampler);
             if depth < max_events {
-                radiance +=
-                    throughput * equiangular.estimate(&segment, strategies, counts, &mut tracker);
+                radiance.add(
+                    history.then(Scattering::Medium).component(),
+                    throughput * equiangular.estimate(&segment, strategies, counts, &mut tracker),
+                );
             }
             fog_event = segment.free_flight(u_flight).map(|t| (segment, t, samples));
         }
@@ -223,7 +232,7 @@ pub(crate) fn radiance(
                 &mut throughput,
                 emissive.then_some((&mut emitted, weighting)),
             );
-            radiance += emitted;
+            radiance.add(history.component(), emitted);
             match collision {
                 Collision::Escaped => {}
                 Collision::Absorbed => return radiance,
@@ -232,6 +241,7 @@ pub(crate) fn radiance(
                         return radiance;
                     }
                     depth += 1;
+                    history = history.then(Scattering::Medium);
                     let x = ray.at(t);
                     let phase = &scene.volumes[volume].phase;
                     let medium = PathVertex {
@@ -241,22 +251,28 @@ pub(crate) fn radiance(
                         direction: ray.direction,
                         phase,
                     };
-                    radiance += throughput * medium.nee(strategies, sampler, counts, &mut tracker);
+                    radiance.add(
+                        history.component(),
+                        throughput * medium.nee(strategies, sampler, counts, &mut tracker),
+                    );
                     if emissive {
-                        radiance += throughput
-                            * media_emission_nee(
-                                scene,
-                                x,
-                                None,
-                                strategies,
-                                sampler,
-                                counts,
-                                &mut tracker,
-                                |omega| {
-                                    let p = phase.eval(omega.dot(ray.direction));
-                                    Some((Rgb::splat(p), p))
-                                },
-                            );
+                        radiance.add(
+                            history.component(),
+                            throughput
+                                * media_emission_nee(
+                                    scene,
+                                    x,
+                                    None,
+                                    strategies,
+                                    sampler,
+                                    counts,
+                                    &mut tracker,
+                                    |omega| {
+                                        let p = phase.eval(omega.dot(ray.direction));
+                                        Some((Rgb::splat(p), p))
+                                    },
+                                ),
+                        );
                     }
                     let (direction, pdf) = phase.sample(ray.direction, sampler.next_2d());
                     arrival = Arrival::Sampled {
@@ -282,6 +298,7 @@ pub(crate) fn radiance(
                 return radiance;
             }
             depth += 1;
+            history = history.then(Scattering::Medium);
             let fog = segment.medium.fog;
             throughput *= fog.albedo;
             let x = ray.at(t);
@@ -294,7 +311,7 @@ pub(crate) fn radiance(
                 counts,
                 &mut tracker,
             );
-            radiance += throughput * nee;
+            radiance.add(history.component(), throughput * nee);
             let connects = connections && depth < max_events;
             let twice = connects && depth + 1 < max_events;
             // The density with which the camera path reached x from a
@@ -311,8 +328,11 @@ pub(crate) fn radiance(
                     reached,
                     twice,
                 };
-                radiance +=
-                    throughput * connect_light_vertex(integrator, scene, fog, &at, sampler, counts);
+                // The light vertex is a scattering in the fog.
+                radiance.add(
+                    history.then(Scattering::Medium).component(),
+                    throughput * connect_light_vertex(integrator, scene, fog, &at, sampler, counts),
+                );
             }
             let (direction, pdf) = fog.phase.sample(ray.direction, sampler.next_2d());
             // Phase sampling is exact: the weight p/pdf is 1.
@@ -338,7 +358,8 @@ pub(crate) fn radiance(
         }
         // No event before the surface: transmittance over its probability is 1.
         let Some(hit) = hit else {
-            return radiance + throughput * scene.background;
+            radiance.add(history.component(), throughput * scene.background);
+            return radiance;
         };
         let SurfaceHit {
             p,
@@ -356,7 +377,7 @@ pub(crate) fn radiance(
             } => {
                 let weight =
                     emission_weight(scene, strategies, arrival, hit.primitive, p, ray.direction);
-                radiance += throughput * le * weight;
+                radiance.add(history.component(), throughput * le * weight);
                 return radiance;
             }
             // A spot's lamp is seen only by paths without a scattering
@@ -367,7 +388,7 @@ pub(crate) fn radiance(
                 lamp: true,
             } => {
                 if matches!(arrival, Arrival::Unweighted) {
-                    radiance += throughput * le;
+                    radiance.add(history.component(), throughput * le);
                 }
                 return radiance;
             }
@@ -406,6 +427,8 @@ pub(crate) fn radiance(
         if surface.diffuse_probability().is_none() {
             return radiance;
         }
+        // Light reflected here, by whichever lobe, has scattered here.
+        let here = history.then(Scattering::Surface);
         // NEE for the Lambertian lobe, MIS against its cosine sampling
         // (chosen with probability P_d).
         let mis = |p_light: Option<f32>, direction: Vec3| {
@@ -419,41 +442,47 @@ pub(crate) fn radiance(
         };
         let visibility = integrator.visibility;
         if strategies.surface_nee {
-            radiance += throughput
-                * lambert_direct_lighting(
-                    scene,
-                    visibility,
-                    &surface,
-                    p,
-                    normals,
-                    sampler,
-                    counts,
-                    &mut tracker,
-                    mis,
-                );
+            radiance.add(
+                here.component(),
+                throughput
+                    * lambert_direct_lighting(
+                        scene,
+                        visibility,
+                        &surface,
+                        p,
+                        normals,
+                        sampler,
+                        counts,
+                        &mut tracker,
+                        mis,
+                    ),
+            );
         }
         // NEE towards emitting media, for the Lambertian lobe, MIS
         // against its cosine sampling as for area lights.
         if emissive && surface.diffuse != Rgb::ZERO {
-            radiance += throughput
-                * media_emission_nee(
-                    scene,
-                    p,
-                    Some(normals.geometric),
-                    strategies,
-                    sampler,
-                    counts,
-                    &mut tracker,
-                    |omega| {
-                        normals.reflects(omega).then(|| {
-                            let cos = normals.shading.dot(omega);
-                            (
-                                surface.diffuse_brdf() * cos,
-                                surface.pdf(normals.shading, omega),
-                            )
-                        })
-                    },
-                );
+            radiance.add(
+                here.component(),
+                throughput
+                    * media_emission_nee(
+                        scene,
+                        p,
+                        Some(normals.geometric),
+                        strategies,
+                        sampler,
+                        counts,
+                        &mut tracker,
+                        |omega| {
+                            normals.reflects(omega).then(|| {
+                                let cos = normals.shading.dot(omega);
+                                (
+                                    surface.diffuse_brdf() * cos,
+                                    surface.pdf(normals.shading, omega),
+                                )
+                            })
+                        },
+                    ),
+            );
         }
         // Light-vertex connections from Lambertian surfaces only: a
         // glossy lobe's density could not be weighed against them.
@@ -467,8 +496,10 @@ pub(crate) fn radiance(
                 reached: None,
                 twice,
             };
-            radiance +=
-                throughput * connect_light_vertex(integrator, scene, fog, &at, sampler, counts);
+            radiance.add(
+                here.then(Scattering::Medium).component(),
+                throughput * connect_light_vertex(integrator, scene, fog, &at, sampler, counts),
+            );
         }
         let choice = sampler.next_1d();
         let u = sampler.next_2d();
@@ -480,6 +511,10 @@ pub(crate) fn radiance(
         }
         throughput *= sample.weight;
         let direction = sample.direction;
+        // A mirror's reflection does not scatter; a diffuse or glossy one does.
+        if sample.lobe == Lobe::Diffuse || surface.roughness > 0.0 {
+            history = here;
+        }
         match sample.lobe {
             Lobe::Diffuse => {
                 arrival = Arrival::Sampled {
