@@ -4,7 +4,7 @@
 use super::PixelPosition;
 use super::camera_path::{CameraPath, InScattering};
 use super::march::{self, March};
-use super::path_radiance::PathRadiance;
+use super::path_radiance::{Keep, PathRadiance, Whole};
 use super::single::Single;
 use super::volpath::{self, LightSubpaths, Volpath};
 use crate::color::Rgb;
@@ -76,21 +76,20 @@ impl<'a> Integrator<'a> {
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
     ) -> Rgb {
-        self.sample(scene, ray, pixel, sampler, counts, false)
+        self.sample::<Whole>(scene, ray, pixel, sampler, counts)
             .total()
     }
 
-    /// As [`Integrator::radiance`], split into its components
-    /// ([`crate::aov::Component`]) if `split`; the total is the same.
-    pub(crate) fn sample(
+    /// As [`Integrator::radiance`], with what `K` keeps of its components
+    /// ([`crate::aov::Component`]); the total is the same.
+    pub(crate) fn sample<K: Keep>(
         &self,
         scene: &Scene,
         ray: Ray,
         pixel: PixelPosition,
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
-        split: bool,
-    ) -> PathRadiance {
+    ) -> PathRadiance<K> {
         let path = match self {
             Integrator::March(march) => CameraPath {
                 visibility: march.visibility,
@@ -108,10 +107,10 @@ impl<'a> Integrator<'a> {
                 },
             },
             Integrator::Volpath(volpath) => {
-                return volpath::radiance(volpath, scene, ray, sampler, counts, split);
+                return volpath::radiance(volpath, scene, ray, sampler, counts);
             }
         };
-        path.radiance(scene, ray, sampler, counts, split)
+        path.radiance(scene, ray, sampler, counts)
     }
 }
 

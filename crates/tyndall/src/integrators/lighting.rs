@@ -225,6 +225,10 @@ pub(crate) fn media_transmittance(
 /// sample's solid-angle density (`None` for delta lights) and unit
 /// direction ω towards it.
 #[allow(clippy::too_many_arguments)]
+// Inlined into each integrator's two instantiations (with and without the
+// components), as into their one before: measured, the call instead cost
+// 1.5 % of a `single` sample.
+#[inline(always)]
 pub(crate) fn lambert_direct_lighting(
     scene: &Scene,
     visibility: &Visibility,

@@ -67,6 +67,9 @@ pub fn interleaved_stratum(pixel: PixelPosition, n: u32) -> (u32, u32) {
 /// In-scattered radiance along the query's ray over `(0, t_hit)`,
 /// relative to the radiance at the ray origin (one sample), with the
 /// jitter drawn in stratum `k` of `count` (see [`interleaved_stratum`]).
+// Inlined into both instantiations of the camera path (with and without
+// the components; see `camera_path::InScattering::estimate`).
+#[inline(always)]
 pub(crate) fn in_scattered(
     medium: &MediumQuery,
     step: f32,

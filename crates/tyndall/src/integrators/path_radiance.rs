@@ -6,21 +6,25 @@
 use crate::aov::{Component, Scattering};
 use crate::color::Rgb;
 
-/// A camera sample's radiance. The total is added up exactly as a bare
-/// `Rgb` would be (the same additions in the same order), so keeping the
-/// components changes no sample.
+/// A camera sample's radiance, and what it keeps of its components
+/// (`K`: [`Split`] keeps them, [`Whole`] does not). The total is added up
+/// exactly as a bare `Rgb` would be (the same additions in the same
+/// order), so keeping the components changes no sample; and with
+/// [`Whole`] (zero-sized, each integrator compiled once per kind) the
+/// components and the scattering history that names them compile away: a
+/// render without them costs what it did before they existed.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PathRadiance {
+pub struct PathRadiance<K: Keep> {
     total: Rgb,
-    components: Option<[Rgb; 4]>,
+    kept: K,
 }
 
-impl PathRadiance {
-    /// Nothing yet; with `split`, the components are kept.
-    pub fn new(split: bool) -> Self {
+impl<K: Keep> PathRadiance<K> {
+    /// Nothing yet.
+    pub fn new() -> Self {
         Self {
             total: Rgb::ZERO,
-            components: split.then_some([Rgb::ZERO; 4]),
+            kept: K::default(),
         }
     }
 
@@ -28,9 +32,7 @@ impl PathRadiance {
     #[inline]
     pub fn add(&mut self, component: Component, value: Rgb) {
         self.total += value;
-        if let Some(components) = &mut self.components {
-            components[component.index()] += value;
-        }
+        self.kept.add(component, value);
     }
 
     pub fn total(&self) -> Rgb {
@@ -39,7 +41,39 @@ impl PathRadiance {
 
     /// The components, indexed by [`Component::index`], if kept.
     pub fn components(&self) -> Option<[Rgb; 4]> {
-        self.components
+        self.kept.components()
+    }
+}
+
+/// What a sample keeps of its radiance's components.
+pub trait Keep: Copy + Default {
+    fn add(&mut self, component: Component, value: Rgb);
+    fn components(&self) -> Option<[Rgb; 4]>;
+}
+
+/// Keeps nothing: only the total.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Whole;
+
+impl Keep for Whole {
+    #[inline]
+    fn add(&mut self, _: Component, _: Rgb) {}
+    fn components(&self) -> Option<[Rgb; 4]> {
+        None
+    }
+}
+
+/// Keeps the four components, indexed by [`Component::index`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Split([Rgb; 4]);
+
+impl Keep for Split {
+    #[inline]
+    fn add(&mut self, component: Component, value: Rgb) {
+        self.0[component.index()] += value;
+    }
+    fn components(&self) -> Option<[Rgb; 4]> {
+        Some(self.0)
     }
 }
 
@@ -106,8 +140,11 @@ mod tests {
             (Component::Volume, Rgb::new(0.25, 0.0, 1.5)),
             (Component::Emission, Rgb::new(3.0, 3.0, 3.0)),
         ];
-        let (mut split, mut plain, mut bare) =
-            (PathRadiance::new(true), PathRadiance::new(false), Rgb::ZERO);
+        let (mut split, mut plain, mut bare) = (
+            PathRadiance::<Split>::new(),
+            PathRadiance::<Whole>::new(),
+            Rgb::ZERO,
+        );
         for (c, v) in values {
             split.add(c, v);
             plain.add(c, v);

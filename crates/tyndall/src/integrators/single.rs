@@ -53,6 +53,9 @@ pub fn single_sample(f: Rgb, camera_transmittance: f32, n: f32, pdf_e: f32, pdf_
 
 /// In-scattered radiance along the query's ray over `(0, t_hit)`,
 /// relative to the radiance at the ray origin (one sample).
+// Inlined into both instantiations of the camera path (with and without
+// the components; see `camera_path::InScattering::estimate`).
+#[inline(always)]
 pub(crate) fn in_scattered(
     medium: &MediumQuery,
     samples_per_light: u32,

@@ -37,6 +37,7 @@ use crate::exact_sum::ExactRgb;
 use crate::film::Image;
 use crate::guides::{GuideSum, first_surface};
 use crate::integrators::light_tracer::{self, LightPaths};
+use crate::integrators::path_radiance::{Keep, Split, Whole};
 use crate::integrators::{Integrator, LightSubpaths, PixelPosition};
 use crate::region::{PixelRect, RegionError, RenderRegion};
 use crate::sampler::PixelSampler;
@@ -252,48 +253,95 @@ fn camera_pass(
     counters: &PassCounters,
     progress: &(dyn Fn(u64) + Sync),
 ) {
-    let full_width = settings.width as u64;
     let width = rect.width() as usize;
     let mut guide_rows = rows_of(sums.guides, width, rect.height());
     let mut component_rows = rows_of(sums.components, width, rect.height());
     let split = component_rows.first().is_some_and(Option::is_some);
+    let pass = CameraPass {
+        scene,
+        settings,
+        camera,
+        integrator,
+        rect,
+        s,
+    };
     sums.radiance
         .par_chunks_mut(width)
         .zip(guide_rows.par_iter_mut())
         .zip(component_rows.par_iter_mut())
         .enumerate()
-        .for_each(|(row, ((sums, guide_sums), component_sums))| {
-            let y = rect.y0 + row as u32;
-            let mut counts = RayCounts::default();
-            let mut bad = 0u64;
-            for (i, sum) in sums.iter_mut().enumerate() {
-                let x = rect.x0 + i as u32;
-                let index = y as u64 * full_width + x as u64;
-                let mut sampler = PixelSampler::new(settings.seed, index, s);
-                let film = Vec2::new(x as f32, y as f32) + sampler.next_2d();
-                let ray = camera.ray(film);
-                let pixel = PixelPosition { x, y };
-                let l = integrator.sample(scene, ray, pixel, &mut sampler, &mut counts, split);
-                if l.total().is_finite() {
-                    *sum += l.total().as_dvec3();
-                    if let (Some(sums), Some(parts)) =
-                        (component_sums.as_deref_mut(), l.components())
-                    {
-                        for (s, c) in sums[i].iter_mut().zip(parts) {
-                            *s += c.as_dvec3();
-                        }
-                    }
-                } else {
-                    bad += 1;
-                }
-                if let Some(guides) = guide_sums.as_deref_mut() {
-                    guides[i].add(&first_surface(scene, ray));
-                }
-            }
+        .for_each(|(row, ((radiance, guides), components))| {
+            let row = RowSums {
+                y: rect.y0 + row as u32,
+                radiance,
+                guides: guides.as_deref_mut(),
+                components: components.as_deref_mut(),
+            };
+            // Each integrator is compiled with and without the split.
+            let (counts, bad) = match split {
+                true => pass.row::<Split>(row),
+                false => pass.row::<Whole>(row),
+            };
             counters.add(&counts);
             counters.invalid.fetch_add(bad, Ordering::Relaxed);
             progress(counters.rows_done.fetch_add(1, Ordering::Relaxed) + 1);
         });
+}
+
+/// What every row of a camera pass shares.
+struct CameraPass<'a> {
+    scene: &'a Scene,
+    settings: &'a RenderSettings,
+    camera: &'a Camera,
+    integrator: &'a Integrator<'a>,
+    rect: PixelRect,
+    s: u32,
+}
+
+/// One row's sums (see [`PixelSums`]).
+struct RowSums<'a> {
+    y: u32,
+    radiance: &'a mut [DVec3],
+    guides: Option<&'a mut [GuideSum]>,
+    components: Option<&'a mut [ComponentSum]>,
+}
+
+impl CameraPass<'_> {
+    /// Sample `s` of every pixel of row `sums.y`, added to its sums
+    /// (the components if `K` keeps them); the rays it traced and the
+    /// number of non-finite estimates it dropped.
+    fn row<K: Keep>(&self, mut sums: RowSums) -> (RayCounts, u64) {
+        let (scene, y) = (self.scene, sums.y);
+        let full_width = self.settings.width as u64;
+        let mut counts = RayCounts::default();
+        let mut bad = 0u64;
+        for (i, sum) in sums.radiance.iter_mut().enumerate() {
+            let x = self.rect.x0 + i as u32;
+            let index = y as u64 * full_width + x as u64;
+            let mut sampler = PixelSampler::new(self.settings.seed, index, self.s);
+            let film = Vec2::new(x as f32, y as f32) + sampler.next_2d();
+            let ray = self.camera.ray(film);
+            let pixel = PixelPosition { x, y };
+            let l = self
+                .integrator
+                .sample::<K>(scene, ray, pixel, &mut sampler, &mut counts);
+            if l.total().is_finite() {
+                *sum += l.total().as_dvec3();
+                if let (Some(sums), Some(parts)) = (sums.components.as_deref_mut(), l.components())
+                {
+                    for (s, c) in sums[i].iter_mut().zip(parts) {
+                        *s += c.as_dvec3();
+                    }
+                }
+            } else {
+                bad += 1;
+            }
+            if let Some(guides) = sums.guides.as_deref_mut() {
+                guides[i].add(&first_surface(scene, ray));
+            }
+        }
+        (counts, bad)
+    }
 }
 
 /// Pass `s` of the light tracer: light focused by dielectrics from point

@@ -78,7 +78,7 @@ mod segment_weights;
 pub use crate::settings::Strategies;
 pub use light_subpaths::LightSubpaths;
 
-use super::path_radiance::{PathRadiance, ScatteringHistory};
+use super::path_radiance::{Keep, PathRadiance, ScatteringHistory};
 use super::{
     MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, SurfaceHit, TRACKING_STREAM,
     lambert_direct_lighting, refract_or_reflect,
@@ -151,15 +151,14 @@ enum Arrival<'a> {
 }
 
 /// Radiance along a camera ray: one path sample.
-pub(crate) fn radiance(
+pub(crate) fn radiance<K: Keep>(
     integrator: &Volpath,
     scene: &Scene,
     mut ray: Ray,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
-    split: bool,
-) -> PathRadiance {
-    let mut radiance = PathRadiance::new(split);
+) -> PathRadiance<K> {
+    let mut radiance = PathRadiance::new();
     // Where the path scattered, for the components: surfaces with a
     // diffuse or glossy lobe and media scatter; interfaces and mirrors
     // do not.

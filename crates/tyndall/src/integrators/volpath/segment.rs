@@ -166,6 +166,10 @@ impl EquiangularNee {
     /// Chooses the segment's lights and sets up `counts` samples per
     /// chosen light on `segment`; a light with no samples is not
     /// estimated here.
+    // Inlined into each of `radiance`'s two instantiations (with and
+    // without the components), as it was into its one before: measured,
+    // the call instead cost 2 % of a volpath sample.
+    #[inline(always)]
     pub(super) fn prepare(
         &mut self,
         segment: &FogSegment,
@@ -242,6 +246,10 @@ impl EquiangularNee {
 
     /// In-scattered radiance from lights whose last scattering lies on the
     /// segment, relative to the segment's start.
+    // Inlined into each of `radiance`'s two instantiations (with and
+    // without the components), as it was into its one before: measured,
+    // the call instead cost 2 % of a volpath sample.
+    #[inline(always)]
     pub(super) fn estimate(
         &self,
         segment: &FogSegment,
