@@ -105,6 +105,7 @@ impl Finisher {
                 let guides = DenoiseGuides {
                     albedo: &g.albedo,
                     normal: &g.normal,
+                    prefilter: true,
                 };
                 denoiser
                     .denoise(&image, Some(guides))

@@ -30,6 +30,18 @@ pub struct ViewArgs {
     /// With --frames: write the window's image (PNG, exposure applied) here.
     #[arg(long, requires = "frames")]
     screenshot: Option<PathBuf>,
+    /// Start with the progressive CPU render (one sample per pixel per pass;
+    /// after N passes the image of `tyndall render --spp N`). The default
+    /// where the only GPU is a software one (lavapipe). With --frames, N counts passes.
+    #[arg(long, conflicts_with = "gpu")]
+    cpu: bool,
+    /// Start on the GPU even where it is a software one.
+    #[arg(long)]
+    gpu: bool,
+    /// Denoise the CPU render while it is young (Open Image Denoise, loaded at
+    /// run time as for `render --denoise`): passes 1, 2, 4, …, 64, then every 32nd.
+    #[arg(long)]
+    denoise: bool,
 }
 
 /// The interleaving tile of a view whose scene has none (interleave 1,
@@ -94,5 +106,11 @@ pub fn run(args: ViewArgs) -> Result<()> {
         desc,
         frames: args.frames,
         screenshot: args.screenshot,
+        cpu: match (args.cpu, args.gpu) {
+            (true, _) => Some(true),
+            (_, true) => Some(false),
+            _ => None,
+        },
+        denoise: args.denoise,
     })
 }

@@ -45,6 +45,8 @@ fn viewer_screenshot_equals_the_headless_gpu_render() {
     let shot = temp("view-shot.png");
     let o = tyndall(&[
         "view",
+        // On lavapipe the view would start on the CPU.
+        "--gpu",
         "--interleave",
         "1",
         "--width",
@@ -103,6 +105,58 @@ fn viewer_screenshot_equals_the_headless_gpu_render() {
     );
 }
 
+/// The progressive CPU view (`--cpu`, the default on lavapipe): after N
+/// passes its screenshot equals `tyndall render --spp N` of the same view
+/// byte for byte — the same render loop, one pass per sample index — and
+/// `--denoise` with a library that does not load is an error before any
+/// window opens.
+#[test]
+fn cpu_view_screenshot_equals_the_cpu_render() {
+    const TEST: &str = "cpu_view_screenshot_equals_the_cpu_render";
+    if std::env::var_os("DISPLAY").is_none() {
+        assert!(
+            !required(),
+            "{TEST}: no DISPLAY, and TYNDALL_REQUIRE_GPU=1 (run under xvfb-run)"
+        );
+        eprintln!("{TEST}: SKIPPED, no DISPLAY (run under xvfb-run)");
+        return;
+    }
+    let size = ["--width", "64", "--height", "40", "--interleave", "4"];
+    let shot = temp("cpu-view-shot.png");
+    let mut args = vec!["view", "--cpu", "--frames", "5", "--screenshot"];
+    args.push(shot.to_str().unwrap());
+    args.extend(size);
+    let o = tyndall(&args);
+    let message = stderr(&o);
+    if !o.status.success() && message.contains("no GPU adapter") && !required() {
+        eprintln!("{TEST}: SKIPPED, no GPU adapter on this machine");
+        return;
+    }
+    assert!(o.status.success(), "view --cpu failed: {message}");
+    let reference = temp("cpu-view-reference.png");
+    let mut args = vec!["render", "--integrator", "march", "--spp", "5", "-o"];
+    args.push(reference.to_str().unwrap());
+    args.extend(size);
+    let o = tyndall(&args);
+    assert!(o.status.success(), "render failed: {}", stderr(&o));
+    let (shot, reference) = (read_png(&shot), read_png(&reference));
+    assert_eq!((shot.0, shot.1), (64, 40));
+    let lit = shot.2.iter().filter(|&&b| b > 8).count();
+    assert!(lit > shot.2.len() / 20, "the screenshot is (nearly) black");
+    assert!(
+        shot == reference,
+        "the CPU view's 5 passes differ from render --spp 5"
+    );
+
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_tyndall"))
+        .args(["view", "--cpu", "--denoise", "--frames", "1"])
+        .env("TYNDALL_OIDN", "/nonexistent/oidn")
+        .output()
+        .expect("run");
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("/nonexistent/oidn"), "{}", stderr(&o));
+}
+
 #[test]
 fn view_help_lists_the_controls_and_bad_flags_are_errors() {
     let o = tyndall(&["view", "--help"]);
@@ -117,8 +171,9 @@ fn view_help_lists_the_controls_and_bad_flags_are_errors() {
     ] {
         assert!(help.contains(words), "`{words}` not in --help:\n{help}");
     }
-    let cases: [(&[&str], &str); 3] = [
+    let cases: [(&[&str], &str); 4] = [
         (&["--screenshot", "x.png"], "--frames"),
+        (&["--cpu", "--gpu"], "cannot be used with"),
         (&["--frames", "2", "--screenshot", "x.exr"], "PNG"),
         (&["--integrator", "volpath"], "only `march`"),
     ];

@@ -9,8 +9,9 @@
 //! and normal ([`tyndall::guides`]) when given. The guides are averaged
 //! over the pixel's samples and so carry some noise themselves (edges,
 //! textures, depth of field); as OIDN's documentation recommends for that
-//! case, each guide is first denoised by its own `RT` filter
-//! ("prefiltering") and the radiance is then filtered with `cleanAux`.
+//! case, each guide can first be denoised by its own `RT` filter
+//! ("prefiltering", [`DenoiseGuides::prefilter`]); the radiance is then
+//! filtered with `cleanAux`.
 
 mod ffi;
 
@@ -60,6 +61,12 @@ pub enum DenoiseError {
 pub struct DenoiseGuides<'a> {
     pub albedo: &'a Image,
     pub normal: &'a Image,
+    /// Denoise each guide first (two more filter runs: three times the
+    /// time), as OIDN advises for noisy guides; without it the guides are
+    /// taken as clean. On the shared reference scenes the two are equally
+    /// good (docs/benchmarks.md, "Denoising"); textured surfaces at a few
+    /// samples per pixel give noisy albedo.
+    pub prefilter: bool,
 }
 
 /// A loaded Open Image Denoise library.
@@ -126,7 +133,7 @@ impl Denoiser {
     }
 
     /// `beauty` (linear HDR radiance) denoised by OIDN's `RT` filter,
-    /// with `guides` prefiltered and used as clean auxiliary images.
+    /// with `guides` (prefiltered if they ask) as clean auxiliary images.
     pub fn denoise(
         &self,
         beauty: &Image,
@@ -156,8 +163,10 @@ impl Denoiser {
         };
         if let Some((albedo, normal)) = &guide_buffers {
             // Prefiltering: each guide denoised in place by its own filter.
-            for (name, buffer) in [("albedo", albedo), ("normal", normal)] {
-                device.run_filter(&[(name, buffer), ("output", buffer)], w, h, &[])?;
+            if guides.is_some_and(|g| g.prefilter) {
+                for (name, buffer) in [("albedo", albedo), ("normal", normal)] {
+                    device.run_filter(&[(name, buffer), ("output", buffer)], w, h, &[])?;
+                }
             }
             images.push(("albedo", albedo));
             images.push(("normal", normal));

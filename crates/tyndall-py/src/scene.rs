@@ -219,6 +219,7 @@ impl NativeScene {
             let guides = DenoiseGuides {
                 albedo: &g.albedo,
                 normal: &g.normal,
+                prefilter: true,
             };
             image = py
                 .detach(|| denoiser.denoise(&image, Some(guides)))

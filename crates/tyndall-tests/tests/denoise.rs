@@ -73,6 +73,7 @@ fn denoising_reduces_the_error_against_every_reference() {
                 Some(DenoiseGuides {
                     albedo: &guides.albedo,
                     normal: &guides.normal,
+                    prefilter: true,
                 }),
             )
             .expect("denoise");

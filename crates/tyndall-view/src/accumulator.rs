@@ -70,6 +70,12 @@ impl Accumulator {
         self.gpu.adapter.to_string()
     }
 
+    /// Whether the adapter is a software renderer (lavapipe), on which
+    /// the CPU renderer is faster than the GPU path.
+    pub fn is_software(&self) -> bool {
+        self.gpu.adapter.device_type == format!("{:?}", wgpu::DeviceType::Cpu)
+    }
+
     /// Starts accumulating anew for `desc`. On an error (a setting the GPU
     /// refuses) the previous view stays.
     ///

@@ -20,8 +20,10 @@ use anyhow::{Context, Result, anyhow};
 use std::num::NonZeroU32;
 use std::path::PathBuf;
 use std::rc::Rc;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 use tyndall::{Image, SceneDesc};
+use tyndall_denoise::Denoiser;
 use winit::application::ApplicationHandler;
 use winit::dpi::{PhysicalPosition, PhysicalSize};
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
@@ -78,24 +80,33 @@ pub struct App {
     cpu_spp: u32,
     frames: Option<u32>,
     screenshot: Option<PathBuf>,
+    /// Denoises the CPU render while it is young, if given.
+    denoiser: Option<Arc<Denoiser>>,
     /// An error that ended the event loop.
     pub error: Option<anyhow::Error>,
 }
 
 impl App {
     /// The window's state for `live` (uploaded into `accumulator`),
-    /// stopping after `frames` frames if given, with a screenshot.
+    /// stopping after `frames` frames (or CPU passes) if given, with a
+    /// screenshot; starting on the CPU if `cpu`, denoised by `denoiser`.
     pub fn new(
         live: LiveScene,
         frames: Option<u32>,
         screenshot: Option<PathBuf>,
         accumulator: Accumulator,
+        cpu: bool,
+        denoiser: Option<Arc<Denoiser>>,
     ) -> Self {
+        let mode = match cpu {
+            true => Mode::Cpu(CpuPreview::start(&live.desc, denoiser.clone())),
+            false => Mode::Gpu,
+        };
         Self {
             accepted: live.desc.clone(),
             live,
             accumulator,
-            mode: Mode::Gpu,
+            mode,
             window: None,
             panel: None,
             panel_input: None,
@@ -116,6 +127,7 @@ impl App {
             cpu_spp: 0,
             frames,
             screenshot,
+            denoiser,
             error: None,
         }
     }
@@ -143,7 +155,7 @@ impl App {
         if let Mode::Cpu(_) = self.mode {
             self.cpu_pass = None;
             self.cpu_spp = 0;
-            self.mode = Mode::Cpu(CpuPreview::start(&self.live.desc));
+            self.mode = Mode::Cpu(CpuPreview::start(&self.live.desc, self.denoiser.clone()));
         }
         self.request_redraw();
     }
@@ -192,7 +204,7 @@ impl App {
                 self.mode = match self.mode {
                     Mode::Gpu => {
                         self.cpu_spp = 0;
-                        Mode::Cpu(CpuPreview::start(&self.live.desc))
+                        Mode::Cpu(CpuPreview::start(&self.live.desc, self.denoiser.clone()))
                     }
                     Mode::Cpu(_) => {
                         self.dirty = true;
@@ -272,7 +284,10 @@ impl App {
             }
             Mode::Cpu(_) => match self.cpu_pass.take() {
                 Some(Ok(pass)) => {
-                    eprintln!("CPU render: {} spp in {:.2} s", pass.spp, pass.seconds);
+                    if pass.spp.is_power_of_two() {
+                        let how = if pass.denoised { ", denoised" } else { "" };
+                        eprintln!("CPU render: {} spp in {:.2} s{how}", pass.spp, pass.seconds);
+                    }
                     self.cpu_spp = pass.spp;
                     self.shown = Some(pass.image);
                 }
@@ -302,8 +317,12 @@ impl App {
         }
         self.meter.frames += 1;
         self.report();
+        let done = match self.mode {
+            Mode::Gpu => self.accumulator.frames(),
+            Mode::Cpu(_) => self.cpu_spp,
+        };
         if let Some(n) = self.frames
-            && self.accumulator.frames() >= n
+            && done >= n
         {
             if let Some(path) = self.screenshot.take() {
                 self.save_png(Some(path))?;

@@ -85,6 +85,13 @@ pub struct ViewOptions {
     pub frames: Option<u32>,
     /// With `frames`: write the image on screen here before exiting.
     pub screenshot: Option<PathBuf>,
+    /// Start with the progressive CPU render (`Some(true)`) or the GPU's
+    /// (`Some(false)`); `None`: the CPU where the only adapter is a
+    /// software one (on lavapipe the CPU renderer is the faster), else the
+    /// GPU.
+    pub cpu: Option<bool>,
+    /// Denoise the CPU render while it is young (Open Image Denoise).
+    pub denoise: bool,
 }
 
 /// Opens the GPU and the window and runs until the window closes (or
@@ -94,7 +101,15 @@ pub fn run(options: ViewOptions) -> Result<()> {
         desc,
         frames,
         screenshot,
+        cpu,
+        denoise,
     } = options;
+    let denoiser = match denoise {
+        true => Some(std::sync::Arc::new(
+            tyndall_denoise::Denoiser::find().context("--denoise")?,
+        )),
+        false => None,
+    };
     // The scene as the view renders it (the march at first), then the
     // GPU and its upload: their errors need no window.
     let live = controls::LiveScene::new(desc);
@@ -106,7 +121,14 @@ pub fn run(options: ViewOptions) -> Result<()> {
     );
     let event_loop = winit::event_loop::EventLoop::new()
         .context("cannot open a window: no display (set DISPLAY, or run under xvfb-run)")?;
-    let mut app = app::App::new(live, frames, screenshot, accumulator);
+    let cpu = match cpu {
+        Some(cpu) => cpu,
+        None => accumulator.is_software(),
+    };
+    if cpu {
+        eprintln!("rendering on the CPU (`R` switches to the GPU)");
+    }
+    let mut app = app::App::new(live, frames, screenshot, accumulator, cpu, denoiser);
     event_loop.run_app(&mut app)?;
     match app.error.take() {
         Some(e) => Err(e),
