@@ -47,7 +47,7 @@ fn denoised_at(n: u32) -> bool {
     if n <= YOUNG_SPP {
         n.is_power_of_two()
     } else {
-        n % DENOISE_EVERY == 0
+        n.is_multiple_of(DENOISE_EVERY)
     }
 }
 
