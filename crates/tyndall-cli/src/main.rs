@@ -390,6 +390,11 @@ fn render(args: RenderArgs) -> Result<()> {
             "--denoise cannot be used with --tile or --samples: a part is denoised after the merge (`tyndall merge --denoise`)"
         );
     }
+    if is_part && args.finishing.aov.is_some() {
+        bail!(
+            "--aov cannot be used with --tile or --samples: a part keeps the sums of every AOV it can; name the AOVs when merging (`tyndall merge --aov ...`)"
+        );
+    }
     let finisher = args.finishing.prepare(&output)?;
     // Ranges were checked at load for the scene's own settings, so an
     // error here is a flag's.

@@ -122,7 +122,12 @@ fn merged_tiles_carry_the_aovs() {
 
 #[test]
 fn bad_requests_fail_before_rendering_and_write_nothing() {
-    let cases: [(&[&str], &str, &str); 4] = [
+    let cases: [(&[&str], &str, &str); 5] = [
+        (
+            &["--aov", "depth", "--tile", "0/2"],
+            "x.exr",
+            "tyndall merge --aov",
+        ),
         (&["--aov", "albedo,shadow"], "x.exr", "unknown AOV `shadow`"),
         (&["--aov", "albedo"], "x.png", "must be an .exr"),
         (&["--denoise", "--tile", "0/2"], "x.exr", "merge --denoise"),

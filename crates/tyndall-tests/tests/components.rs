@@ -215,3 +215,31 @@ fn light_path_renders_refuse_the_components() {
         Ok(_) => panic!("components were split for a render with light paths"),
     }
 }
+
+/// The AOVs' sums and images count against the render's memory limit:
+/// per pixel, each kept kind adds its sum and four resolved images.
+#[test]
+fn the_aovs_count_in_the_memory_estimate() {
+    let desc = common::demo().expect("demo");
+    let plain = RenderSettings {
+        width: 1000,
+        height: 1000,
+        ..desc.settings
+    };
+    let kept = RenderSettings {
+        guides: true,
+        components: true,
+        ..plain
+    };
+    let (without, _) = plain.memory_estimate(&desc.scene);
+    let (with, what) = kept.memory_estimate(&desc.scene);
+    let image = 4 * std::mem::size_of::<tyndall::Rgb>();
+    let per_pixel = std::mem::size_of::<tyndall::guides::GuideSum>()
+        + std::mem::size_of::<tyndall::aov::ComponentSum>()
+        + 2 * image;
+    assert_eq!(with - without, 1_000_000 * per_pixel as u64, "{what}");
+    assert!(
+        what.contains("guides") && what.contains("components"),
+        "{what}"
+    );
+}

@@ -149,6 +149,23 @@ impl RenderSettings {
             self.height,
             describe_bytes(total)
         )];
+        // The AOVs' sums, and (at most) the images resolved from them.
+        let aov_bytes = |sum: usize, images: u64| {
+            pixels.saturating_mul(sum as u64 + images * std::mem::size_of::<crate::Rgb>() as u64)
+        };
+        if self.guides {
+            let guides = aov_bytes(std::mem::size_of::<crate::guides::GuideSum>(), 4);
+            total = total.saturating_add(guides);
+            parts.push(format!("first-surface guides: {}", describe_bytes(guides)));
+        }
+        if self.components {
+            let components = aov_bytes(std::mem::size_of::<crate::aov::ComponentSum>(), 4);
+            total = total.saturating_add(components);
+            parts.push(format!(
+                "radiance components: {}",
+                describe_bytes(components)
+            ));
+        }
         if traces_light_paths(scene, self) {
             // The light paths' exact fixed-point sums, for the full image.
             let film = pixels.saturating_mul(std::mem::size_of::<ExactRgb>() as u64);
