@@ -1,5 +1,5 @@
 """Cycles 4.5 with its own Open Image Denoise, for the side-by-side of
-docs/benchmarks.md ("Denoising").
+docs/benchmarks.md ("Denoising and AOVs").
 
 Runs the peer script ``cycles_render.py`` (../shared/peers/, which renders
 without denoising) with Cycles' denoiser switched on the way a Blender user

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Time to equal error, denoised, Tyndall against Cycles 4.5 with its own
-# OIDN, on the shared reference scenes (docs/benchmarks.md, "Denoising").
+# OIDN, on the shared reference scenes (docs/benchmarks.md, "Denoising and AOVs").
 #
 #   PEERS=/tmp/peers bash scenes/denoise/side_by_side.sh [scene ...]
 #

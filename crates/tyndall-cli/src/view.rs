@@ -40,6 +40,7 @@ pub struct ViewArgs {
     gpu: bool,
     /// Denoise the CPU render while it is young (Open Image Denoise, loaded at
     /// run time as for `render --denoise`): passes 1, 2, 4, …, 64, then every 32nd.
+    /// The GPU view is not denoised: with a view that starts on the GPU it is an error.
     #[arg(long)]
     denoise: bool,
 }

@@ -64,7 +64,7 @@ pub struct DenoiseGuides<'a> {
     /// Denoise each guide first (two more filter runs: three times the
     /// time), as OIDN advises for noisy guides; without it the guides are
     /// taken as clean. On the shared reference scenes the two are equally
-    /// good (docs/benchmarks.md, "Denoising"); textured surfaces at a few
+    /// good (docs/benchmarks.md, "Denoising and AOVs"); textured surfaces at a few
     /// samples per pixel give noisy albedo.
     pub prefilter: bool,
 }

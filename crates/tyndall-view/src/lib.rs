@@ -127,6 +127,11 @@ pub fn run(options: ViewOptions) -> Result<()> {
     };
     if cpu {
         eprintln!("rendering on the CPU (`R` switches to the GPU)");
+    } else if denoiser.is_some() {
+        anyhow::bail!(
+            "--denoise: only the CPU view is denoised, and this view starts on the GPU ({}): add --cpu",
+            accumulator.adapter()
+        );
     }
     let mut app = app::App::new(live, frames, screenshot, accumulator, cpu, denoiser);
     event_loop.run_app(&mut app)?;
