@@ -101,11 +101,11 @@ pub fn write_part(
     }
     if let Some(guides) = &a.guides {
         for (c, name) in ["X", "Y", "Z"].iter().enumerate() {
-            for (field, value) in GUIDE_VECTORS {
+            for (k, field) in GuideSum::VECTORS.iter().enumerate() {
                 push_f64(
                     &mut channels,
                     &format!("sum.guide.{field}.{name}"),
-                    guides.iter().map(|g| value(g)[c]),
+                    guides.iter().map(|g| g.vectors()[k][c]),
                 );
             }
         }
@@ -185,14 +185,6 @@ pub fn write_part(
     })
 }
 
-/// The vector sums of a pixel's guides, by their channel names.
-type GuideVector = (&'static str, fn(&GuideSum) -> DVec3);
-const GUIDE_VECTORS: [GuideVector; 3] = [
-    ("albedo", |g| g.albedo),
-    ("normal", |g| g.normal),
-    ("position", |g| g.position),
-];
-
 /// Adds the f64 `values` as the u32 channels `{name}.hi` and `{name}.lo`,
 /// the high and low halves of their bit patterns.
 fn push_f64(
@@ -261,7 +253,7 @@ fn checksum(description: &str, a: &Accumulation) -> u64 {
         }
     }
     for g in a.guides.iter().flatten() {
-        for v in [g.albedo, g.normal, g.position] {
+        for v in g.vectors() {
             for c in 0..3 {
                 h.update(&v[c].to_bits().to_le_bytes());
             }
@@ -356,14 +348,10 @@ pub fn read_part(path: &Path) -> std::result::Result<Part, PartFileError> {
     let guides = if header.guides {
         let mut guides = vec![GuideSum::default(); rect.area()];
         for (c, name) in ["X", "Y", "Z"].iter().enumerate() {
-            for (field, _) in GUIDE_VECTORS {
+            for (k, field) in GuideSum::VECTORS.iter().enumerate() {
                 let values = f64_channel(&format!("sum.guide.{field}.{name}"))?;
                 for (g, v) in guides.iter_mut().zip(values) {
-                    match field {
-                        "albedo" => g.albedo[c] = v,
-                        "normal" => g.normal[c] = v,
-                        _ => g.position[c] = v,
-                    }
+                    g.vectors_mut()[k][c] = v;
                 }
             }
         }

@@ -21,16 +21,7 @@ fn split(desc: &Loaded, settings: RenderSettings) -> (Image, Components) {
         threads: Some(2),
         ..settings
     };
-    let region = RenderRegion::full(settings.width, settings.height, settings.spp);
-    let (sums, _) = render_region(
-        &desc.scene,
-        &settings,
-        &region,
-        None,
-        &|_| {},
-        &mut |_, _| ControlFlow::Continue(()),
-    )
-    .expect("render");
+    let sums = common::accumulate(desc, &settings);
     (sums.resolve(), sums.resolve_components().expect("kept"))
 }
 
@@ -109,7 +100,7 @@ fn assert_components_agree(
         "{what}: only {lit} regions hold {component:?} light"
     );
     for (i, ((ma, va), (mb, vb))) in ra.iter().zip(&rb).enumerate() {
-        let bound = 5.0 * (va + vb).sqrt() + 2e-3 * ma.max(*mb);
+        let bound = 5.0 * (va + vb).sqrt();
         assert!(
             (ma - mb).abs() <= bound,
             "{what}, region {i}: {component:?} {ma:.5} vs {mb:.5} (bound {bound:.2e})"

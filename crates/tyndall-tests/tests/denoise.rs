@@ -10,9 +10,6 @@
 mod common;
 
 use common::repo;
-use std::ops::ControlFlow;
-use tyndall::region::RenderRegion;
-use tyndall::render::render_region;
 use tyndall_denoise::{DenoiseGuides, Denoiser};
 use tyndall_image::metrics::relative_mse;
 
@@ -55,16 +52,7 @@ fn denoising_reduces_the_error_against_every_reference() {
             guides: true,
             ..desc.settings
         };
-        let region = RenderRegion::full(settings.width, settings.height, settings.spp);
-        let (sums, _) = render_region(
-            &desc.scene,
-            &settings,
-            &region,
-            None,
-            &|_| {},
-            &mut |_, _| ControlFlow::Continue(()),
-        )
-        .expect("render");
+        let sums = common::accumulate(&desc, &settings);
         let raw = sums.resolve();
         let guides = sums.resolve_guides().expect("guides");
         let denoised = denoiser

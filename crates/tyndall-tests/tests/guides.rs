@@ -7,11 +7,8 @@ mod common;
 
 use common::{Loaded, scene};
 use glam::Vec3;
-use std::ops::ControlFlow;
 use tyndall::aov::Aov;
 use tyndall::guides::Guides;
-use tyndall::region::RenderRegion;
-use tyndall::render::render_region;
 use tyndall::{IntegratorKind, Rgb};
 
 /// The camera of every scene here: at (0, 0, 5) looking down −z, 40°
@@ -58,16 +55,7 @@ fn guides(desc: &Loaded) -> Guides {
         threads: Some(2),
         ..desc.settings
     };
-    let region = RenderRegion::full(W, H, settings.spp);
-    let (sums, _) = render_region(
-        &desc.scene,
-        &settings,
-        &region,
-        None,
-        &|_| {},
-        &mut |_, _| ControlFlow::Continue(()),
-    )
-    .expect("render");
+    let sums = common::accumulate(desc, &settings);
     sums.resolve_guides().expect("guides kept")
 }
 

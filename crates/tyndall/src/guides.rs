@@ -147,6 +147,19 @@ pub struct GuideSum {
 }
 
 impl GuideSum {
+    /// The names of the vector sums, in the order of [`GuideSum::vectors`].
+    pub const VECTORS: [&'static str; 3] = ["albedo", "normal", "position"];
+
+    /// The vector sums: albedo, normal, position.
+    pub fn vectors(&self) -> [DVec3; 3] {
+        [self.albedo, self.normal, self.position]
+    }
+
+    /// The vector sums, to write: albedo, normal, position.
+    pub fn vectors_mut(&mut self) -> [&mut DVec3; 3] {
+        [&mut self.albedo, &mut self.normal, &mut self.position]
+    }
+
     pub fn add(&mut self, sample: &FirstSurface) {
         self.albedo += sample.albedo.as_dvec3();
         self.normal += sample.normal.as_dvec3();

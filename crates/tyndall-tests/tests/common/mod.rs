@@ -108,6 +108,23 @@ pub fn render(desc: &Loaded, f: impl FnOnce(&mut RenderSettings)) -> Image {
         .image
 }
 
+/// The sums of a whole render of `desc` with `settings` (what it keeps
+/// beside the radiance: its guides and components, if asked), as
+/// `tyndall::render` computes them but kept unresolved.
+pub fn accumulate(desc: &Loaded, settings: &RenderSettings) -> tyndall::render::Accumulation {
+    let region = tyndall::region::RenderRegion::full(settings.width, settings.height, settings.spp);
+    let (sums, _) = tyndall::render::render_region(
+        &desc.scene,
+        settings,
+        &region,
+        None,
+        &|_| {},
+        &mut |_, _| std::ops::ControlFlow::Continue(()),
+    )
+    .expect("render");
+    sums
+}
+
 /// How much a standard error taken from the scatter of pixels (as if
 /// they were independent) must grow for a mean over `pixels` pixels of a
 /// render with `settings`: `volpath`'s light-vertex connections share a
