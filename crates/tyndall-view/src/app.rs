@@ -11,7 +11,7 @@
 
 use crate::accumulator::{Accumulator, FrameTimes};
 use crate::controls::LiveScene;
-use crate::cpu_preview::{CpuPreview, Pass};
+use crate::cpu_preview::{CpuPreview, MAX_SPP, Pass};
 use crate::framebuffer::{blit, composite_over, tone_map};
 use crate::keys::{Action, action};
 use crate::orbit;
@@ -99,7 +99,11 @@ impl App {
         denoiser: Option<Arc<Denoiser>>,
     ) -> Self {
         let mode = match cpu {
-            true => Mode::Cpu(CpuPreview::start(&live.desc, denoiser.clone())),
+            true => Mode::Cpu(CpuPreview::start(
+                &live.desc,
+                frames.unwrap_or(MAX_SPP),
+                denoiser.clone(),
+            )),
             false => Mode::Gpu,
         };
         Self {
@@ -148,6 +152,14 @@ impl App {
         Ok(())
     }
 
+    /// A CPU render of the view as it is now, for as many passes as the
+    /// view is to last (`--frames`), so that its last screenshot shows
+    /// exactly that many — the CPU runs ahead of the window otherwise.
+    fn start_cpu(&self) -> CpuPreview {
+        let spp = self.frames.unwrap_or(MAX_SPP);
+        CpuPreview::start(&self.live.desc, spp, self.denoiser.clone())
+    }
+
     /// Marks the scene changed by an input that arrived at `at`.
     fn changed(&mut self, at: Instant) {
         self.dirty = true;
@@ -155,7 +167,7 @@ impl App {
         if let Mode::Cpu(_) = self.mode {
             self.cpu_pass = None;
             self.cpu_spp = 0;
-            self.mode = Mode::Cpu(CpuPreview::start(&self.live.desc, self.denoiser.clone()));
+            self.mode = Mode::Cpu(self.start_cpu());
         }
         self.request_redraw();
     }
@@ -204,7 +216,7 @@ impl App {
                 self.mode = match self.mode {
                     Mode::Gpu => {
                         self.cpu_spp = 0;
-                        Mode::Cpu(CpuPreview::start(&self.live.desc, self.denoiser.clone()))
+                        Mode::Cpu(self.start_cpu())
                     }
                     Mode::Cpu(_) => {
                         self.dirty = true;

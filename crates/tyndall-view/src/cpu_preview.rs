@@ -18,8 +18,8 @@ use tyndall::render::Accumulation;
 use tyndall::{Image, SceneDesc};
 use tyndall_denoise::{DenoiseGuides, Denoiser};
 
-/// Most samples per pixel the preview accumulates.
-const MAX_SPP: u32 = 1 << 16;
+/// Most samples per pixel the preview accumulates, unless told fewer.
+pub const MAX_SPP: u32 = 1 << 16;
 
 /// Up to this many samples per pixel every power of two is denoised;
 /// after it, every [`DENOISE_EVERY`]th pass.
@@ -42,9 +42,12 @@ pub struct CpuPreview {
     thread: Option<JoinHandle<()>>,
 }
 
-/// Whether pass `n` (1-based) is denoised and shown, with a denoiser.
-fn denoised_at(n: u32) -> bool {
-    if n <= YOUNG_SPP {
+/// Whether pass `n` (1-based) of `last` is denoised and shown, with a
+/// denoiser: the last one always is.
+fn denoised_at(n: u32, last: u32) -> bool {
+    if n == last {
+        true
+    } else if n <= YOUNG_SPP {
         n.is_power_of_two()
     } else {
         n.is_multiple_of(DENOISE_EVERY)
@@ -54,8 +57,11 @@ fn denoised_at(n: u32) -> bool {
 impl CpuPreview {
     /// Starts rendering `desc` (its camera, fog, lights and settings)
     /// with the integrator the GPU view shows (`march` or `single`), its
-    /// CPU twin; denoised by `denoiser` if given.
-    pub fn start(desc: &SceneDesc, denoiser: Option<Arc<Denoiser>>) -> Self {
+    /// CPU twin, for `spp` passes (at most [`MAX_SPP`]); denoised by
+    /// `denoiser` if given. The last pass is always sent, so a view that
+    /// stops after N passes shows exactly N.
+    pub fn start(desc: &SceneDesc, spp: u32, denoiser: Option<Arc<Denoiser>>) -> Self {
+        let spp = spp.clamp(1, MAX_SPP);
         let desc = desc.clone();
         let (send, passes) = channel();
         let stop = Arc::new(AtomicBool::new(false));
@@ -69,11 +75,11 @@ impl CpuPreview {
                 }
             };
             let settings = tyndall::RenderSettings {
-                spp: MAX_SPP,
+                spp,
                 guides: denoiser.is_some(),
                 ..desc.settings
             };
-            let region = RenderRegion::full(settings.width, settings.height, MAX_SPP);
+            let region = RenderRegion::full(settings.width, settings.height, spp);
             let start = std::time::Instant::now();
             let mut after_pass = |sums: &Accumulation, _| {
                 if stopped.load(Ordering::Relaxed) {
@@ -82,7 +88,7 @@ impl CpuPreview {
                 let n = sums.passes();
                 let pass = match &denoiser {
                     None => Ok((sums.resolve(), false)),
-                    Some(_) if !denoised_at(n) => return ControlFlow::Continue(()),
+                    Some(_) if !denoised_at(n, spp) => return ControlFlow::Continue(()),
                     Some(denoiser) => denoise(denoiser, sums).map(|image| (image, true)),
                 };
                 let pass = pass.map(|(image, denoised)| Pass {
@@ -160,7 +166,9 @@ mod tests {
 
     #[test]
     fn young_views_are_denoised_at_powers_of_two_then_every_32nd_pass() {
-        let shown: Vec<u32> = (1..=160).filter(|&n| denoised_at(n)).collect();
+        let shown: Vec<u32> = (1..=160).filter(|&n| denoised_at(n, MAX_SPP)).collect();
         assert_eq!(shown, [1, 2, 4, 8, 16, 32, 64, 96, 128, 160]);
+        let shown: Vec<u32> = (1..=5).filter(|&n| denoised_at(n, 5)).collect();
+        assert_eq!(shown, [1, 2, 4, 5]);
     }
 }
