@@ -7,13 +7,16 @@
 
 mod common;
 
+use common::{average, mean_and_stderr, pool_inflation, render, repo};
 use glam::Vec3;
 use std::f32::consts::PI;
 use std::path::Path;
+use tyndall::IntegratorKind;
 use tyndall::camera::FieldOfView;
 use tyndall::color::Rgb;
 use tyndall::lights::{Light, SpotProfile};
 use tyndall::materials::{Material, Surface};
+use tyndall_image::metrics::relative_mse;
 
 #[test]
 fn blender_export_loads_with_blender_values() {
@@ -77,9 +80,91 @@ fn blender_export_loads_with_blender_values() {
     };
     assert!((fov - 45.0).abs() < 1e-3);
     assert_eq!(desc.settings.width * 3, desc.settings.height * 4);
+    // Lit as Blender lights it: with interreflection.
+    assert_eq!(desc.settings.integrator, IntegratorKind::Volpath);
     // The floor: Principled base 0.8, Specular IOR Level 0.
     assert_eq!(
         *scene.material(0),
         Material::Opaque(Surface::diffuse(Rgb::splat(0.8)))
+    );
+}
+
+/// A Khronos sample asset as a Blender user lights and renders it
+/// (scenes/gltf-samples/box_floor.py: BoxTextured imported by Blender's
+/// glTF importer over a grey floor, one hard spot tilted 30° and turned
+/// 50°, exported by Blender's exporter) renders like Cycles' F12 of the
+/// same Blender scene (default 12 bounces; its two halves of 1024 spp
+/// committed) when Tyndall is given nothing but the file, as the issue's
+/// check asks of each asset:
+/// - the image mean within 2 % of Cycles', plus 4 standard errors of the
+///   difference (Tyndall's from its two renders' pixel differences,
+///   Cycles' from its halves'). The 2 % is the models' difference: on the
+///   box, Principled's rough dielectric layer takes an angle-dependent
+///   share of the diffuse light where Tyndall takes `1 − F0`; without the
+///   asset, the floor alone agrees to relMSE 2·10⁻⁶ (docs/benchmarks.md,
+///   "A glTF asset beside Cycles");
+/// - relMSE within both renders' noise (a quarter of each pair's relMSE
+///   between halves, for the means of two) plus 10⁻².
+///
+/// This was the "tilted spot 7 % dark" of issue 22: a glTF file rendered
+/// with the default `single` (surfaces lit directly only) is 8 % darker
+/// than Cycles here and fails the first check; the spot's tilt had no part
+/// in it (relMSE ≤ 4·10⁻⁶ from 15° to 60° with direct light only in both).
+#[test]
+fn a_blender_scene_renders_like_cycles_f12() {
+    let dir = repo().join("scenes/gltf-samples");
+    let desc = common::load_gltf(&dir.join("box-floor.glb")).expect("loads");
+    let half = |i: u32| {
+        tyndall_image::read_exr(&dir.join(format!("box-floor-cycles-half{i}.exr")))
+            .expect("Cycles' half")
+    };
+    let (h0, h1) = (half(0), half(1));
+    let cycles = average(&[&h0, &h1]);
+    let settings = |seed: u64| {
+        let mut s = desc.settings;
+        s.width = cycles.width();
+        s.height = cycles.height();
+        s.spp = 32;
+        s.seed = seed;
+        s
+    };
+    let (c1, c2) = (
+        render(&desc, |s| *s = settings(1)),
+        render(&desc, |s| *s = settings(2)),
+    );
+    let tyndall = average(&[&c1, &c2]);
+    let grey = |p: &Rgb| (p.x + p.y + p.z) as f64 / 3.0;
+    let mean =
+        |im: &tyndall::Image| im.pixels().iter().map(grey).sum::<f64>() / im.pixels().len() as f64;
+    // The standard error of a mean of two renders (or halves) is half
+    // that of their difference's mean.
+    let stderr_of_mean = |a: &tyndall::Image, b: &tyndall::Image| {
+        let diffs: Vec<f64> = a
+            .pixels()
+            .iter()
+            .zip(b.pixels())
+            .map(|(p, q)| grey(p) - grey(q))
+            .collect();
+        mean_and_stderr(&diffs).1 / 2.0
+    };
+    let inflation = pool_inflation(&desc, &settings(1), c1.pixels().len());
+    let se = (inflation * stderr_of_mean(&c1, &c2)).hypot(stderr_of_mean(&h0, &h1));
+    let (m, m_ref) = (mean(&tyndall), mean(&cycles));
+    let bound = 0.02 * m_ref + 4.0 * se;
+    assert!(
+        (m - m_ref).abs() <= bound,
+        "mean {m:.5} vs Cycles {m_ref:.5} ({:+.2} %), bound {bound:.2e}",
+        100.0 * (m / m_ref - 1.0)
+    );
+    let noise = relative_mse(&c1, &c2) / 4.0 + relative_mse(&h0, &h1) / 4.0;
+    let error = relative_mse(&tyndall, &cycles);
+    eprintln!(
+        "box-floor: mean {:+.2} % from Cycles' (bound {:.2} %), relMSE {error:.3e} (noise {noise:.3e})",
+        100.0 * (m / m_ref - 1.0),
+        100.0 * bound / m_ref
+    );
+    assert!(
+        error <= noise + 1e-2,
+        "relMSE {error:.3e} against Cycles, noise {noise:.3e}"
     );
 }

@@ -274,6 +274,8 @@ intensity = 1.0
     let from_toml = common::load_native(&toml_path).expect("TOML");
     let render = |desc: &common::Loaded| {
         let mut settings = desc.settings;
+        // One integrator for both: a glTF file's own default is volpath.
+        settings.integrator = tyndall::IntegratorKind::Single;
         settings.width = 40;
         settings.height = 30;
         settings.spp = 4;

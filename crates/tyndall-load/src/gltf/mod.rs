@@ -43,7 +43,7 @@ use tyndall::color::Rgb;
 use tyndall::description::{LightDesc, Origin, SceneDesc, Sourced};
 use tyndall::lights::{DirectionalLight, PointLight, SpotLight, SpotProfile};
 use tyndall::materials::MaterialId;
-use tyndall::settings::MAX_IMAGE_SIDE;
+use tyndall::settings::{IntegratorKind, MAX_IMAGE_SIDE};
 use tyndall::shapes::Bounds;
 use tyndall::texture::TextureId;
 
@@ -119,7 +119,13 @@ pub struct GltfContent {
 
 /// Loads a glTF file as a whole scene: its camera (or a view of its
 /// bounds), geometry, materials and lights, with default render settings
-/// (the image height follows the camera's aspect ratio) and no fog.
+/// (the image height follows the camera's aspect ratio) but for the
+/// integrator, and no fog. The integrator is `volpath`: an asset is lit
+/// as the tool that wrote it lights it, light reflected between its
+/// surfaces included (Cycles' F12 follows 12 bounces); the default
+/// `single` lights surfaces directly only, 8 % darker on a Khronos
+/// sample asset over a floor (docs/benchmarks.md, "A glTF asset beside
+/// Cycles").
 pub fn load(path: &Path) -> Result<SceneDesc, SceneError> {
     let bytes = read_document(path)?;
     load_bytes(path, &bytes, Some(&base_dir(path)))
@@ -147,6 +153,7 @@ pub fn load_bytes(
     let mut desc = SceneDesc::new(Sourced::code(placeholder));
     let mut content = add_bytes_to_scene(path, bytes, base_dir, Mat4::IDENTITY, &mut desc)?;
     let settings = &mut desc.settings;
+    settings.integrator = IntegratorKind::Volpath;
     let (camera, camera_element) = match content.camera {
         Some(camera) => {
             if let Some(aspect) = camera.aspect {
