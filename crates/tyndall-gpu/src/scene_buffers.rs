@@ -433,6 +433,7 @@ mod tests {
             SurfaceTexture {
                 texture: desc.add_texture(std::sync::Arc::new(image), Origin::Code),
                 uvs: Vec::new(),
+                cutout: None,
             }
         });
         desc.add_mesh(vec![triangle], normals, texture, grey, Origin::Code);

@@ -167,11 +167,26 @@ impl Geometry {
     }
 
     /// The nearest intersection with `t ∈ (0, t_max)`.
+    #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        self.intersect_where(ray, t_max, |_, _| true)
+    }
+
+    /// The nearest intersection with `t ∈ (0, t_max)` that `accept(t,
+    /// primitive_index)` keeps: the others (the holes of an alpha
+    /// cut-out) are passed through, as an any-hit filter does.
+    pub fn intersect_where(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        accept: impl Fn(f32, u32) -> bool,
+    ) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         self.for_each_candidate(ray, t_max, |bvh_ray, index| {
             let prim = &self.primitives[index as usize];
-            if let Some(t) = prim.shape.intersect(ray, bvh_ray.tmax) {
+            if let Some(t) = prim.shape.intersect(ray, bvh_ray.tmax)
+                && accept(t, index)
+            {
                 bvh_ray.tmax = t;
                 best = Some(Hit {
                     t,

@@ -65,7 +65,7 @@ pub fn first_surface(scene: &Scene, mut ray: Ray) -> FirstSurface {
     let mut first_hit = None;
     let (mut bounces, mut crossings) = (0u32, 0u32);
     loop {
-        let Some(hit) = scene.geometry.intersect(&ray, f32::INFINITY) else {
+        let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
             return sky(throughput, first_hit);
         };
         let surface_hit = SurfaceHit::new(scene, &ray, &hit);

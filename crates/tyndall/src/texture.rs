@@ -5,7 +5,10 @@
 //!
 //! Texels stay 8-bit sRGB, three bytes each, and are decoded through a
 //! 256-entry table when looked up: a 4096² texture takes 48 MiB instead of
-//! the 192 MiB of linear floats.
+//! the 192 MiB of linear floats. An image's alpha channel, where a surface
+//! needs it (glTF `alphaMode` `MASK`, §3.9.4: alpha is linear coverage,
+//! not sRGB), is a fourth byte per texel, looked up with the same
+//! filtering.
 
 use crate::color::{Rgb, srgb_to_linear};
 use glam::Vec2;
@@ -44,6 +47,26 @@ impl Wrap {
     }
 }
 
+/// An alpha cut-out (glTF `alphaMode` `MASK`, §3.9.4): where the
+/// coverage `factor · α(uv)` (α the texture's alpha at the point, 1
+/// without an alpha channel) is below `cutoff` the surface is a hole that
+/// every ray passes, elsewhere it is wholly there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AlphaCutout {
+    /// In `[0, 1]`; glTF's `alphaCutoff`, 0.5 by default.
+    pub cutoff: f32,
+    /// In `[0, 1]`; glTF's `baseColorFactor` alpha.
+    pub factor: f32,
+}
+
+impl AlphaCutout {
+    /// Whether texture alpha `alpha` makes a hole.
+    #[inline]
+    pub fn is_hole(&self, alpha: f32) -> bool {
+        self.factor * alpha < self.cutoff
+    }
+}
+
 /// An sRGB-encoded colour image of `width × height` texels, row by row
 /// from the top (texture coordinate v = 0 is the first row, as in glTF).
 #[derive(Clone, Debug, PartialEq)]
@@ -51,8 +74,11 @@ pub struct Texture {
     width: u32,
     height: u32,
     texels: Vec<[u8; 3]>,
+    /// Linear coverage `code/255` per texel, if the image has it.
+    alpha: Option<Vec<u8>>,
     wrap: [Wrap; 2],
     mean: Rgb,
+    mean_alpha: f32,
 }
 
 /// The linear value of each 8-bit sRGB code.
@@ -94,9 +120,40 @@ impl Texture {
             width,
             height,
             texels,
+            alpha: None,
             wrap,
             mean,
+            mean_alpha: 1.0,
         })
+    }
+
+    /// The texture with an alpha channel: one linear 8-bit coverage code
+    /// per texel, in the texels' order; an error if the count differs.
+    pub fn with_alpha(mut self, alpha: Vec<u8>) -> Result<Self, String> {
+        if alpha.len() != self.texels.len() {
+            return Err(format!(
+                "a {}×{} texture needs {} alpha values, got {}",
+                self.width,
+                self.height,
+                self.texels.len(),
+                alpha.len()
+            ));
+        }
+        let sum: u64 = alpha.iter().map(|&a| u64::from(a)).sum();
+        self.mean_alpha = (sum as f64 / (255.0 * alpha.len() as f64)) as f32;
+        self.alpha = Some(alpha);
+        Ok(self)
+    }
+
+    /// The mean coverage of all texels (1 without an alpha channel), for
+    /// surfaces that have no texture coordinates.
+    pub fn mean_alpha(&self) -> f32 {
+        self.mean_alpha
+    }
+
+    /// Whether the image has an alpha channel.
+    pub fn has_alpha(&self) -> bool {
+        self.alpha.is_some()
     }
 
     pub fn width(&self) -> u32 {
@@ -116,9 +173,7 @@ impl Texture {
     /// The linear colour of texel (`x`, `y`), wrapped.
     #[inline]
     fn texel(&self, x: i64, y: i64) -> Rgb {
-        let x = self.wrap[0].index(x, self.width);
-        let y = self.wrap[1].index(y, self.height);
-        let [r, g, b] = self.texels[y * self.width as usize + x];
+        let [r, g, b] = self.texels[self.index(x, y)];
         Rgb::new(decode(r), decode(g), decode(b))
     }
 
@@ -126,8 +181,37 @@ impl Texture {
     /// texel centres (at `(i + ½)/width`, `(j + ½)/height`) blended
     /// bilinearly after decoding. Non-finite coordinates give the mean.
     pub fn lookup(&self, uv: Vec2) -> Rgb {
+        match self.bilinear(uv) {
+            Some(corners) => corners
+                .into_iter()
+                .map(|(x, y, w)| self.texel(x, y) * w)
+                .sum(),
+            None => self.mean,
+        }
+    }
+
+    /// The coverage (alpha, in `[0, 1]`) at texture coordinates `uv`,
+    /// filtered as [`Texture::lookup`] filters colour; 1 where the image
+    /// has no alpha channel, and at non-finite coordinates.
+    pub fn alpha(&self, uv: Vec2) -> f32 {
+        let Some(alpha) = &self.alpha else {
+            return 1.0;
+        };
+        match self.bilinear(uv) {
+            Some(corners) => corners
+                .into_iter()
+                .map(|(x, y, w)| f32::from(alpha[self.index(x, y)]) / 255.0 * w)
+                .sum(),
+            None => 1.0,
+        }
+    }
+
+    /// The four texels nearest `uv` (unwrapped indices) and their
+    /// bilinear weights, which sum to 1; `None` for non-finite `uv`.
+    #[inline]
+    fn bilinear(&self, uv: Vec2) -> Option<[(i64, i64, f32); 4]> {
         if !uv.is_finite() {
-            return self.mean;
+            return None;
         }
         // Far outside [0, 1] (beyond 2⁵² texels, where f64 holds no
         // fraction) the position is held there, so the texel indices stay
@@ -138,9 +222,20 @@ impl Texture {
         let (x0, y0) = (x.floor(), y.floor());
         let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
         let (x0, y0) = (x0 as i64, y0 as i64);
-        let top = self.texel(x0, y0) * (1.0 - fx) + self.texel(x0 + 1, y0) * fx;
-        let bottom = self.texel(x0, y0 + 1) * (1.0 - fx) + self.texel(x0 + 1, y0 + 1) * fx;
-        top * (1.0 - fy) + bottom * fy
+        Some([
+            (x0, y0, (1.0 - fx) * (1.0 - fy)),
+            (x0 + 1, y0, fx * (1.0 - fy)),
+            (x0, y0 + 1, (1.0 - fx) * fy),
+            (x0 + 1, y0 + 1, fx * fy),
+        ])
+    }
+
+    /// The position in the texel array of texel (`x`, `y`), wrapped.
+    #[inline]
+    fn index(&self, x: i64, y: i64) -> usize {
+        let x = self.wrap[0].index(x, self.width);
+        let y = self.wrap[1].index(y, self.height);
+        y * self.width as usize + x
     }
 }
 
@@ -184,5 +279,39 @@ mod tests {
         assert_eq!(Wrap::Mirror.index(3, 3), 2);
         assert_eq!(Wrap::Repeat.index(-1, 3), 2);
         assert!(Texture::new(2, 2, vec![[0; 3]; 3], [Wrap::Repeat; 2]).is_err());
+    }
+
+    /// Alpha is linear (code 128 is 0.502, not sRGB's 0.216) and filtered
+    /// as colour is; a 2×2 checker of coverage 1 and 0 is at least ½
+    /// exactly on the quadrants of its own texels (clamped); without a
+    /// channel, coverage is 1.
+    #[test]
+    fn alpha_is_linear_and_filtered_bilinearly() {
+        let t = checker(Wrap::Clamp)
+            .with_alpha(vec![255, 0, 0, 255])
+            .unwrap();
+        assert!(t.has_alpha());
+        assert!((t.mean_alpha() - 0.5).abs() < 1e-6);
+        assert_eq!(t.alpha(Vec2::new(0.25, 0.25)), 1.0);
+        assert_eq!(t.alpha(Vec2::new(0.75, 0.25)), 0.0);
+        assert!((t.alpha(Vec2::new(0.5, 0.3)) - 0.5).abs() < 1e-6);
+        for (uv, solid) in [
+            ((0.1, 0.2), true),
+            ((0.45, 0.45), true),
+            ((0.55, 0.45), false),
+            ((0.9, 0.1), false),
+            ((0.2, 0.8), false),
+            ((0.55, 0.55), true),
+        ] {
+            let a = t.alpha(Vec2::new(uv.0, uv.1));
+            assert_eq!(a >= 0.5, solid, "{uv:?}: {a}");
+        }
+        let half = Texture::new(1, 1, vec![[0; 3]], [Wrap::Repeat; 2])
+            .unwrap()
+            .with_alpha(vec![128])
+            .unwrap();
+        assert!((half.alpha(Vec2::new(0.3, 0.3)) - 128.0 / 255.0).abs() < 1e-6);
+        assert_eq!(checker(Wrap::Clamp).alpha(Vec2::new(0.75, 0.25)), 1.0);
+        assert!(checker(Wrap::Clamp).with_alpha(vec![0; 3]).is_err());
     }
 }

@@ -6,7 +6,6 @@
 //! through the BVH, or fast, from per-light shadow and transmittance maps
 //! ([`crate::shadow_maps`]) rendered once per frame.
 
-use crate::accel::Geometry;
 use crate::color::Rgb;
 use crate::glass::{Glass, GlassModel};
 use crate::lights::Incident;
@@ -85,14 +84,7 @@ impl Visibility {
             return t;
         }
         counts.shadow += 1;
-        shadow_ray(
-            &scene.geometry,
-            &scene.materials,
-            scene.glass.model,
-            origin,
-            incident,
-            scene.light_primitive(light),
-        )
+        shadow_ray(scene, origin, incident, scene.light_primitive(light))
     }
 }
 
@@ -115,14 +107,7 @@ pub(crate) fn segment_transmittance(
         irradiance: Rgb::ONE,
         light_normal: None,
     };
-    shadow_ray(
-        &scene.geometry,
-        &scene.materials,
-        scene.glass.model,
-        origin,
-        &incident,
-        None,
-    )
+    shadow_ray(scene, origin, &incident, None)
 }
 
 /// Hits of a light's own geometry past this fraction of a shadow ray
@@ -133,14 +118,12 @@ pub(crate) fn segment_transmittance(
 /// emitter's visible side, the emitter itself is met only there.
 const OWN_HIT_FRACTION: f32 = 0.999;
 
-fn shadow_ray(
-    geometry: &Geometry,
-    materials: &[Material],
-    model: GlassModel,
-    origin: Vec3,
-    incident: &Incident,
-    own: Option<u32>,
-) -> Rgb {
+/// The glass tint along `incident` from `origin`, 0 if an opaque surface
+/// is in the way; hits of `own` (the light's own primitive) near the end
+/// and the holes of alpha cut-outs are passed.
+fn shadow_ray(scene: &Scene, origin: Vec3, incident: &Incident, own: Option<u32>) -> Rgb {
+    let (geometry, materials, model) = (&scene.geometry, &scene.materials, scene.glass.model);
+    let cutouts = scene.has_cutouts();
     let ray = Ray {
         origin,
         direction: incident.direction,
@@ -157,6 +140,9 @@ fn shadow_ray(
     let mut blocked = false;
     geometry.for_each_hit(&ray, t_max, |t, index| {
         if own == Some(index) && t > OWN_HIT_FRACTION * t_max {
+            return ControlFlow::Continue(());
+        }
+        if cutouts && scene.is_hole(index, ray.at(t)) {
             return ControlFlow::Continue(());
         }
         match &materials[geometry.primitive(index).material as usize] {

@@ -5,13 +5,18 @@
 use super::{DEFAULT_IOR, GltfLoader};
 use crate::source::SceneError;
 use ::gltf::image::Format;
+use ::gltf::material::AlphaMode;
 use ::gltf::texture::WrappingMode;
 use std::sync::Arc;
 use tyndall::color::Rgb;
 use tyndall::description::SceneDesc;
 use tyndall::glass::Glass;
 use tyndall::materials::{Material, MaterialId, Surface};
-use tyndall::texture::{Texture, TextureId, Wrap};
+use tyndall::texture::{AlphaCutout, Texture, TextureId, Wrap};
+
+/// glTF's `alphaCutoff` when a `MASK` material does not give it
+/// (glTF 2.0 §5.19, material.alphaCutoff).
+const DEFAULT_ALPHA_CUTOFF: f32 = 0.5;
 
 /// Most texels a texture may have (a 16384² image): larger ones are
 /// refused rather than decoded (the size is read from the image's header
@@ -30,6 +35,9 @@ pub const MAX_DECODED_TEXELS: u64 = 1 << 28;
 pub(super) struct BaseTexture {
     pub texture: TextureId,
     pub tex_coord: u32,
+    /// The material's alpha cut-out (`alphaMode` `MASK`) on the
+    /// texture's alpha, if it has one.
+    pub cutout: Option<AlphaCutout>,
 }
 
 impl GltfLoader<'_> {
@@ -48,6 +56,14 @@ impl GltfLoader<'_> {
             Some(i) => format!("materials[{i}]"),
             None => "the default material".into(),
         };
+        // A cut-out without a texture is wholly there or wholly a hole.
+        if material.alpha_mode() == AlphaMode::Mask
+            && texture.is_none_or(|t| t.cutout.is_none())
+            && material.pbr_metallic_roughness().base_color_factor()[3]
+                < material.alpha_cutoff().unwrap_or(DEFAULT_ALPHA_CUTOFF)
+        {
+            self.hidden_materials.insert(material.index());
+        }
         let id = scene.add_material(converted, self.origin(element));
         self.materials.insert(material.index(), (id, texture));
         Ok((id, texture))
@@ -106,6 +122,7 @@ impl GltfLoader<'_> {
                 let texture = BaseTexture {
                     texture: id,
                     tex_coord: info.tex_coord(),
+                    cutout: None,
                 };
                 (base_factor * mean, Some(texture))
             }
@@ -119,7 +136,14 @@ impl GltfLoader<'_> {
                 "emissiveFactor × emissiveStrength must be non-negative and finite",
             ));
         }
+        let masked = material.alpha_mode() == AlphaMode::Mask && texture.is_some();
         if emission.max_element() > 0.0 {
+            if masked {
+                self.warn(
+                    &element,
+                    "alphaMode MASK is ignored on an emitter: it emits over its whole surface",
+                );
+            }
             if material.emissive_texture().is_some() {
                 self.warn(
                     &element,
@@ -145,6 +169,12 @@ impl GltfLoader<'_> {
             && transmission.transmission_factor() > 0.0
         {
             let t = transmission.transmission_factor();
+            if masked {
+                self.warn(
+                    &element,
+                    "alphaMode MASK is ignored on glass: the whole surface transmits",
+                );
+            }
             if transmission.transmission_texture().is_some() {
                 self.warn(&element, "transmissionTexture is ignored");
             }
@@ -232,15 +262,45 @@ impl GltfLoader<'_> {
                 roughness: roughness * roughness,
             }
         };
-        // A surface with no diffuse reflectance has nothing to texture.
-        let texture = texture.filter(|_| diffuse != Rgb::ZERO);
+        let cutout = match material.alpha_mode() {
+            AlphaMode::Mask => {
+                let cutoff = material.alpha_cutoff().unwrap_or(DEFAULT_ALPHA_CUTOFF);
+                if !(cutoff.is_finite() && (0.0..=1.0).contains(&cutoff)) {
+                    return Err(self.err(
+                        &element,
+                        format!("alphaCutoff must be in [0, 1], got {cutoff}"),
+                    ));
+                }
+                Some(AlphaCutout {
+                    cutoff,
+                    factor: factor[3].clamp(0.0, 1.0),
+                })
+            }
+            AlphaMode::Blend => {
+                self.warn(
+                    &element,
+                    "alphaMode BLEND is rendered opaque: the surface's partial coverage is ignored",
+                );
+                None
+            }
+            AlphaMode::Opaque => None,
+        };
+        // A surface with no diffuse reflectance has nothing to texture,
+        // unless the texture's alpha cuts it out.
+        let texture = match (texture, cutout) {
+            (Some(t), Some(_)) if scene.textures[t.texture as usize].value.has_alpha() => {
+                Some(BaseTexture { cutout, ..t })
+            }
+            (t, _) => t.filter(|_| diffuse != Rgb::ZERO),
+        };
         Ok((Material::Opaque(surface), texture))
     }
 
     /// The scene's texture for a glTF texture (its image, sRGB 8-bit,
     /// with its sampler's wrap modes; added on first use) and its mean
     /// linear colour. Sixteen-bit images keep their high bytes; one and
-    /// two channels are grey (alpha is ignored).
+    /// two channels are grey; the alpha of two- and four-channel images
+    /// is kept as linear coverage, for cut-outs.
     fn texture(
         &mut self,
         element: &str,
@@ -280,24 +340,32 @@ impl GltfLoader<'_> {
                 format!("images[{index}]: the decoded image has the wrong size"),
             ));
         }
+        // The high byte of channel `c` of `pixel` (16-bit channels are
+        // stored native-endian by the gltf crate).
+        let channel = |pixel: &[u8], c: usize| -> u8 {
+            let c = c.min(channels - 1);
+            if bytes == 1 {
+                pixel[c]
+            } else {
+                (u16::from_ne_bytes([pixel[2 * c], pixel[2 * c + 1]]) >> 8) as u8
+            }
+        };
+        // Grey + alpha or RGBA: the last channel is linear coverage.
+        let alpha: Option<Vec<u8>> = matches!(channels, 2 | 4).then(|| {
+            image
+                .pixels
+                .chunks_exact(stride)
+                .map(|pixel| channel(pixel, channels - 1))
+                .collect()
+        });
         let texels = image
             .pixels
             .chunks_exact(stride)
             .map(|pixel| {
-                // The high byte of a 16-bit channel (stored native-endian
-                // by the gltf crate).
-                let channel = |c: usize| -> u8 {
-                    let c = c.min(channels - 1);
-                    if bytes == 1 {
-                        pixel[c]
-                    } else {
-                        (u16::from_ne_bytes([pixel[2 * c], pixel[2 * c + 1]]) >> 8) as u8
-                    }
-                };
                 if channels <= 2 {
-                    [channel(0); 3]
+                    [channel(pixel, 0); 3]
                 } else {
-                    [channel(0), channel(1), channel(2)]
+                    [channel(pixel, 0), channel(pixel, 1), channel(pixel, 2)]
                 }
             })
             .collect();
@@ -313,6 +381,10 @@ impl GltfLoader<'_> {
             texels,
             [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())],
         )
+        .and_then(|t| match alpha {
+            Some(alpha) => t.with_alpha(alpha),
+            None => Ok(t),
+        })
         .map_err(|m| self.err(element, format!("images[{index}]: {m}")))?;
         let mean = made.mean();
         let id = scene.add_texture(Arc::new(made), self.origin(format!("images[{index}]")));

@@ -99,6 +99,12 @@ impl GltfLoader<'_> {
                 )?;
             }
             let (material, base_texture) = self.material_id(&primitive.material(), scene)?;
+            if self
+                .hidden_materials
+                .contains(&primitive.material().index())
+            {
+                continue;
+            }
             let mut triangles = Vec::new();
             let buffers = &self.buffers;
             let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
@@ -246,6 +252,7 @@ impl GltfLoader<'_> {
             let texture = base_texture.map(|t| SurfaceTexture {
                 texture: t.texture,
                 uvs: corner_uvs,
+                cutout: t.cutout,
             });
             scene.add_mesh(triangles, corner_normals, texture, material, origin);
         }

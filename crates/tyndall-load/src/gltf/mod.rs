@@ -35,7 +35,7 @@ use crate::photometry::{candela_to_watts_per_sr, lux_to_watts_per_m2};
 use crate::source::SceneError;
 use ::gltf::khr_lights_punctual::Kind;
 use glam::{Mat4, Vec3};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use tyndall::camera::{CameraSpec, FieldOfView};
@@ -392,6 +392,7 @@ pub fn add_bytes_to_scene(
         buffers,
         decoded_texels: 0,
         materials: HashMap::new(),
+        hidden_materials: HashSet::new(),
         textures: HashMap::new(),
         warnings: Vec::new(),
         camera: None,
@@ -478,6 +479,9 @@ struct GltfLoader<'a> {
     /// with the base colour texture that multiplies its diffuse
     /// reflectance, if any.
     materials: HashMap<Option<usize>, (MaterialId, Option<BaseTexture>)>,
+    /// glTF materials that are cut out everywhere (`MASK` below its
+    /// cutoff without a texture's alpha): their primitives are left out.
+    hidden_materials: HashSet<Option<usize>>,
     /// The scene's texture made of each (image, sampler) pair.
     textures: HashMap<(usize, Option<usize>), TextureId>,
     warnings: Vec<String>,

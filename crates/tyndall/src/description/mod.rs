@@ -27,7 +27,7 @@ use crate::media::volume::Density;
 use crate::phase::PhaseFunction;
 use crate::settings::RenderSettings;
 use crate::shapes::{Bounds, Shape, Triangle};
-use crate::texture::{Texture, TextureId};
+use crate::texture::{AlphaCutout, Texture, TextureId};
 use glam::{Vec2, Vec3};
 use std::fmt;
 use std::ops::Range;
@@ -120,6 +120,8 @@ impl ShapeDesc {
 pub struct SurfaceTexture {
     pub texture: TextureId,
     pub uvs: Vec<[Vec2; 3]>,
+    /// Holes where the texture's alpha is below a cutoff, if any.
+    pub cutout: Option<AlphaCutout>,
 }
 
 /// A light that is not a shape. Area lights are shapes with an emissive

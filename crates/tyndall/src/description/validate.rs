@@ -304,6 +304,19 @@ impl SceneDesc {
         if !shape.is_mesh() {
             return item.fail("texture", "only triangle meshes can be textured".into());
         }
+        if let Some(cutout) = texture.cutout {
+            for (name, v) in [
+                ("cutoff", cutout.cutoff),
+                ("coverage factor", cutout.factor),
+            ] {
+                if !(0.0..=1.0).contains(&v) {
+                    return item.fail(
+                        "cutout",
+                        format!("the alpha cut-out's {name} must be in [0, 1], got {v}"),
+                    );
+                }
+            }
+        }
         if texture.uvs.is_empty() {
             return Ok(());
         }

@@ -86,7 +86,7 @@ impl CameraPath<'_> {
         let mut tracker = VolumeTracker::new(sampler.stream(TRACKING_STREAM));
         loop {
             counts.camera += 1;
-            let hit = scene.geometry.intersect(&ray, f32::INFINITY);
+            let hit = scene.intersect(&ray, f32::INFINITY);
             let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
             if let Some(fog) = &scene.fog
                 && !solids.inside()

@@ -213,7 +213,7 @@ impl Tracer<'_> {
         let mut caustic = false;
         loop {
             counts.camera += 1;
-            let hit = scene.geometry.intersect(&ray, f32::INFINITY);
+            let hit = scene.intersect(&ray, f32::INFINITY);
             let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
             let event = if solids.inside() {
                 MediumEvent::None
@@ -360,7 +360,10 @@ impl Tracer<'_> {
         let opaque_glass = scene.glass.opaque_to_camera;
         scene
             .geometry
-            .for_each_hit(&ray, distance * (1.0 - 1e-4), |_, primitive| {
+            .for_each_hit(&ray, distance * (1.0 - 1e-4), |t, primitive| {
+                if scene.has_cutouts() && scene.is_hole(primitive, ray.at(t)) {
+                    return ControlFlow::Continue(());
+                }
                 match scene.material(primitive).event(true, opaque_glass) {
                     SurfaceEvent::Pane { transmittance } => {
                         tint *= transmittance;

@@ -60,6 +60,9 @@ impl RenderSettings {
                 self.integrator.name(),
             ));
         }
+        if scene.has_cutouts() && matches!(self.visibility, VisibilityMode::Maps { .. }) {
+            return Err(RenderError::CutoutsNeedShadowRays);
+        }
         if scene.volumes.len() > MAX_VOLUMES {
             return Err(RenderError::TooManyVolumes(scene.volumes.len()));
         }

@@ -51,4 +51,8 @@ pub enum RenderError {
         "the radiance's components (the emission, direct, indirect and volume AOVs) are not split for renders that trace light paths (`volpath` with a dielectric and a point or spot light: the caustics); the other AOVs are"
     )]
     ComponentsWithLightPaths,
+    #[error(
+        "the scene has alpha cut-outs (glTF alphaMode MASK), which shadow maps do not see: use shadow rays (visibility = \"rays\", the default)"
+    )]
+    CutoutsNeedShadowRays,
 }

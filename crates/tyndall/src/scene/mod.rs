@@ -9,7 +9,7 @@ pub use crate::description::GlassSettings;
 mod shading_normals;
 mod surface_textures;
 
-use crate::accel::{Geometry, Primitive};
+use crate::accel::{Geometry, Hit, Primitive};
 use crate::camera::CameraSpec;
 use crate::color::Rgb;
 use crate::description::{DescError, MediumDesc, RegionDesc, SceneDesc};
@@ -19,9 +19,11 @@ use crate::materials::Surface;
 use crate::media::Fog;
 use crate::media::emitters::MediaEmitters;
 use crate::media::volume::{MeshRegion, Volume, VolumeRegion};
+use crate::ray::Ray;
 use crate::shapes::Shape;
 use glam::Vec3;
 use shading_normals::ShadingNormals;
+use std::ops::ControlFlow;
 use surface_textures::SurfaceTextures;
 
 /// Everything the integrators need to know about the world.
@@ -156,6 +158,47 @@ impl Scene {
         self.textures.is_used()
     }
 
+    /// Whether some surface has an alpha cut-out (glTF `MASK`).
+    pub fn has_cutouts(&self) -> bool {
+        self.textures.has_cutouts()
+    }
+
+    /// Whether the point `p` of primitive `primitive` is a hole of its
+    /// alpha cut-out, which every ray passes.
+    #[inline]
+    pub fn is_hole(&self, primitive: u32, p: Vec3) -> bool {
+        match &self.geometry.primitive(primitive).shape {
+            Shape::Triangle(triangle) => self.textures.is_hole(primitive, triangle, p),
+            _ => false,
+        }
+    }
+
+    /// The nearest surface along `ray` with `t ∈ (0, t_max)`, the holes
+    /// of alpha cut-outs passed: what every integrator's rays hit.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        if !self.has_cutouts() {
+            return self.geometry.intersect(ray, t_max);
+        }
+        self.geometry
+            .intersect_where(ray, t_max, |t, index| !self.is_hole(index, ray.at(t)))
+    }
+
+    /// Whether any surface (not a hole of a cut-out) meets `ray` before
+    /// `t_max`.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        let mut hit = false;
+        self.geometry.for_each_hit(ray, t_max, |t, index| {
+            if self.has_cutouts() && self.is_hole(index, ray.at(t)) {
+                return ControlFlow::Continue(());
+            }
+            hit = true;
+            ControlFlow::Break(())
+        });
+        hit
+    }
+
     /// The surface `surface` (the material of `primitive`) at its point
     /// `p`: its diffuse reflectance multiplied by the colour of the
     /// primitive's texture there, if it is a textured triangle
@@ -227,7 +270,7 @@ impl Scene {
             if let Some(texture) = &item.texture {
                 for k in 0..item.shapes.len() {
                     let uvs = texture.uvs.get(k).copied();
-                    textures.bind(first + k as u32, texture.texture, uvs);
+                    textures.bind(first + k as u32, texture.texture, uvs, texture.cutout);
                 }
             }
             let material = &materials[item.material as usize];

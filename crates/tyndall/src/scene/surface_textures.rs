@@ -1,10 +1,11 @@
 //! Colour textures bound to mesh triangles: which texture multiplies a
 //! primitive's diffuse reflectance, and its texture coordinates at the
-//! triangle's corners, interpolated by barycentric weights.
+//! triangle's corners, interpolated by barycentric weights; and the alpha
+//! cut-outs that make holes in them.
 
 use crate::color::Rgb;
 use crate::shapes::Triangle;
-use crate::texture::{Texture, TextureId};
+use crate::texture::{AlphaCutout, Texture, TextureId};
 use glam::{Vec2, Vec3};
 use std::sync::Arc;
 
@@ -14,6 +15,7 @@ use std::sync::Arc;
 struct Binding {
     texture: TextureId,
     uvs: Option<[Vec2; 3]>,
+    cutout: Option<AlphaCutout>,
 }
 
 /// The textures of a scene and the primitives they are bound to.
@@ -24,6 +26,8 @@ pub(crate) struct SurfaceTextures {
     /// primitive is textured.
     slot: Vec<u32>,
     bindings: Vec<Binding>,
+    /// Whether some binding has a cut-out.
+    cutouts: bool,
 }
 
 const NONE: u32 = u32::MAX;
@@ -37,14 +41,54 @@ impl SurfaceTextures {
     }
 
     /// Binds `texture` to primitive `primitive` with its corners'
-    /// coordinates `uvs`.
-    pub fn bind(&mut self, primitive: u32, texture: TextureId, uvs: Option<[Vec2; 3]>) {
+    /// coordinates `uvs`, and the texture's alpha `cutout` if given.
+    pub fn bind(
+        &mut self,
+        primitive: u32,
+        texture: TextureId,
+        uvs: Option<[Vec2; 3]>,
+        cutout: Option<AlphaCutout>,
+    ) {
         let index = primitive as usize;
         if self.slot.len() <= index {
             self.slot.resize(index + 1, NONE);
         }
         self.slot[index] = self.bindings.len() as u32;
-        self.bindings.push(Binding { texture, uvs });
+        self.cutouts |= cutout.is_some();
+        self.bindings.push(Binding {
+            texture,
+            uvs,
+            cutout,
+        });
+    }
+
+    /// Whether some primitive has an alpha cut-out.
+    pub fn has_cutouts(&self) -> bool {
+        self.cutouts
+    }
+
+    /// Whether the point `p` of triangle `triangle` (primitive
+    /// `primitive`) lies in a hole of the primitive's cut-out: its
+    /// texture's alpha at `p` (at the texture's mean coverage without
+    /// coordinates) below the cutoff.
+    #[inline]
+    pub fn is_hole(&self, primitive: u32, triangle: &Triangle, p: Vec3) -> bool {
+        let Some(&slot) = self.slot.get(primitive as usize) else {
+            return false;
+        };
+        if slot == NONE {
+            return false;
+        }
+        let binding = self.bindings[slot as usize];
+        let Some(cutout) = binding.cutout else {
+            return false;
+        };
+        let texture = &self.textures[binding.texture as usize];
+        let alpha = match binding.uvs {
+            Some(uvs) => texture.alpha(interpolate(uvs, triangle, p)),
+            None => texture.mean_alpha(),
+        };
+        cutout.is_hole(alpha)
     }
 
     /// Whether any primitive is textured.
@@ -64,12 +108,20 @@ impl SurfaceTextures {
         }
         let binding = self.bindings[slot as usize];
         let texture = &self.textures[binding.texture as usize];
-        let Some([t0, t1, t2]) = binding.uvs else {
+        let Some(uvs) = binding.uvs else {
             return Some(texture.mean());
         };
-        let (b1, b2) = triangle.barycentric(p);
-        let (b1, b2) = (b1.clamp(0.0, 1.0), b2.clamp(0.0, 1.0));
-        let b0 = (1.0 - b1 - b2).max(0.0);
-        Some(texture.lookup(t0 * b0 + t1 * b1 + t2 * b2))
+        Some(texture.lookup(interpolate(uvs, triangle, p)))
     }
+}
+
+/// The texture coordinates at the point `p` of `triangle`, interpolated
+/// from its corners' `uvs` (barycentric weights clamped to the triangle
+/// against rounding at its edges).
+#[inline]
+fn interpolate([t0, t1, t2]: [Vec2; 3], triangle: &Triangle, p: Vec3) -> Vec2 {
+    let (b1, b2) = triangle.barycentric(p);
+    let (b1, b2) = (b1.clamp(0.0, 1.0), b2.clamp(0.0, 1.0));
+    let b0 = (1.0 - b1 - b2).max(0.0);
+    t0 * b0 + t1 * b1 + t2 * b2
 }

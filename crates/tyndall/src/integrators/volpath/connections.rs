@@ -103,7 +103,6 @@ pub(super) fn connect_light_vertex<'a>(
     let t_hit = if samples.area > 0 {
         counts.shadow += 1;
         scene
-            .geometry
             .intersect(&segment_ray, f32::INFINITY)
             .map_or(f32::INFINITY, |h| h.t)
     } else {
@@ -177,7 +176,6 @@ impl LightVertexOrigin<'_> {
             // The equiangular term needs the whole segment: to the next
             // surface beyond y.
             let t_hit = scene
-                .geometry
                 .intersect(&segment_ray, f32::INFINITY)
                 .map_or(f32::INFINITY, |h| h.t);
             if t_hit <= t {
@@ -187,7 +185,7 @@ impl LightVertexOrigin<'_> {
         } else {
             // The other densities need only where the segment enters the
             // fog: a visibility test up to y does.
-            if scene.geometry.occluded(&segment_ray, t) {
+            if scene.occluded(&segment_ray, t) {
                 return None;
             }
             f32::INFINITY

@@ -209,7 +209,7 @@ fn light_flight(
     let mut crossings = 0u32;
     loop {
         counts.camera += 1;
-        let hit = scene.geometry.intersect(&ray, f32::INFINITY);
+        let hit = scene.intersect(&ray, f32::INFINITY);
         let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
         if let Some((a, b)) = fog.interval(&ray, 0.0, t_hit) {
             let depth = fog.sigma_t * (b - a);

@@ -178,7 +178,7 @@ pub(crate) fn radiance<K: Keep>(
     let mut connected_from = Connections::default();
     loop {
         counts.camera += 1;
-        let hit = scene.geometry.intersect(&ray, f32::INFINITY);
+        let hit = scene.intersect(&ray, f32::INFINITY);
         let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
         // The fog's free-flight event, if one comes before the surface.
         let mut fog_event = None;
