@@ -784,3 +784,82 @@ fn alpha_cutouts_are_holes_for_every_ray() {
         blended.warnings
     );
 }
+
+/// `KHR_texture_transform` on a base colour texture: a 2×2 checker
+/// (clamped) over a floor, its coordinates rotated a quarter turn and
+/// offset by (0, 1), so that a point of coordinates (u, v) shows the
+/// texel at `(v, 1 − u)` — the extension's `T·R·S` with its rotation
+/// matrix `[cos sin; −sin cos]`, written out here. Each quadrant's
+/// centre, lit by a sun straight down, shows that texel's colour.
+#[test]
+fn texture_transform_moves_the_texture() {
+    use tyndall::IntegratorKind;
+    use tyndall::ray::Ray;
+    let dir = test_dir("texture-transform");
+    let texels = [
+        Rgb::new(1.0, 0.0, 0.0),
+        Rgb::new(0.0, 1.0, 0.0),
+        Rgb::new(0.0, 0.0, 1.0),
+        Rgb::new(1.0, 1.0, 1.0),
+    ];
+    tyndall_image::output::write_image(
+        &tyndall::Image::from_pixels(2, 2, texels.to_vec()),
+        &dir.join("checker.png"),
+        0.0,
+    )
+    .expect("png");
+    let positions = vec![
+        [-2.0, 0.0, -2.0],
+        [2.0, 0.0, -2.0],
+        [2.0, 0.0, 2.0],
+        [-2.0, 0.0, 2.0],
+    ];
+    let uv = |x: f32, z: f32| [(x + 2.0) / 4.0, (z + 2.0) / 4.0];
+    let s = FRAC_1_SQRT_2;
+    let doc = json!({
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_specular", "KHR_texture_transform"],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "intensity": 683.0}]}},
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [
+            {"mesh": 0},
+            {"rotation": [-s, 0.0, 0.0, s], "extensions": {"KHR_lights_punctual": {"light": 0}}}
+        ],
+        "images": [{"uri": "checker.png"}],
+        "samplers": [{"wrapS": 33071, "wrapT": 33071}],
+        "textures": [{"source": 0, "sampler": 0}],
+        "materials": [{"pbrMetallicRoughness": {
+                           "baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {
+                               "offset": [0.0, 1.0], "rotation": std::f32::consts::FRAC_PI_2}}},
+                           "metallicFactor": 0.0},
+                       "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}]
+    });
+    let floor = MeshData {
+        uvs: Some(positions.iter().map(|p| uv(p[0], p[2])).collect()),
+        positions,
+        indices: Some(vec![0, 2, 1, 0, 3, 2]),
+        mode: None,
+        material: Some(0),
+        normals: None,
+    };
+    let desc = common::load_gltf(&write_gltf(&dir, "turned", &[floor], doc)).expect("loads");
+    assert!(
+        desc.warnings
+            .iter()
+            .all(|w| !w.contains("KHR_texture_transform")),
+        "{:?}",
+        desc.warnings
+    );
+    for (x, z) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
+        let [u, v] = uv(x, z);
+        // (u, v) ↦ (v, 1 − u), then the texel whose quadrant holds it.
+        let (tu, tv) = (v, 1.0 - u);
+        let texel = texels[2 * usize::from(tv > 0.5) + usize::from(tu > 0.5)];
+        let expected = texel / PI;
+        let ray = Ray::new(Vec3::new(x, 1.0, z), Vec3::new(0.0, -1.0, 0.0));
+        let (got, _) = common::estimate_ray(&desc, IntegratorKind::Single, 0.1, ray, 4);
+        assert!(
+            (got - expected).abs().max_element() < 1e-5,
+            "at ({x}, {z}): {got} vs {expected}"
+        );
+    }
+}

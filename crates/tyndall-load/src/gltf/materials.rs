@@ -38,6 +38,40 @@ pub(super) struct BaseTexture {
     /// The material's alpha cut-out (`alphaMode` `MASK`) on the
     /// texture's alpha, if it has one.
     pub cutout: Option<AlphaCutout>,
+    /// `KHR_texture_transform` of the texture's coordinates.
+    pub transform: UvTransform,
+}
+
+/// An affine map of texture coordinates, `KHR_texture_transform`'s
+/// `T(offset)·R(rotation)·S(scale)` (its README: the rotation matrix
+/// `[cos sin; −sin cos]` of the extension's texture space). Affine, so it
+/// commutes with interpolation across a triangle: it is applied to the
+/// corners' coordinates once, at load.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct UvTransform {
+    /// Rows of the 2×3 matrix.
+    rows: [[f32; 3]; 2],
+}
+
+impl UvTransform {
+    pub const IDENTITY: Self = Self {
+        rows: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+    };
+
+    /// `T·R·S` of `offset`, `rotation` (radians) and `scale`.
+    pub fn new(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> Self {
+        let (sin, cos) = rotation.sin_cos();
+        Self {
+            rows: [
+                [cos * scale[0], sin * scale[1], offset[0]],
+                [-sin * scale[0], cos * scale[1], offset[1]],
+            ],
+        }
+    }
+
+    pub fn apply(&self, [u, v]: [f32; 2]) -> [f32; 2] {
+        self.rows.map(|[a, b, c]| a * u + b * v + c)
+    }
 }
 
 impl GltfLoader<'_> {
@@ -119,10 +153,18 @@ impl GltfLoader<'_> {
         let (base, texture) = match pbr.base_color_texture() {
             Some(info) => {
                 let (id, mean) = self.texture(&element, &info.texture(), scene)?;
+                let transform = info.texture_transform();
                 let texture = BaseTexture {
                     texture: id,
-                    tex_coord: info.tex_coord(),
+                    // The extension's own set, where it names one.
+                    tex_coord: transform
+                        .as_ref()
+                        .and_then(|t| t.tex_coord())
+                        .unwrap_or(info.tex_coord()),
                     cutout: None,
+                    transform: transform.map_or(UvTransform::IDENTITY, |t| {
+                        UvTransform::new(t.offset(), t.rotation(), t.scale())
+                    }),
                 };
                 (base_factor * mean, Some(texture))
             }

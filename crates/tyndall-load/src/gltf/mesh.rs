@@ -151,7 +151,12 @@ impl GltfLoader<'_> {
             let mut missing_coords = None;
             let tex_coords: Option<Vec<[f32; 2]>> = match base_texture {
                 Some(texture) => match reader.read_tex_coords(texture.tex_coord) {
-                    Some(coords) => Some(coords.into_f32().collect()),
+                    Some(coords) => Some(
+                        coords
+                            .into_f32()
+                            .map(|uv| texture.transform.apply(uv))
+                            .collect(),
+                    ),
                     None => {
                         missing_coords = Some(texture.tex_coord);
                         None

@@ -57,6 +57,7 @@ pub const HANDLED_EXTENSIONS: &[&str] = &[
     "KHR_materials_ior",
     "KHR_materials_emissive_strength",
     "KHR_materials_specular",
+    "KHR_texture_transform",
 ];
 
 /// Most node instances the default scene's hierarchy may expand to: a
