@@ -159,6 +159,11 @@ impl SceneBuffers {
         if scene.has_textures() {
             return Err(GpuError::Unsupported("textured surfaces".into()));
         }
+        if scene.has_vertex_colours() {
+            return Err(GpuError::Unsupported(
+                "vertex colours (glTF COLOR_0)".into(),
+            ));
+        }
         if let Some((index, pattern)) = scene
             .lights()
             .iter()
@@ -436,7 +441,12 @@ mod tests {
                 cutout: None,
             }
         });
-        desc.add_mesh(vec![triangle], normals, texture, grey, Origin::Code);
+        let attributes = tyndall::description::MeshAttributes {
+            vertex_normals: normals,
+            texture,
+            ..Default::default()
+        };
+        desc.add_mesh(vec![triangle], attributes, grey, Origin::Code);
         Scene::build(&desc).unwrap()
     }
 

@@ -23,6 +23,7 @@ fn triangle(material: usize) -> MeshData {
         material: Some(material),
         normals: None,
         uvs: None,
+        colors: None,
     }
 }
 
@@ -225,6 +226,7 @@ fn gltf_and_toml_render_the_same_image() {
         material: Some(0),
         normals: None,
         uvs: None,
+        colors: None,
     };
     let gltf_path = write_gltf(&dir, "room", &[mesh], doc);
     let mut obj = String::new();
@@ -489,6 +491,7 @@ fn vertex_normals_shade_smoothly() {
         material: Some(0),
         normals,
         uvs: None,
+        colors: None,
     };
     let dir = test_dir("vertex-normals");
     let smooth = common::load_gltf(&write_gltf(
@@ -610,6 +613,7 @@ fn base_colour_texture_colours_points() {
         material: Some(0),
         normals: None,
         uvs,
+        colors: None,
     };
     let textured = common::load_gltf(&write_gltf(
         &dir,
@@ -698,6 +702,7 @@ fn alpha_cutouts_are_holes_for_every_ray() {
         mode: None,
         material: Some(material),
         normals: None,
+        colors: None,
     };
     let s = FRAC_1_SQRT_2;
     let no_specular = json!({"KHR_materials_specular": {"specularFactor": 0.0}});
@@ -835,6 +840,7 @@ fn texture_transform_moves_the_texture() {
     });
     let floor = MeshData {
         uvs: Some(positions.iter().map(|p| uv(p[0], p[2])).collect()),
+        colors: None,
         positions,
         indices: Some(vec![0, 2, 1, 0, 3, 2]),
         mode: None,
@@ -861,5 +867,85 @@ fn texture_transform_moves_the_texture() {
             (got - expected).abs().max_element() < 1e-5,
             "at ({x}, {z}): {got} vs {expected}"
         );
+    }
+}
+
+/// Vertex colours (`COLOR_0`) multiply an opaque surface's diffuse
+/// reflectance, interpolated across each triangle by barycentric weights:
+/// a floor whose corners are red, green, blue and white, lit by a sun
+/// straight down (E = 1 W/m²), shows at a point of weights `w` on a
+/// triangle `0.8/π · Σ wᵢ cᵢ`, by `single` and `volpath`; its albedo guide
+/// is `0.8 · Σ wᵢ cᵢ`.
+#[test]
+fn vertex_colours_colour_the_diffuse_reflectance() {
+    use tyndall::IntegratorKind;
+    use tyndall::ray::Ray;
+    let dir = test_dir("vertex-colours");
+    let positions = [
+        [-2.0f32, 0.0, -2.0],
+        [2.0, 0.0, -2.0],
+        [2.0, 0.0, 2.0],
+        [-2.0, 0.0, 2.0],
+    ];
+    let colours = [
+        [1.0f32, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 1.0, 1.0],
+    ];
+    let s = FRAC_1_SQRT_2;
+    let doc = json!({
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_specular"],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "intensity": 683.0}]}},
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [
+            {"mesh": 0},
+            {"rotation": [-s, 0.0, 0.0, s], "extensions": {"KHR_lights_punctual": {"light": 0}}}
+        ],
+        "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0], "metallicFactor": 0.0},
+                       "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}]
+    });
+    let floor = MeshData {
+        positions: positions.to_vec(),
+        indices: Some(vec![0, 2, 1, 0, 3, 2]),
+        mode: None,
+        material: Some(0),
+        normals: None,
+        uvs: None,
+        colors: Some(colours.to_vec()),
+    };
+    let desc = common::load_gltf(&write_gltf(&dir, "coloured", &[floor], doc)).expect("loads");
+    assert!(
+        desc.warnings.iter().all(|w| !w.contains("COLOR_0")),
+        "{:?}",
+        desc.warnings
+    );
+    let at = |weights: [(usize, f32); 3]| {
+        let mut p = Vec3::ZERO;
+        let mut c = Rgb::ZERO;
+        for (i, w) in weights {
+            p += Vec3::from_array(positions[i]) * w;
+            c += Rgb::from_array(colours[i]) * w;
+        }
+        (p, c * 0.8)
+    };
+    let points = [
+        at([(0, 0.2), (1, 0.3), (2, 0.5)]),
+        at([(0, 0.6), (2, 0.1), (3, 0.3)]),
+        at([(0, 0.5), (2, 0.5), (3, 0.0)]),
+        at([(0, 0.05), (2, 0.05), (3, 0.9)]),
+    ];
+    for kind in [IntegratorKind::Single, IntegratorKind::Volpath] {
+        for (p, albedo) in points {
+            let ray = Ray::new(p + Vec3::Y, Vec3::new(0.0, -1.0, 0.0));
+            let (got, _) = common::estimate_ray(&desc, kind, 0.1, ray, 4);
+            let expected = albedo / PI;
+            assert!(
+                (got - expected).abs().max_element() < 1e-5,
+                "{kind:?} at {p}: {got} vs {expected}"
+            );
+            let guide = tyndall::guides::first_surface(&desc.scene, ray);
+            assert!((guide.albedo - albedo).abs().max_element() < 1e-5);
+        }
     }
 }

@@ -29,12 +29,14 @@ fn triangle() -> MeshData {
         material: Some(0),
         normals: None,
         uvs: None,
+        colors: None,
     }
 }
 
 fn textured_triangle() -> MeshData {
     MeshData {
         uvs: Some(vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]),
+        colors: None,
         ..triangle()
     }
 }

@@ -7,7 +7,9 @@ use crate::source::SceneError;
 use ::gltf::mesh::Mode;
 use ::gltf::{Accessor, Semantic};
 use glam::{Mat3, Mat4, Vec2, Vec3};
-use tyndall::description::{SceneDesc, SurfaceTexture};
+use tyndall::color::Rgb;
+use tyndall::description::{MeshAttributes, SceneDesc, SurfaceTexture};
+use tyndall::materials::Material;
 use tyndall::shapes::Triangle;
 
 impl GltfLoader<'_> {
@@ -176,7 +178,55 @@ impl GltfLoader<'_> {
                     ),
                 ));
             }
+            // Vertex colours (COLOR_0, linear, glTF §3.7.2.1), which
+            // multiply the base colour: of an opaque surface's diffuse
+            // reflectance here.
+            let mut colour_warning = None;
+            let colours: Option<Vec<Rgb>> = match reader.read_colors(0) {
+                Some(colours) => {
+                    let colours: Vec<Rgb> = colours.into_rgb_f32().map(Rgb::from_array).collect();
+                    if colours.len() != positions.len() {
+                        return Err(self.err(
+                            &element,
+                            format!(
+                                "COLOR_0 has {} entries but POSITION has {}",
+                                colours.len(),
+                                positions.len()
+                            ),
+                        ));
+                    }
+                    if colours.iter().any(|c| {
+                        !(c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0)
+                    }) {
+                        return Err(self.err(&element, "COLOR_0 values must be in [0, 1]"));
+                    }
+                    match scene.materials[material as usize].value {
+                        Material::Opaque(surface) if surface.diffuse != Rgb::ZERO => {
+                            if surface.specular != Rgb::ZERO {
+                                colour_warning = Some(
+                                    "COLOR_0 colours the diffuse reflectance only, not the specular",
+                                );
+                            }
+                            Some(colours)
+                        }
+                        _ => {
+                            colour_warning = Some(
+                                "COLOR_0 is ignored: the material has no diffuse reflectance to colour",
+                            );
+                            None
+                        }
+                    }
+                }
+                None if primitive.get(&Semantic::Colors(0)).is_some() => {
+                    return Err(self.err(
+                        &element,
+                        "cannot read COLOR_0: its accessor lies outside its buffer",
+                    ));
+                }
+                None => None,
+            };
             let mut corner_uvs = Vec::new();
+            let mut corner_colours = Vec::new();
             let mut corner_normals = Vec::new();
             let indices: Vec<u32> = match primitive.indices() {
                 Some(_) => reader
@@ -228,6 +278,9 @@ impl GltfLoader<'_> {
                         if let Some(coords) = &tex_coords {
                             corner_uvs.push(order.map(|i| Vec2::from_array(coords[i as usize])));
                         }
+                        if let Some(colours) = &colours {
+                            corner_colours.push(order.map(|i| colours[i as usize]));
+                        }
                         if let Some(normals) = &normals {
                             let corner = |i: u32| normals[i as usize];
                             let n = order.map(corner);
@@ -244,6 +297,9 @@ impl GltfLoader<'_> {
                     None => self.skipped_degenerate += 1,
                 }
             }
+            if let Some(warning) = colour_warning {
+                self.warn(&element, warning);
+            }
             if let Some(n) = missing_coords {
                 self.warn(
                     &element,
@@ -259,7 +315,12 @@ impl GltfLoader<'_> {
                 uvs: corner_uvs,
                 cutout: t.cutout,
             });
-            scene.add_mesh(triangles, corner_normals, texture, material, origin);
+            let attributes = MeshAttributes {
+                vertex_normals: corner_normals,
+                vertex_colours: corner_colours,
+                texture,
+            };
+            scene.add_mesh(triangles, attributes, material, origin);
         }
         Ok(())
     }

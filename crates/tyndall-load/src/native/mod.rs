@@ -18,7 +18,7 @@ use std::path::Path;
 use std::sync::Arc;
 use tyndall::camera::{CameraSpec, FieldOfView};
 use tyndall::color::Rgb;
-use tyndall::description::{GlassSettings, Origin, SceneDesc, Sourced};
+use tyndall::description::{GlassSettings, MeshAttributes, Origin, SceneDesc, Sourced};
 use tyndall::glass::{Glass, GlassModel};
 use tyndall::lights::LightSampling;
 use tyndall::limits;
@@ -519,7 +519,15 @@ impl Loader<'_> {
                 let m = self.material_id(&span, material, ids)?;
                 let placement = (*translate, *scale, *rotate_deg);
                 let mesh = self.mesh(&span, "file", file, placement)?;
-                scene.add_mesh(mesh.triangles, mesh.vertex_normals, None, m, origin);
+                scene.add_mesh(
+                    mesh.triangles,
+                    MeshAttributes {
+                        vertex_normals: mesh.vertex_normals,
+                        ..MeshAttributes::default()
+                    },
+                    m,
+                    origin,
+                );
             }
         }
         Ok(())

@@ -17,6 +17,9 @@ pub struct MeshData {
     pub normals: Option<Vec<[f32; 3]>>,
     /// Texture coordinates (the TEXCOORD_0 attribute), one per position.
     pub uvs: Option<Vec<[f32; 2]>>,
+    /// Vertex colours (the COLOR_0 attribute, linear RGB floats), one
+    /// per position.
+    pub colors: Option<Vec<[f32; 3]>>,
 }
 
 /// A fresh directory for one test's files.
@@ -96,6 +99,21 @@ pub fn write_gltf(dir: &Path, name: &str, meshes: &[MeshData], mut doc: Value) -
                 "count": uvs.len(), "type": "VEC2"
             }));
             attributes["attributes"]["TEXCOORD_0"] = json!(accessors.len() - 1);
+        }
+        if let Some(colors) = &mesh.colors {
+            let offset = bin.len();
+            for colour in colors {
+                for c in colour {
+                    bin.extend_from_slice(&c.to_le_bytes());
+                }
+            }
+            views
+                .push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bin.len() - offset}));
+            accessors.push(json!({
+                "bufferView": views.len() - 1, "componentType": 5126,
+                "count": colors.len(), "type": "VEC3"
+            }));
+            attributes["attributes"]["COLOR_0"] = json!(accessors.len() - 1);
         }
         if let Some(mode) = mesh.mode {
             attributes["mode"] = json!(mode);

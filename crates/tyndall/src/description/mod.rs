@@ -101,6 +101,21 @@ pub struct ShapeDesc {
     pub vertex_normals: Vec<[Vec3; 3]>,
     /// A colour texture over the mesh's triangles, if any.
     pub texture: Option<SurfaceTexture>,
+    /// A mesh's vertex colours (linear RGB, each channel in `[0, 1]`),
+    /// which multiply its diffuse reflectance: one per corner of each
+    /// triangle, in the order of `vertex_normals`, interpolated across it.
+    /// Empty for none.
+    pub vertex_colours: Vec<[Rgb; 3]>,
+}
+
+/// What a mesh carries per corner or per point besides its positions,
+/// for [`SceneDesc::add_mesh`]: see the fields of the same names of
+/// [`ShapeDesc`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshAttributes {
+    pub vertex_normals: Vec<[Vec3; 3]>,
+    pub vertex_colours: Vec<[Rgb; 3]>,
+    pub texture: Option<SurfaceTexture>,
 }
 
 impl ShapeDesc {
@@ -303,26 +318,32 @@ impl SceneDesc {
             origin,
             vertex_normals: Vec::new(),
             texture: None,
+            vertex_colours: Vec::new(),
         });
     }
 
-    /// Adds a mesh with per-corner attributes: a unit normal per corner
-    /// for smooth shading (see [`ShapeDesc::vertex_normals`]; empty for
-    /// flat shading) and a colour texture, if any.
+    /// Adds a mesh with its per-corner attributes: unit normals for
+    /// smooth shading ([`ShapeDesc::vertex_normals`]; empty for flat
+    /// shading), vertex colours, and a colour texture, if any.
     pub fn add_mesh(
         &mut self,
         triangles: Vec<Triangle>,
-        vertex_normals: Vec<[Vec3; 3]>,
-        texture: Option<SurfaceTexture>,
+        attributes: MeshAttributes,
         material: MaterialId,
         origin: Origin,
     ) {
+        let MeshAttributes {
+            vertex_normals,
+            vertex_colours,
+            texture,
+        } = attributes;
         self.shapes.push(ShapeDesc {
             shapes: triangles.into_iter().map(Shape::Triangle).collect(),
             material,
             origin,
             vertex_normals,
             texture,
+            vertex_colours,
         });
     }
 

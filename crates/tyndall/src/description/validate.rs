@@ -257,6 +257,28 @@ impl SceneDesc {
         if let Some(texture) = &shape.texture {
             self.validate_texture(shape, texture, &item)?;
         }
+        if !shape.vertex_colours.is_empty() {
+            if !shape.is_mesh() {
+                return item.fail("colors", "only triangle meshes have vertex colours".into());
+            }
+            per_triangle(
+                shape,
+                shape.vertex_colours.len(),
+                "vertex-colour",
+                "colors",
+                &item,
+            )?;
+            if let Some(t) = shape.vertex_colours.iter().position(|corners| {
+                !corners
+                    .iter()
+                    .all(|c| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0)
+            }) {
+                return item.fail(
+                    "colors",
+                    format!("triangle {t} has a vertex colour outside [0, 1]"),
+                );
+            }
+        }
         if shape.vertex_normals.is_empty() {
             return Ok(());
         }

@@ -6,7 +6,7 @@
 
 pub use crate::description::GlassSettings;
 
-mod shading_normals;
+mod corner_values;
 mod surface_textures;
 
 use crate::accel::{Geometry, Hit, Primitive};
@@ -21,8 +21,8 @@ use crate::media::emitters::MediaEmitters;
 use crate::media::volume::{MeshRegion, Volume, VolumeRegion};
 use crate::ray::Ray;
 use crate::shapes::Shape;
+use corner_values::CornerValues;
 use glam::Vec3;
-use shading_normals::ShadingNormals;
 use std::ops::ControlFlow;
 use surface_textures::SurfaceTextures;
 
@@ -53,7 +53,9 @@ pub struct Scene {
     /// spheres), by light.
     light_primitives: Vec<Option<u32>>,
     /// Vertex normals of smooth meshes.
-    shading_normals: ShadingNormals,
+    shading_normals: CornerValues,
+    /// Linear colours of meshes' vertices (glTF `COLOR_0`).
+    vertex_colours: CornerValues,
     /// Colour textures and the triangles they cover.
     textures: SurfaceTextures,
 }
@@ -143,7 +145,7 @@ impl Scene {
     #[inline]
     pub fn shading_normal(&self, primitive: u32, p: Vec3) -> Option<Vec3> {
         match &self.geometry.primitive(primitive).shape {
-            Shape::Triangle(triangle) => self.shading_normals.at(primitive, triangle, p),
+            Shape::Triangle(triangle) => self.shading_normals.normal_at(primitive, triangle, p),
             Shape::Sphere(_) | Shape::Quad(_) => None,
         }
     }
@@ -156,6 +158,11 @@ impl Scene {
     /// Whether some mesh carries a colour texture.
     pub fn has_textures(&self) -> bool {
         self.textures.is_used()
+    }
+
+    /// Whether some mesh carries vertex colours.
+    pub fn has_vertex_colours(&self) -> bool {
+        self.vertex_colours.is_used()
     }
 
     /// Whether some surface has an alpha cut-out (glTF `MASK`).
@@ -202,18 +209,22 @@ impl Scene {
     /// The surface `surface` (the material of `primitive`) at its point
     /// `p`: its diffuse reflectance multiplied by the colour of the
     /// primitive's texture there, if it is a textured triangle
-    /// ([`ShapeDesc::texture`](crate::description::ShapeDesc)).
+    /// ([`ShapeDesc::texture`](crate::description::ShapeDesc)), and by its
+    /// vertex colours interpolated there, if it has them
+    /// ([`ShapeDesc::vertex_colours`](crate::description::ShapeDesc)).
     #[inline]
     pub fn surface_at(&self, surface: Surface, primitive: u32, p: Vec3) -> Surface {
         let Shape::Triangle(triangle) = &self.geometry.primitive(primitive).shape else {
             return surface;
         };
-        match self.textures.at(primitive, triangle, p) {
-            Some(colour) => Surface {
-                diffuse: surface.diffuse * colour,
+        let texture = self.textures.at(primitive, triangle, p);
+        let vertex = self.vertex_colours.at(primitive, triangle, p);
+        match (texture, vertex) {
+            (None, None) => surface,
+            (texture, vertex) => Surface {
+                diffuse: surface.diffuse * texture.unwrap_or(Rgb::ONE) * vertex.unwrap_or(Rgb::ONE),
                 ..surface
             },
-            None => surface,
         }
     }
 }
@@ -259,13 +270,17 @@ impl Scene {
         let mut primitives = Vec::new();
         let mut lights = Vec::new();
         let mut area_lights = Vec::new();
-        let mut shading_normals = ShadingNormals::default();
+        let mut shading_normals = CornerValues::default();
+        let mut vertex_colours = CornerValues::default();
         let mut textures =
             SurfaceTextures::new(desc.textures.iter().map(|t| t.value.clone()).collect());
         for item in &desc.shapes {
             let first = primitives.len() as u32;
             for (k, &corners) in item.vertex_normals.iter().enumerate() {
                 shading_normals.insert(first + k as u32, corners);
+            }
+            for (k, &corners) in item.vertex_colours.iter().enumerate() {
+                vertex_colours.insert(first + k as u32, corners);
             }
             if let Some(texture) = &item.texture {
                 for k in 0..item.shapes.len() {
@@ -349,6 +364,7 @@ impl Scene {
             flat_emitters,
             area_lights,
             shading_normals,
+            vertex_colours,
             textures,
         }
     }

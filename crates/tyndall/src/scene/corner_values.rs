@@ -1,24 +1,26 @@
-//! Shading normals of smooth meshes: a unit normal per triangle corner,
-//! interpolated across the triangle by its barycentric weights (Phong
-//! 1975, "Illumination for computer generated pictures"), so that a
-//! tessellated curved surface shades smoothly.
+//! Values given at each corner of a mesh's triangles and interpolated
+//! across them by barycentric weights: shading normals of smooth meshes
+//! (Phong 1975, "Illumination for computer generated pictures"), so that
+//! a tessellated curved surface shades smoothly, and vertex colours
+//! (glTF `COLOR_0`), which multiply the surface's diffuse reflectance.
 
 use crate::shapes::Triangle;
 use glam::Vec3;
 
-/// The vertex normals of the primitives that have them, by primitive.
+/// Corner values (three-vectors: normals, linear colours) of the
+/// primitives that have them, by primitive.
 #[derive(Debug, Default)]
-pub(crate) struct ShadingNormals {
+pub(crate) struct CornerValues {
     /// Per primitive, its index in `corners` or [`NONE`]; empty while no
-    /// primitive has vertex normals (flat scenes store nothing).
+    /// primitive has values (scenes without them store nothing).
     slot: Vec<u32>,
     corners: Vec<[Vec3; 3]>,
 }
 
 const NONE: u32 = u32::MAX;
 
-impl ShadingNormals {
-    /// Records the corner normals of primitive `primitive` (numbered in
+impl CornerValues {
+    /// Records the corner values of primitive `primitive` (numbered in
     /// increasing order as the scene is built).
     pub fn insert(&mut self, primitive: u32, corners: [Vec3; 3]) {
         let index = primitive as usize;
@@ -29,15 +31,15 @@ impl ShadingNormals {
         self.corners.push(corners);
     }
 
-    /// Whether any primitive has vertex normals.
+    /// Whether any primitive has values.
     pub fn is_used(&self) -> bool {
         !self.corners.is_empty()
     }
 
-    /// The interpolated unit shading normal of triangle `triangle`
-    /// (primitive `primitive`) at its point `p`, if it has vertex normals.
+    /// The value of triangle `triangle` (primitive `primitive`) at its
+    /// point `p`, interpolated from its corners', if it has them.
     /// Barycentric weights are clamped to the triangle, against rounding
-    /// at its edges; a zero sum of normals falls back to flat shading.
+    /// at its edges.
     #[inline]
     pub fn at(&self, primitive: u32, triangle: &Triangle, p: Vec3) -> Option<Vec3> {
         let slot = *self.slot.get(primitive as usize)?;
@@ -48,7 +50,15 @@ impl ShadingNormals {
         let (b1, b2) = triangle.barycentric(p);
         let (b1, b2) = (b1.clamp(0.0, 1.0), b2.clamp(0.0, 1.0));
         let b0 = (1.0 - b1 - b2).max(0.0);
-        (n0 * b0 + n1 * b1 + n2 * b2).try_normalize()
+        Some(n0 * b0 + n1 * b1 + n2 * b2)
+    }
+
+    /// The unit shading normal at `p` ([`CornerValues::at`] of corner
+    /// normals, normalised); a zero sum of normals falls back to flat
+    /// shading (`None`).
+    #[inline]
+    pub fn normal_at(&self, primitive: u32, triangle: &Triangle, p: Vec3) -> Option<Vec3> {
+        self.at(primitive, triangle, p)?.try_normalize()
     }
 }
 
@@ -71,16 +81,19 @@ mod tests {
             Vec3::new(0.6, 0.8, 0.0),
             Vec3::new(0.0, 0.8, -0.6),
         ];
-        let mut normals = ShadingNormals::default();
+        let mut normals = CornerValues::default();
         normals.insert(2, corners);
         for (p, n) in [(a, corners[0]), (b, corners[1]), (c, corners[2])] {
-            let got = normals.at(2, &triangle, p).unwrap();
+            let got = normals.normal_at(2, &triangle, p).unwrap();
             assert!((got - n).length() < 1e-6, "{p}: {got} vs {n}");
         }
         let centroid = (a + b + c) / 3.0;
         let mean = (corners[0] + corners[1] + corners[2]).normalize();
-        assert!((normals.at(2, &triangle, centroid).unwrap() - mean).length() < 1e-6);
-        assert_eq!(normals.at(1, &triangle, centroid), None);
-        assert_eq!(normals.at(3, &triangle, centroid), None);
+        assert!((normals.normal_at(2, &triangle, centroid).unwrap() - mean).length() < 1e-6);
+        assert_eq!(normals.normal_at(1, &triangle, centroid), None);
+        assert_eq!(normals.normal_at(3, &triangle, centroid), None);
+        // Values that are not normals are interpolated as they are.
+        let half = normals.at(2, &triangle, (a + b) / 2.0).unwrap();
+        assert!((half - (corners[0] + corners[1]) / 2.0).length() < 1e-6);
     }
 }
