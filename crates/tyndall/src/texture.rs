@@ -5,10 +5,10 @@
 //!
 //! Texels stay 8-bit sRGB, three bytes each, and are decoded through a
 //! 256-entry table when looked up: a 4096² texture takes 48 MiB instead of
-//! the 192 MiB of linear floats. An image's alpha channel, where a surface
-//! needs it (glTF `alphaMode` `MASK`, §3.9.4: alpha is linear coverage,
-//! not sRGB), is a fourth byte per texel, looked up with the same
-//! filtering.
+//! the 192 MiB of linear floats. An image's alpha channel, if it has one,
+//! is kept as a fourth byte per texel for cut-outs (glTF `alphaMode`
+//! `MASK`, §3.9.4: alpha is linear coverage, not sRGB), looked up with
+//! the same filtering.
 
 use crate::color::{Rgb, srgb_to_linear};
 use glam::Vec2;
