@@ -98,19 +98,11 @@ impl App {
         cpu: bool,
         denoiser: Option<Arc<Denoiser>>,
     ) -> Self {
-        let mode = match cpu {
-            true => Mode::Cpu(CpuPreview::start(
-                &live.desc,
-                frames.unwrap_or(MAX_SPP),
-                denoiser.clone(),
-            )),
-            false => Mode::Gpu,
-        };
-        Self {
+        let mut app = Self {
             accepted: live.desc.clone(),
             live,
             accumulator,
-            mode,
+            mode: Mode::Gpu,
             window: None,
             panel: None,
             panel_input: None,
@@ -133,7 +125,11 @@ impl App {
             screenshot,
             denoiser,
             error: None,
+        };
+        if cpu {
+            app.mode = Mode::Cpu(app.start_cpu());
         }
+        app
     }
 
     fn open_window(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {

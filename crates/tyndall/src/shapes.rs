@@ -277,6 +277,17 @@ impl Triangle {
         ((e22 * d1 - e12 * d2) / det, (e11 * d2 - e12 * d1) / det)
     }
 
+    /// The corners' weights `[b0, b1, b2]` at the point `p` of the
+    /// triangle (corners `v0`, `v0 + e1`, `v0 + e2`), for interpolating
+    /// per-corner values: [`Triangle::barycentric`] clamped to the
+    /// triangle, against rounding at its edges.
+    #[inline]
+    pub fn corner_weights(&self, p: Vec3) -> [f32; 3] {
+        let (b1, b2) = self.barycentric(p);
+        let (b1, b2) = (b1.clamp(0.0, 1.0), b2.clamp(0.0, 1.0));
+        [(1.0 - b1 - b2).max(0.0), b1, b2]
+    }
+
     /// Möller–Trumbore ray/triangle intersection.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
         let p = ray.direction.cross(self.e2);

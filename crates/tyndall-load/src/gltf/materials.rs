@@ -90,11 +90,12 @@ impl GltfLoader<'_> {
             Some(i) => format!("materials[{i}]"),
             None => "the default material".into(),
         };
-        // A cut-out without a texture is wholly there or wholly a hole.
-        if material.alpha_mode() == AlphaMode::Mask
-            && texture.is_none_or(|t| t.cutout.is_none())
-            && material.pbr_metallic_roughness().base_color_factor()[3]
-                < material.alpha_cutoff().unwrap_or(DEFAULT_ALPHA_CUTOFF)
+        // A cut-out without a texture's alpha is wholly there or wholly
+        // a hole (coverage: the factor alone).
+        if texture.is_none_or(|t| t.cutout.is_none())
+            && self
+                .alpha_cutout(material, &element)?
+                .is_some_and(|c| c.is_hole(1.0))
         {
             self.hidden_materials.insert(material.index());
         }
@@ -304,29 +305,13 @@ impl GltfLoader<'_> {
                 roughness: roughness * roughness,
             }
         };
-        let cutout = match material.alpha_mode() {
-            AlphaMode::Mask => {
-                let cutoff = material.alpha_cutoff().unwrap_or(DEFAULT_ALPHA_CUTOFF);
-                if !(cutoff.is_finite() && (0.0..=1.0).contains(&cutoff)) {
-                    return Err(self.err(
-                        &element,
-                        format!("alphaCutoff must be in [0, 1], got {cutoff}"),
-                    ));
-                }
-                Some(AlphaCutout {
-                    cutoff,
-                    factor: factor[3].clamp(0.0, 1.0),
-                })
-            }
-            AlphaMode::Blend => {
-                self.warn(
-                    &element,
-                    "alphaMode BLEND is rendered opaque: the surface's partial coverage is ignored",
-                );
-                None
-            }
-            AlphaMode::Opaque => None,
-        };
+        let cutout = self.alpha_cutout(material, &element)?;
+        if material.alpha_mode() == AlphaMode::Blend {
+            self.warn(
+                &element,
+                "alphaMode BLEND is rendered opaque: the surface's partial coverage is ignored",
+            );
+        }
         // A surface with no diffuse reflectance has nothing to texture,
         // unless the texture's alpha cuts it out.
         let texture = match (texture, cutout) {
@@ -336,6 +321,30 @@ impl GltfLoader<'_> {
             (t, _) => t.filter(|_| diffuse != Rgb::ZERO),
         };
         Ok((Material::Opaque(surface), texture))
+    }
+
+    /// The alpha cut-out of a `MASK` material (`alphaCutoff`, 0.5 by
+    /// default, on `baseColorFactor`'s alpha); `None` for other modes.
+    fn alpha_cutout(
+        &self,
+        material: &::gltf::Material,
+        element: &str,
+    ) -> Result<Option<AlphaCutout>, SceneError> {
+        if material.alpha_mode() != AlphaMode::Mask {
+            return Ok(None);
+        }
+        let cutoff = material.alpha_cutoff().unwrap_or(DEFAULT_ALPHA_CUTOFF);
+        if !(cutoff.is_finite() && (0.0..=1.0).contains(&cutoff)) {
+            return Err(self.err(
+                element,
+                format!("alphaCutoff must be in [0, 1], got {cutoff}"),
+            ));
+        }
+        let factor = material.pbr_metallic_roughness().base_color_factor()[3];
+        Ok(Some(AlphaCutout {
+            cutoff,
+            factor: factor.clamp(0.0, 1.0),
+        }))
     }
 
     /// The scene's texture for a glTF texture (its image, sRGB 8-bit,

@@ -38,12 +38,6 @@ pub fn write_gltf(dir: &Path, name: &str, meshes: &[MeshData], mut doc: Value) -
     let mut accessors = Vec::new();
     let mut gltf_meshes = Vec::new();
     for mesh in meshes {
-        let offset = bin.len();
-        for p in &mesh.positions {
-            for c in p {
-                bin.extend_from_slice(&c.to_le_bytes());
-            }
-        }
         let (mut min, mut max) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
         for p in &mesh.positions {
             for k in 0..3 {
@@ -51,11 +45,13 @@ pub fn write_gltf(dir: &Path, name: &str, meshes: &[MeshData], mut doc: Value) -
                 max[k] = max[k].max(p[k]);
             }
         }
-        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bin.len() - offset}));
-        accessors.push(json!({
-            "bufferView": views.len() - 1, "componentType": 5126,
-            "count": mesh.positions.len(), "type": "VEC3", "min": min, "max": max
-        }));
+        let position = push_floats(
+            &mut (&mut bin, &mut views, &mut accessors),
+            &mesh.positions,
+            "VEC3",
+        );
+        accessors[position]["min"] = json!(min);
+        accessors[position]["max"] = json!(max);
         let mut attributes = json!({"attributes": {"POSITION": accessors.len() - 1}});
         if let Some(indices) = &mesh.indices {
             let offset = bin.len();
@@ -70,50 +66,15 @@ pub fn write_gltf(dir: &Path, name: &str, meshes: &[MeshData], mut doc: Value) -
             }));
             attributes["indices"] = json!(accessors.len() - 1);
         }
+        let mut buffers = (&mut bin, &mut views, &mut accessors);
         if let Some(normals) = &mesh.normals {
-            let offset = bin.len();
-            for n in normals {
-                for c in n {
-                    bin.extend_from_slice(&c.to_le_bytes());
-                }
-            }
-            views
-                .push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bin.len() - offset}));
-            accessors.push(json!({
-                "bufferView": views.len() - 1, "componentType": 5126,
-                "count": normals.len(), "type": "VEC3"
-            }));
-            attributes["attributes"]["NORMAL"] = json!(accessors.len() - 1);
+            attributes["attributes"]["NORMAL"] = json!(push_floats(&mut buffers, normals, "VEC3"));
         }
         if let Some(uvs) = &mesh.uvs {
-            let offset = bin.len();
-            for uv in uvs {
-                for c in uv {
-                    bin.extend_from_slice(&c.to_le_bytes());
-                }
-            }
-            views
-                .push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bin.len() - offset}));
-            accessors.push(json!({
-                "bufferView": views.len() - 1, "componentType": 5126,
-                "count": uvs.len(), "type": "VEC2"
-            }));
-            attributes["attributes"]["TEXCOORD_0"] = json!(accessors.len() - 1);
+            attributes["attributes"]["TEXCOORD_0"] = json!(push_floats(&mut buffers, uvs, "VEC2"));
         }
         if let Some(colors) = &mesh.colors {
-            let offset = bin.len();
-            for colour in colors {
-                for c in colour {
-                    bin.extend_from_slice(&c.to_le_bytes());
-                }
-            }
-            views
-                .push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bin.len() - offset}));
-            accessors.push(json!({
-                "bufferView": views.len() - 1, "componentType": 5126,
-                "count": colors.len(), "type": "VEC3"
-            }));
-            attributes["attributes"]["COLOR_0"] = json!(accessors.len() - 1);
+            attributes["attributes"]["COLOR_0"] = json!(push_floats(&mut buffers, colors, "VEC3"));
         }
         if let Some(mode) = mesh.mode {
             attributes["mode"] = json!(mode);
@@ -133,6 +94,30 @@ pub fn write_gltf(dir: &Path, name: &str, meshes: &[MeshData], mut doc: Value) -
     let path = dir.join(format!("{name}.gltf"));
     std::fs::write(&path, serde_json::to_string_pretty(&doc).expect("json")).expect("write .gltf");
     path
+}
+
+/// The binary buffer, buffer views and accessors being written.
+type Buffers<'a> = (&'a mut Vec<u8>, &'a mut Vec<Value>, &'a mut Vec<Value>);
+
+/// Appends `values` (little-endian f32) to the buffer with a view and a
+/// FLOAT accessor of type `kind` over them; returns the accessor's index.
+fn push_floats<const N: usize>(
+    (bin, views, accessors): &mut Buffers,
+    values: &[[f32; N]],
+    kind: &str,
+) -> usize {
+    let offset = bin.len();
+    for value in values {
+        for c in value {
+            bin.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bin.len() - offset}));
+    accessors.push(json!({
+        "bufferView": views.len() - 1, "componentType": 5126,
+        "count": values.len(), "type": kind
+    }));
+    accessors.len() - 1
 }
 
 /// Rewrites `dir/name.gltf` + `.bin` (from [`write_gltf`]) as one binary

@@ -257,51 +257,24 @@ impl SceneDesc {
         if let Some(texture) = &shape.texture {
             self.validate_texture(shape, texture, &item)?;
         }
-        if !shape.vertex_colours.is_empty() {
-            if !shape.is_mesh() {
-                return item.fail("colors", "only triangle meshes have vertex colours".into());
-            }
-            per_triangle(
-                shape,
-                shape.vertex_colours.len(),
-                "vertex-colour",
-                "colors",
-                &item,
-            )?;
-            if let Some(t) = shape.vertex_colours.iter().position(|corners| {
-                !corners
-                    .iter()
-                    .all(|c| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0)
-            }) {
-                return item.fail(
-                    "colors",
-                    format!("triangle {t} has a vertex colour outside [0, 1]"),
-                );
-            }
-        }
-        if shape.vertex_normals.is_empty() {
-            return Ok(());
-        }
-        if !shape.is_mesh() {
-            return item.fail("normals", "only triangle meshes have vertex normals".into());
-        }
-        per_triangle(
+        let colour = |c: Vec3| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0;
+        validate_corners(
             shape,
-            shape.vertex_normals.len(),
-            "vertex-normal",
-            "normals",
+            &shape.vertex_colours,
+            ("vertex-colour", "vertex colours", "colors"),
             &item,
+            colour,
+            |t, _| format!("triangle {t} has a vertex colour outside [0, 1]"),
         )?;
-        for (t, corners) in shape.vertex_normals.iter().enumerate() {
-            for n in corners {
-                if !(n.is_finite() && (n.length() - 1.0).abs() < 1e-3) {
-                    return item.fail(
-                        "normals",
-                        format!("triangle {t} has a vertex normal {n} that is not a unit vector"),
-                    );
-                }
-            }
-        }
+        let unit = |n: Vec3| n.is_finite() && (n.length() - 1.0).abs() < 1e-3;
+        validate_corners(
+            shape,
+            &shape.vertex_normals,
+            ("vertex-normal", "vertex normals", "normals"),
+            &item,
+            unit,
+            |t, n| format!("triangle {t} has a vertex normal {n} that is not a unit vector"),
+        )?;
         Ok(())
     }
 }
@@ -376,6 +349,33 @@ fn per_triangle(
             shape.shapes.len()
         ),
     )
+}
+
+/// Checks a mesh attribute given per triangle corner (`names`: the
+/// triples' name, the attribute's, and its field): none, or a triangle
+/// mesh's one triple per triangle whose every value is `valid` (else the
+/// message `invalid(triangle, value)`).
+fn validate_corners(
+    shape: &ShapeDesc,
+    values: &[[Vec3; 3]],
+    (triples, attribute, field): (&str, &str, &'static str),
+    item: &Item,
+    valid: impl Fn(Vec3) -> bool,
+    invalid: impl Fn(usize, Vec3) -> String,
+) -> Result<(), DescError> {
+    if values.is_empty() {
+        return Ok(());
+    }
+    if !shape.is_mesh() {
+        return item.fail(field, format!("only triangle meshes have {attribute}"));
+    }
+    per_triangle(shape, values.len(), triples, field, item)?;
+    for (t, corners) in values.iter().enumerate() {
+        if let Some(&v) = corners.iter().find(|&&v| !valid(v)) {
+            return item.fail(field, invalid(t, v));
+        }
+    }
+    Ok(())
 }
 
 /// The names a surface's reflectances go by in the native format: a

@@ -37,9 +37,8 @@ impl CornerValues {
     }
 
     /// The value of triangle `triangle` (primitive `primitive`) at its
-    /// point `p`, interpolated from its corners', if it has them.
-    /// Barycentric weights are clamped to the triangle, against rounding
-    /// at its edges.
+    /// point `p`, interpolated from its corners' by
+    /// [`Triangle::corner_weights`], if it has them.
     #[inline]
     pub fn at(&self, primitive: u32, triangle: &Triangle, p: Vec3) -> Option<Vec3> {
         let slot = *self.slot.get(primitive as usize)?;
@@ -47,9 +46,7 @@ impl CornerValues {
             return None;
         }
         let [n0, n1, n2] = self.corners[slot as usize];
-        let (b1, b2) = triangle.barycentric(p);
-        let (b1, b2) = (b1.clamp(0.0, 1.0), b2.clamp(0.0, 1.0));
-        let b0 = (1.0 - b1 - b2).max(0.0);
+        let [b0, b1, b2] = triangle.corner_weights(p);
         Some(n0 * b0 + n1 * b1 + n2 * b2)
     }
 

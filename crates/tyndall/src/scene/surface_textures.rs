@@ -73,17 +73,12 @@ impl SurfaceTextures {
     /// coordinates) below the cutoff.
     #[inline]
     pub fn is_hole(&self, primitive: u32, triangle: &Triangle, p: Vec3) -> bool {
-        let Some(&slot) = self.slot.get(primitive as usize) else {
+        let Some((binding, texture)) = self.binding(primitive) else {
             return false;
         };
-        if slot == NONE {
-            return false;
-        }
-        let binding = self.bindings[slot as usize];
         let Some(cutout) = binding.cutout else {
             return false;
         };
-        let texture = &self.textures[binding.texture as usize];
         let alpha = match binding.uvs {
             Some(uvs) => texture.alpha(interpolate(uvs, triangle, p)),
             None => texture.mean_alpha(),
@@ -98,30 +93,32 @@ impl SurfaceTextures {
 
     /// The texture colour at the point `p` of triangle `triangle`
     /// (primitive `primitive`), if it is textured: the texture looked up
-    /// at the corners' coordinates interpolated (weights clamped to the
-    /// triangle against rounding at its edges).
+    /// at the corners' coordinates interpolated.
     #[inline]
     pub fn at(&self, primitive: u32, triangle: &Triangle, p: Vec3) -> Option<Rgb> {
-        let slot = *self.slot.get(primitive as usize)?;
-        if slot == NONE {
-            return None;
-        }
-        let binding = self.bindings[slot as usize];
-        let texture = &self.textures[binding.texture as usize];
+        let (binding, texture) = self.binding(primitive)?;
         let Some(uvs) = binding.uvs else {
             return Some(texture.mean());
         };
         Some(texture.lookup(interpolate(uvs, triangle, p)))
     }
+
+    /// Primitive `primitive`'s binding and its texture, if it is textured.
+    #[inline]
+    fn binding(&self, primitive: u32) -> Option<(Binding, &Texture)> {
+        let slot = *self.slot.get(primitive as usize)?;
+        if slot == NONE {
+            return None;
+        }
+        let binding = self.bindings[slot as usize];
+        Some((binding, &self.textures[binding.texture as usize]))
+    }
 }
 
 /// The texture coordinates at the point `p` of `triangle`, interpolated
-/// from its corners' `uvs` (barycentric weights clamped to the triangle
-/// against rounding at its edges).
+/// from its corners' `uvs` by [`Triangle::corner_weights`].
 #[inline]
 fn interpolate([t0, t1, t2]: [Vec2; 3], triangle: &Triangle, p: Vec3) -> Vec2 {
-    let (b1, b2) = triangle.barycentric(p);
-    let (b1, b2) = (b1.clamp(0.0, 1.0), b2.clamp(0.0, 1.0));
-    let b0 = (1.0 - b1 - b2).max(0.0);
+    let [b0, b1, b2] = triangle.corner_weights(p);
     t0 * b0 + t1 * b1 + t2 * b2
 }
