@@ -18,7 +18,9 @@ use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
-use tyndall::lights::LightSampling;
+use tyndall::color::Rgb;
+use tyndall::description::Origin;
+use tyndall::lights::{EnvironmentLight, LightSampling};
 use tyndall::parts::{self, Part, PartIdentity};
 use tyndall::region::{PixelRect, RenderRegion};
 use tyndall::render::Accumulation;
@@ -242,6 +244,13 @@ pub struct Overrides {
     /// > 0 forward scattering), in [−0.999, 0.999]; needs fog (or --density).
     #[arg(long, allow_negative_numbers = true)]
     pub g: Option<f32>,
+    /// Environment light: a radiance, grey (`0.5`) or linear RGB
+    /// (`0.2,0.3,0.5`, W/(m²·sr)), the same from every direction, or an
+    /// equirectangular map (an OpenEXR or Radiance HDR file, y up). Replaces
+    /// the scene's environment and background; lights glTF assets that
+    /// have no lights of their own.
+    #[arg(long, allow_hyphen_values = true)]
+    pub environment: Option<String>,
     /// Worker threads (default: all cores). The image does not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,
@@ -251,6 +260,31 @@ pub struct Overrides {
     /// Exposure in stops for PNG output (multiplies radiance by 2^exposure).
     #[arg(long, allow_negative_numbers = true)]
     pub exposure: Option<f32>,
+}
+
+/// The environment `--environment` names: a radiance of one or three
+/// comma-separated numbers, or else a map file.
+fn parse_environment(value: &str) -> Result<EnvironmentLight> {
+    let numbers: Result<Vec<f32>, _> = value.split(',').map(|n| n.trim().parse()).collect();
+    let scale = match numbers.as_deref() {
+        Ok(&[grey]) => Rgb::splat(grey),
+        Ok(&[r, g, b]) => Rgb::new(r, g, b),
+        Ok(_) => bail!("--environment {value}: a radiance is one number or three (r,g,b)"),
+        Err(_) => {
+            let map = tyndall_load::images::load_environment_map(Path::new(value))
+                .map_err(|e| anyhow::anyhow!("--environment: {e}"))?;
+            return Ok(EnvironmentLight::mapped(
+                std::sync::Arc::new(map),
+                Rgb::ONE,
+                0.0,
+            ));
+        }
+    };
+    if !(scale.is_finite() && scale.min_element() >= 0.0) {
+        bail!("--environment {value}: a radiance must be finite and ≥ 0 in every channel");
+    }
+    tyndall::limits::check_emission("--environment", scale).map_err(anyhow::Error::msg)?;
+    Ok(EnvironmentLight::uniform(scale))
 }
 
 fn parse_integrator(s: &str) -> Result<IntegratorKind, String> {
@@ -310,6 +344,9 @@ impl Overrides {
         if let Some(name) = &self.light_sampling {
             desc.light_sampling = LightSampling::from_name(name)
                 .ok_or_else(|| anyhow::anyhow!("unknown light sampling `{name}`"))?;
+        }
+        if let Some(value) = &self.environment {
+            desc.set_environment(parse_environment(value)?, Origin::Code);
         }
         desc.override_fog(self.density, self.albedo)
             .map_err(anyhow::Error::msg)?;

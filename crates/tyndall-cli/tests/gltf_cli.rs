@@ -145,3 +145,80 @@ fn g_needs_fog_and_a_valid_value() {
     assert!(!o.status.success() && stderr(&o).contains("--g must be"));
     assert!(!out.exists());
 }
+
+/// `--environment` lights a glTF from a sky: a colour is the radiance of
+/// every camera ray that leaves the scene (the upper rows, exactly), a map
+/// file the map's radiance there, and the floor is brighter than under the
+/// file's lamp alone; a bad value or file is an error naming it, and no
+/// image is written.
+#[test]
+fn environment_from_the_command_line() {
+    let dir = temp_dir();
+    let scene = write_room(&dir, "sky", 4);
+    let render = |environment: Option<&str>, out: &Path| {
+        let _ = std::fs::remove_file(out);
+        let mut args = vec![
+            "render",
+            scene.to_str().unwrap(),
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--spp",
+            "4",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        if let Some(e) = environment {
+            args.extend(["--environment", e]);
+        }
+        tyndall(&args)
+    };
+    let read = |out: &Path| tyndall_image::read_exr(out).expect("readable EXR");
+    let floor_mean = |image: &tyndall::Image| {
+        let row = image.height() - 1;
+        (0..image.width())
+            .map(|x| image.pixel(x, row).x)
+            .sum::<f32>()
+    };
+    let lamp = dir.join("lamp.exr");
+    let o = render(None, &lamp);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let lamp = read(&lamp);
+    assert_eq!(lamp.pixel(3, 0), tyndall::color::Rgb::ZERO);
+
+    let coloured = dir.join("coloured.exr");
+    let o = render(Some("0.25,0.5,1"), &coloured);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let coloured = read(&coloured);
+    assert_eq!(
+        coloured.pixel(3, 0),
+        tyndall::color::Rgb::new(0.25, 0.5, 1.0)
+    );
+    assert!(floor_mean(&coloured) > floor_mean(&lamp) + 0.1);
+
+    let map = dir.join("grey-sky.exr");
+    let grey = tyndall::Image::from_pixels(8, 4, vec![tyndall::color::Rgb::splat(0.3); 32]);
+    tyndall_image::write_image(&grey, &map, 0.0).expect("write map");
+    let mapped = dir.join("mapped.exr");
+    let o = render(Some(map.to_str().unwrap()), &mapped);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let sky = read(&mapped).pixel(3, 0);
+    assert!(
+        (sky - tyndall::color::Rgb::splat(0.3)).abs().max_element() < 1e-6,
+        "{sky}"
+    );
+
+    for (bad, words) in [
+        ("1,2", "one number or three"),
+        ("no-such-sky.hdr", "no-such-sky.hdr"),
+        ("-1", "--environment"),
+    ] {
+        let out = dir.join("bad.exr");
+        let o = render(Some(bad), &out);
+        assert!(!o.status.success(), "{bad}");
+        assert!(stderr(&o).contains(words), "{bad}: {}", stderr(&o));
+        assert!(!out.exists(), "{bad}: no image is written");
+    }
+}

@@ -99,7 +99,7 @@ pub(crate) fn faces(scene: &Scene, resolution: u32) -> (Vec<GpuLightMap>, Vec<Gp
             }
             // Area lights have no map: they keep shadow rays, as on the
             // CPU (`tyndall::shadow_maps`).
-            LightOrigin::Surface => {}
+            LightOrigin::Surface | LightOrigin::Surrounding => {}
         }
         maps.push(GpuLightMap {
             face_base,

@@ -159,6 +159,11 @@ impl SceneBuffers {
         if scene.has_textures() {
             return Err(GpuError::Unsupported("textured surfaces".into()));
         }
+        if scene.environment().is_some() {
+            return Err(GpuError::Unsupported(
+                "environment light (only the CPU renders it)".into(),
+            ));
+        }
         if scene.has_vertex_colours() {
             return Err(GpuError::Unsupported(
                 "vertex colours (glTF COLOR_0)".into(),
@@ -381,6 +386,11 @@ fn light(l: &Light, triangles: &mut Vec<GpuLightTriangle>) -> GpuLight {
             normal: v4(q.quad.normal, 0.0),
             rectangle: q.is_rectangle() as u32,
             ..area_light(q.radiance, q.two_sided)
+        },
+        // Refused by `SceneBuffers::after`: dark if it ever came here.
+        Light::Environment(_) => GpuLight {
+            intensity: v4(Rgb::ZERO, 0.0),
+            ..Default::default()
         },
         Light::Sphere(s) => GpuLight {
             kind: LIGHT_SPHERE,
@@ -610,6 +620,24 @@ mod tests {
                 Err(e) => panic!("{e}"),
                 Ok(_) => panic!("{named}: accepted"),
             }
+        }
+    }
+
+    /// An environment light is refused, naming it.
+    #[test]
+    fn environment_lights_are_refused() {
+        let camera = CameraSpec::looking_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 40.0);
+        let mut desc = SceneDesc::new(Sourced::code(camera));
+        desc.add_light(
+            tyndall::description::LightDesc::Environment(
+                tyndall::lights::EnvironmentLight::uniform(Rgb::ONE),
+            ),
+            Origin::Code,
+        );
+        match SceneBuffers::new(&Scene::build(&desc).unwrap()) {
+            Err(GpuError::Unsupported(what)) => assert!(what.contains("environment"), "{what}"),
+            Err(e) => panic!("{e}"),
+            Ok(_) => panic!("an environment light was accepted"),
         }
     }
 }

@@ -54,8 +54,9 @@ fn integrators_converge_to_references() {
 
 /// `volpath` against the multiple-scattering references (Mitsuba 3,
 /// scenes/reference/REFERENCE-README.md): surface interreflection in a Cornell-like
-/// box (unlimited, and one indirect bounce), and a fog-filled room
-/// (unlimited, and two scattering events); and against Cycles 5 on an
+/// box (unlimited, and one indirect bounce), a fog-filled room
+/// (unlimited, and two scattering events), and a sphere and block under
+/// uniform and mapped skies with and without fog; and against Cycles 5 on an
 /// emitting, scattering flame (scenes/reference/fire-cycles/).
 ///
 /// Rendered at a quarter of the references' resolution: a reference pixel
@@ -79,6 +80,12 @@ fn volpath_converges_to_multiple_scattering_references() {
         ("cornell-surfaces-depth3", Some(2), 16),
         ("fog-room-multi", None, 16),
         ("fog-room-depth2", Some(2), 16),
+        // Lit only by Mitsuba's `constant` and `envmap` environments, with
+        // and without a box of fog (scenes/reference/environment/).
+        ("environment/env-constant", None, 16),
+        ("environment/env-constant-fog", None, 16),
+        ("environment/env-map", None, 16),
+        ("environment/env-map-fog", None, 16),
         // Cycles 5's Principled Volume blackbody on the fire's half-float
         // grids (scenes/reference/fire-cycles/), under Tyndall's
         // `blackbody_law = "cycles"`.

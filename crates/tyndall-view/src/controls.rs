@@ -129,12 +129,14 @@ pub fn cutoff_range(profile: &SpotProfile) -> (f32, f32) {
     (min.min(89.5), 89.5)
 }
 
-/// A light's emission: intensity (W/sr) or a sun's irradiance (W/m²).
+/// A light's emission: intensity (W/sr), a sun's irradiance (W/m²) or
+/// an environment's radiance scale.
 pub fn emission(light: &LightDesc) -> Rgb {
     match light {
         LightDesc::Point(l) => l.intensity,
         LightDesc::Spot(l) => l.intensity,
         LightDesc::Directional(l) => l.irradiance,
+        LightDesc::Environment(l) => l.scale,
     }
 }
 
@@ -144,6 +146,7 @@ pub fn direction(light: &LightDesc) -> Result<Vec3, String> {
         LightDesc::Spot(l) => Ok(l.direction),
         LightDesc::Directional(l) => Ok(l.direction),
         LightDesc::Point(_) => Err("a point light has no direction".into()),
+        LightDesc::Environment(_) => Err("an environment has no direction".into()),
     }
 }
 
@@ -265,6 +268,7 @@ impl LiveScene {
                     LightDesc::Point(l) => l.intensity = emission,
                     LightDesc::Spot(l) => l.intensity = emission,
                     LightDesc::Directional(l) => l.irradiance = emission,
+                    LightDesc::Environment(l) => l.scale = emission,
                 }
             }
             Setting::Cutoff { light, degrees } => match self.light_mut(light)? {
@@ -282,6 +286,9 @@ impl LiveScene {
                     LightDesc::Spot(l) => l.direction = direction.normalize(),
                     LightDesc::Directional(l) => l.direction = direction.normalize(),
                     LightDesc::Point(_) => return Err("a point light has no direction".into()),
+                    LightDesc::Environment(_) => {
+                        return Err("an environment has no direction".into());
+                    }
                 }
             }
             Setting::GlassModel(model) => desc.glass.model = model,
@@ -365,6 +372,11 @@ impl LiveScene {
                         "{n} sun E {:.3} dir {}",
                         s.irradiance.max_element(),
                         short(s.direction)
+                    ),
+                    LightDesc::Environment(e) => format!(
+                        "{n} environment L {:.3}{}",
+                        e.scale.max_element(),
+                        if e.map.is_some() { " × map" } else { "" }
                     ),
                 }
             }

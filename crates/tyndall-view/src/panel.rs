@@ -204,6 +204,7 @@ fn light_controls(ui: &mut egui::Ui, outcome: &mut Outcome, light: usize, l: &Li
         LightDesc::Point(_) => "point",
         LightDesc::Spot(_) => "spot",
         LightDesc::Directional(_) => "sun",
+        LightDesc::Environment(_) => "environment",
     };
     ui.separator();
     ui.label(format!("light {} ({kind})", light + 1));

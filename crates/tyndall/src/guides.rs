@@ -10,7 +10,8 @@
 //! surface with a diffuse or rough lobe, an emitter, or the sky:
 //! - **albedo**: that surface's diffuse plus specular reflectance
 //!   (textures applied; at most 1 per channel), an emitter's radiance or
-//!   the background clamped to [0, 1] (what an image of it looks like),
+//!   the background or environment seen clamped to [0, 1] (what an image
+//!   of it looks like),
 //!   times the chain's transmittance;
 //! - **normal**: that surface's shading normal in world space, turned to
 //!   face the ray; 0 where the chain ends on the sky;
@@ -21,7 +22,8 @@
 //! Fog is transparent to the guides: a pixel whose light is mostly fog
 //! in-scattered in front of a surface holds that surface's albedo and
 //! normal, and one whose camera ray meets no surface holds the
-//! background's albedo, normal 0 and depth `+∞`. The denoiser is then told
+//! albedo of the background (or environment) it sees, normal 0 and depth
+//! `+∞`. The denoiser is then told
 //! where the surfaces' edges are, and the fog's light is denoised by the
 //! colour image alone (docs/physics.md §6.1).
 //!
@@ -56,8 +58,8 @@ pub struct FirstSurface {
 /// Follows the camera ray `ray` (unit direction) to the surfaces its
 /// guides describe (see the module docs).
 pub fn first_surface(scene: &Scene, mut ray: Ray) -> FirstSurface {
-    let sky = |throughput: Rgb, hit| FirstSurface {
-        albedo: throughput * scene.background.clamp(Rgb::ZERO, Rgb::ONE),
+    let sky = |throughput: Rgb, direction: Vec3, hit| FirstSurface {
+        albedo: throughput * scene.escaped_radiance(direction).clamp(Rgb::ZERO, Rgb::ONE),
         normal: Vec3::ZERO,
         hit,
     };
@@ -66,7 +68,7 @@ pub fn first_surface(scene: &Scene, mut ray: Ray) -> FirstSurface {
     let (mut bounces, mut crossings) = (0u32, 0u32);
     loop {
         let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
-            return sky(throughput, first_hit);
+            return sky(throughput, ray.direction, first_hit);
         };
         let surface_hit = SurfaceHit::new(scene, &ray, &hit);
         let p = surface_hit.p;

@@ -25,6 +25,7 @@ pub mod aov;
 pub mod camera;
 pub mod color;
 pub mod description;
+pub mod distribution;
 pub mod exact_sum;
 pub mod film;
 pub mod glass;

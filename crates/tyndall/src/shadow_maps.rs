@@ -179,13 +179,14 @@ pub fn is_narrow(cos_cutoff: f32) -> bool {
 
 /// How many map faces [`ShadowMaps::build`] renders for `light`: six for
 /// a point light or a wide spot, one for a narrow spot or a directional
-/// light, none for an area light (it keeps shadow rays).
+/// light, none for an area light or the environment (they keep shadow
+/// rays).
 pub(crate) fn face_count(light: &Light) -> u64 {
     match light.origin() {
         LightOrigin::Cone { cos_cutoff, .. } if is_narrow(cos_cutoff) => 1,
         LightOrigin::Cone { .. } | LightOrigin::Point { .. } => 6,
         LightOrigin::Parallel { .. } => 1,
-        LightOrigin::Surface => 0,
+        LightOrigin::Surface | LightOrigin::Surrounding => 0,
     }
 }
 
@@ -231,7 +232,7 @@ impl ShadowMaps {
                     };
                     LightMap::Single(render_face(scene, projection, resolution))
                 }
-                LightOrigin::Surface => LightMap::None,
+                LightOrigin::Surface | LightOrigin::Surrounding => LightMap::None,
             })
             .collect();
         Self { resolution, maps }

@@ -1,4 +1,5 @@
-//! `[[lights]]` tables: point, spot, directional and quad lights, their
+//! `[[lights]]` tables: point, spot, directional, quad and environment
+//! lights, their
 //! colour temperature, and the measured (IES) profiles of point and spot
 //! lights (docs/scene-format.md, "Measured profiles").
 
@@ -15,7 +16,7 @@ use tyndall::color::{Rgb, blackbody};
 use tyndall::description::{LightDesc, SceneDesc};
 use tyndall::lights::gobo::Gobo;
 use tyndall::lights::photometric::Luminaire;
-use tyndall::lights::{DirectionalLight, PointLight, SpotLight, SpotProfile};
+use tyndall::lights::{DirectionalLight, EnvironmentLight, PointLight, SpotLight, SpotProfile};
 
 impl Loader<'_> {
     pub(super) fn light(
@@ -187,6 +188,36 @@ impl Loader<'_> {
                     Rgb::from_array(radiance.0) * self.temperature(&span, *temperature_k)?;
                 scene.add_quad_light(quad, radiance, *two_sided, origin);
             }
+            LightTable::Environment(EnvironmentTable {
+                radiance,
+                map,
+                map_rotate_deg,
+                temperature_k,
+            }) => {
+                let tint = self.temperature(&span, *temperature_k)?;
+                let scale = match radiance {
+                    Some(r) => Some(self.emission(&span, "radiance", *r)? * tint),
+                    None => None,
+                };
+                let light = match (self.turned_file(&span, "map", map, *map_rotate_deg)?, scale) {
+                    (Some((path, rotate)), scale) => {
+                        let map = crate::images::load_environment_map(&path).map_err(|e| {
+                            self.err(&span, "map", format!("the environment's `map`: {e}"))
+                        })?;
+                        EnvironmentLight::mapped(Arc::new(map), scale.unwrap_or(tint), rotate)
+                    }
+                    (None, Some(scale)) => EnvironmentLight::uniform(scale),
+                    (None, None) => {
+                        return Err(self.err(
+                            &span,
+                            "type",
+                            "an environment light needs `radiance` (W/(m²·sr), the same from \
+                             every direction) or a `map` (an OpenEXR or Radiance HDR file)",
+                        ));
+                    }
+                };
+                scene.add_light(LightDesc::Environment(light), origin);
+            }
         }
         Ok(())
     }
@@ -209,7 +240,7 @@ impl Loader<'_> {
         Ok(blackbody::unit_luminance_rgb(f64::from(kelvin)).max(Rgb::ZERO))
     }
 
-    /// The file a pattern key (`gobo`, `ies`) names, relative to the scene,
+    /// The file a pattern key (`gobo`, `ies`, `map`) names, relative to the scene,
     /// with the turn its `{key}_rotate_deg` gives it (default 0°); `None`
     /// without the key, where the turn alone is an error.
     fn turned_file(

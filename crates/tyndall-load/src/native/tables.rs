@@ -235,6 +235,7 @@ pub(super) enum LightTable {
     Spot(SpotTable),
     Directional(DirectionalTable),
     Quad(QuadLightTable),
+    Environment(EnvironmentTable),
 }
 
 #[derive(Deserialize)]
@@ -278,6 +279,18 @@ pub(super) struct DirectionalTable {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
+pub(super) struct EnvironmentTable {
+    /// The uniform radiance, or the map's multiplier (default 1 with a map).
+    pub(super) radiance: Option<ColorValue>,
+    /// An equirectangular map (OpenEXR or Radiance HDR), relative to the scene.
+    pub(super) map: Option<String>,
+    /// The map's turn about +y (degrees).
+    pub(super) map_rotate_deg: Option<f32>,
+    pub(super) temperature_k: Option<f32>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
 pub(super) struct QuadLightTable {
     pub(super) corners: [V3; 4],
     pub(super) radiance: ColorValue,
@@ -308,6 +321,7 @@ pub(super) fn variant_error(section: &str, kind: &str, body: &str) -> Option<tom
         ("lights", "spot") => check::<SpotTable>(body),
         ("lights", "directional") => check::<DirectionalTable>(body),
         ("lights", "quad") => check::<QuadLightTable>(body),
+        ("lights", "environment") => check::<EnvironmentTable>(body),
         _ => None,
     }
 }

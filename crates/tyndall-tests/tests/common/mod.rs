@@ -261,6 +261,32 @@ pub fn mean_and_stderr(z: &[f64]) -> (f64, f64) {
     (mean, (var / n).sqrt())
 }
 
+/// How far two estimators' images disagree beyond their noise: for
+/// independent renders A₁, A₂ of one and B₁, B₂ of the other, the mean
+/// over pixels of `z = d(A₁, B₁) − (d(A₁, A₂) + d(B₁, B₂))/2` (`d` the
+/// relative squared difference over the four's mean), and its standard
+/// error. Each `d` holds the two renders' variances, so `z` has
+/// expectation 0 where the estimators agree and the squared bias where
+/// they do not. `bias` scales B₁ first (1: as rendered), to show that a
+/// test would see a bias of that size.
+pub fn excess_disagreement(a: [&Image; 2], b: [&Image; 2], bias: f32) -> (f64, f64) {
+    let r = average(&[a[0], a[1], b[0], b[1]]);
+    let (aa, bb) = (
+        pixel_distances(a[0], a[1], &r),
+        pixel_distances(b[0], b[1], &r),
+    );
+    let b1 = Image::from_pixels(
+        b[0].width(),
+        b[0].height(),
+        b[0].pixels().iter().map(|p| *p * bias).collect(),
+    );
+    let ab = pixel_distances(a[0], &b1, &r);
+    let z: Vec<f64> = (0..ab.len())
+        .map(|i| ab[i] - 0.5 * (aa[i] + bb[i]))
+        .collect();
+    mean_and_stderr(&z)
+}
+
 /// Per-pixel average of images.
 pub fn average(images: &[&Image]) -> Image {
     let n = images.len() as f32;

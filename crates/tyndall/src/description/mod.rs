@@ -18,7 +18,9 @@ mod validate;
 use crate::camera::CameraSpec;
 use crate::color::Rgb;
 use crate::glass::GlassModel;
-use crate::lights::{DirectionalLight, Light, LightSampling, PointLight, SpotLight};
+use crate::lights::{
+    DirectionalLight, EnvironmentLight, Light, LightSampling, PointLight, SpotLight,
+};
 use crate::limits;
 use crate::materials::{Material, MaterialId};
 use crate::media::Fog;
@@ -146,6 +148,8 @@ pub enum LightDesc {
     Point(PointLight),
     Spot(SpotLight),
     Directional(DirectionalLight),
+    /// Light from infinitely far in every direction (one per scene).
+    Environment(EnvironmentLight),
 }
 
 impl From<LightDesc> for Light {
@@ -154,6 +158,7 @@ impl From<LightDesc> for Light {
             LightDesc::Point(l) => Light::Point(l),
             LightDesc::Spot(l) => Light::Spot(l),
             LightDesc::Directional(l) => Light::Directional(l),
+            LightDesc::Environment(l) => Light::Environment(l),
         }
     }
 }
@@ -228,7 +233,9 @@ pub struct SceneDesc {
     /// General media (RGB, non-uniform, mesh-bounded); only `volpath`
     /// renders them.
     pub media: Vec<MediumDesc>,
-    /// Radiance of rays that leave the scene (linear RGB).
+    /// Radiance of rays that leave the scene (linear RGB), seen but
+    /// lighting nothing in the single-scattering integrators; an
+    /// environment light ([`LightDesc::Environment`]) replaces it.
     pub background: Rgb,
     pub glass: GlassSettings,
     /// How estimates choose among the lights (the light tree or every
@@ -388,7 +395,11 @@ impl SceneDesc {
         let emitting_media = self.media.iter().any(|m| m.emission.is_some());
         if self.lights.is_empty() && emissive.iter().all(|s| s.shapes.is_empty()) && !emitting_media
         {
-            warnings.push("the scene has no lights: only emissive surfaces will be visible".into());
+            warnings.push(
+                "the scene has no lights: only emissive surfaces will be visible \
+                 (`--environment` lights it from a sky)"
+                    .into(),
+            );
         }
         let unbounded_fog = self
             .fog
@@ -398,18 +409,36 @@ impl SceneDesc {
             .media
             .iter()
             .any(|m| m.region == RegionDesc::Everywhere && m.sigma_t.max_element() > 0.0);
-        if (unbounded_fog || unbounded_volume)
-            && self
-                .lights
-                .iter()
-                .any(|l| matches!(l.value, LightDesc::Directional(_)))
-        {
-            warnings.push(
-                "a directional light shines into fog that fills all space: its light is fully extinguished before it arrives; bound the medium with a box"
-                    .into(),
-            );
+        if unbounded_fog || unbounded_volume {
+            // Lights from infinitely far, each kind named once.
+            let mut from_afar: Vec<&str> = Vec::new();
+            for light in &self.lights {
+                let kind = match light.value {
+                    LightDesc::Directional(_) => "a directional light",
+                    LightDesc::Environment(_) => "an environment light",
+                    _ => continue,
+                };
+                if !from_afar.contains(&kind) {
+                    from_afar.push(kind);
+                }
+            }
+            for kind in from_afar {
+                warnings.push(format!(
+                    "{kind} shines into fog that fills all space: its light is fully extinguished before it arrives; bound the medium with a box"
+                ));
+            }
         }
         warnings
+    }
+
+    /// Makes `environment` the scene's environment light (the command
+    /// line's `--environment`), in place of any it had and of its
+    /// `background`: the environment is what rays leaving the scene see.
+    pub fn set_environment(&mut self, environment: EnvironmentLight, origin: Origin) {
+        self.lights
+            .retain(|l| !matches!(l.value, LightDesc::Environment(_)));
+        self.background = Rgb::ZERO;
+        self.add_light(LightDesc::Environment(environment), origin);
     }
 
     /// Applies command-line fog settings (the paper's `--density` and

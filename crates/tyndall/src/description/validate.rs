@@ -185,6 +185,7 @@ impl SceneDesc {
             check(validate_light(&light.value, &light.origin));
         }
         check(counted);
+        check(self.validate_environment());
         if let Some(fog) = &self.fog {
             check(validate_fog(&fog.value, &fog.origin));
         }
@@ -443,6 +444,38 @@ fn validate_light(light: &LightDesc, origin: &Origin) -> Result<(), DescError> {
             item.direction("direction", d.direction)?;
             item.emission("irradiance", d.irradiance)
         }
+        // A map's texels were checked when it was made.
+        LightDesc::Environment(e) => item.emission("scale", e.scale),
+    }
+}
+
+impl SceneDesc {
+    /// At most one environment light, and no background beside it (the
+    /// environment is what rays leaving the scene see).
+    fn validate_environment(&self) -> Result<(), DescError> {
+        let mut environments = self
+            .lights
+            .iter()
+            .filter(|l| matches!(l.value, LightDesc::Environment(_)));
+        let Some(first) = environments.next() else {
+            return Ok(());
+        };
+        if let Some(second) = environments.next() {
+            return Err(DescError::new(
+                &second.origin,
+                "type",
+                "a scene may hold one environment light; this is a second",
+            ));
+        }
+        if self.background != Rgb::ZERO {
+            return Err(DescError::new(
+                &first.origin,
+                "type",
+                "a scene with an environment light may not also set a `background`: \
+                 the environment is what rays leaving the scene see",
+            ));
+        }
+        Ok(())
     }
 }
 

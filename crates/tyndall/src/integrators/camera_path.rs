@@ -108,7 +108,10 @@ impl CameraPath<'_> {
                 throughput *= fog.transmittance(&ray, 0.0, t_hit);
             }
             let Some(hit) = hit else {
-                radiance.add(history.component(), throughput * scene.background);
+                radiance.add(
+                    history.component(),
+                    throughput * scene.escaped_radiance(ray.direction),
+                );
                 return radiance;
             };
             if throughput == Rgb::ZERO {

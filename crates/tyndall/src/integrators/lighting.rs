@@ -110,17 +110,25 @@ pub(crate) fn lights_along<'s>(
 /// camera from light number `index` via its emitting point `y`, per unit
 /// length: the paper's eq. 1,
 /// `σs · p(θ) · I(dir)/d² · V · Tr_glass · exp(−σt·d)`.
-/// Zero without a visibility query outside a spotlight's cone.
+/// Zero without a visibility query outside a spotlight's cone. A light
+/// with neither a point nor a fixed direction (the environment, for which
+/// [`light_point`] gives `None`) is sampled here, at `x`, from `sampler`.
 #[inline]
 pub(crate) fn scattered_radiance(
     medium: &MediumQuery,
     index: usize,
     y: Option<LightPoint>,
     x: Vec3,
+    sampler: &mut PixelSampler,
     counts: &mut RayCounts,
     tracker: &mut VolumeTracker,
 ) -> Rgb {
-    let Some(incident) = medium.scene.lights[index].incident(x, y) else {
+    let light = &medium.scene.lights[index];
+    let incident = match y {
+        None if !light.is_delta() => sample_light(light, x, sampler).map(|(i, _)| i),
+        _ => light.incident(x, y),
+    };
+    let Some(incident) = incident else {
         return Rgb::ZERO;
     };
     medium.fog.sigma_s() * scattered_light(medium, index, x, &incident, counts, tracker)
@@ -316,7 +324,15 @@ pub mod twins {
             return Rgb::ZERO;
         };
         let mut counts = RayCounts::default();
-        super::scattered_radiance(&medium, index, y, x, &mut counts, &mut tracker())
+        super::scattered_radiance(
+            &medium,
+            index,
+            y,
+            x,
+            &mut PixelSampler::new(0, 0, 0),
+            &mut counts,
+            &mut tracker(),
+        )
     }
 
     /// [`lambert_direct_lighting`] unweighted (one strategy) at `x` on a

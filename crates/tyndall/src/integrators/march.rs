@@ -128,7 +128,8 @@ fn lattice_sum(
         let camera_t = transmittance(fog.sigma_t, t - a);
         for (light_index, light) in scene.lights.iter().enumerate() {
             let y = light_point(light, sampler);
-            sum += camera_t * scattered_radiance(medium, light_index, y, x, counts, tracker);
+            sum +=
+                camera_t * scattered_radiance(medium, light_index, y, x, sampler, counts, tracker);
         }
     }
     sum * step

@@ -90,14 +90,14 @@ pub(crate) fn in_scattered(
         if let Some(eq) = &equiangular {
             for k in 0..samples_per_light {
                 let (t, pdf_e) = eq.sample((k as f32 + u_equiangular) / n);
-                let f = scattered_radiance(medium, index, y, ray.at(t), counts, tracker);
+                let f = scattered_radiance(medium, index, y, ray.at(t), sampler, counts, tracker);
                 if f != Rgb::ZERO {
                     sum += single_sample(f, camera_t(t), n, pdf_e, distance.pdf(t)) * chosen;
                 }
             }
         }
         let pdf_e = equiangular.map_or(0.0, |eq| eq.pdf(t_d));
-        let f = scattered_radiance(medium, index, y, x_d, counts, tracker);
+        let f = scattered_radiance(medium, index, y, x_d, sampler, counts, tracker);
         if f != Rgb::ZERO {
             sum += single_sample(f, camera_t(t_d), n, pdf_e, pdf_d) * chosen;
         }

@@ -1,5 +1,6 @@
-//! Light sources: point, spot (the paper's §3.2), directional, and area
-//! lights: quads, spheres and triangle meshes. Any number of each.
+//! Light sources: point, spot (the paper's §3.2), directional, area
+//! lights (quads, spheres and triangle meshes; any number of each), and
+//! one environment (a uniform or mapped sky).
 //!
 //! A light owns its physics, pbrt-style, behind one enum ([`Light`]):
 //! integrators call its methods and name no kind.
@@ -27,13 +28,14 @@
 
 //!
 //! Each kind's physics is in its own module (`point`, `spot`,
-//! `directional`, `area` for quads and spheres, `mesh`; measured
+//! `directional`, `area` for quads and spheres, `mesh`, `environment`; measured
 //! luminaire profiles on point and spot lights in `photometric`); this module
 //! holds the enum, the types of the interface, and the dispatch.
 
 mod area;
 pub mod bounds;
 mod directional;
+pub mod environment;
 pub mod gobo;
 pub mod light_sampler;
 mod mesh;
@@ -45,6 +47,7 @@ pub mod tree;
 pub use area::{QuadLight, SphereLight, SphericalRectangle};
 pub use bounds::LightBounds;
 pub use directional::DirectionalLight;
+pub use environment::{EnvironmentLight, EnvironmentMap};
 pub use gobo::Gobo;
 pub use light_sampler::{Chosen, LightSampler, LightSampling};
 pub use mesh::MeshLight;
@@ -66,6 +69,7 @@ pub enum Light {
     Quad(QuadLight),
     Sphere(SphereLight),
     Mesh(MeshLight),
+    Environment(EnvironmentLight),
 }
 
 /// A point light leaves from: the position of a point or spot light, or a
@@ -138,7 +142,7 @@ impl Light {
         match self {
             Light::Point(p) => Some(LightPoint::delta(p.position)),
             Light::Spot(s) => Some(LightPoint::delta(s.position)),
-            Light::Directional(_) => None,
+            Light::Directional(_) | Light::Environment(_) => None,
             Light::Quad(q) => Some(q.sample_point(u)),
             Light::Sphere(s) => Some(s.sample_point(u)),
             Light::Mesh(m) => Some(m.sample_point(u)),
@@ -159,6 +163,8 @@ impl Light {
             (Light::Sphere(s), Some(y)) => s.incident(x, y.position),
             (Light::Mesh(m), Some(y)) => m.incident(x, y),
             (Light::Quad(_) | Light::Sphere(_) | Light::Mesh(_), None) => None,
+            // Its light comes from a sampled direction ([`Light::sample_li`]).
+            (Light::Environment(_), _) => None,
         }
     }
 
@@ -189,6 +195,9 @@ pub enum LightOrigin {
     },
     /// Parallel light travelling along the unit `direction` (a sun).
     Parallel { direction: Vec3 },
+    /// From infinitely far in every direction (an environment): no
+    /// centre of projection.
+    Surrounding,
     /// From every point of a surface (area lights): no single centre of
     /// projection.
     Surface,
@@ -236,7 +245,11 @@ impl Light {
                 (None, Some(_)) => Some("a gobo"),
                 (None, None) => None,
             },
-            Light::Directional(_) | Light::Quad(_) | Light::Sphere(_) | Light::Mesh(_) => None,
+            Light::Directional(_)
+            | Light::Quad(_)
+            | Light::Sphere(_)
+            | Light::Mesh(_)
+            | Light::Environment(_) => None,
         }
     }
 
@@ -247,7 +260,11 @@ impl Light {
         match self {
             Light::Point(p) => Some(p.position),
             Light::Spot(s) => Some(s.position),
-            Light::Directional(_) | Light::Quad(_) | Light::Sphere(_) | Light::Mesh(_) => None,
+            Light::Directional(_)
+            | Light::Quad(_)
+            | Light::Sphere(_)
+            | Light::Mesh(_)
+            | Light::Environment(_) => None,
         }
     }
 
@@ -259,7 +276,11 @@ impl Light {
         match self {
             Light::Point(p) => Some(p.bounds()),
             Light::Spot(s) => Some(s.bounds()),
-            Light::Directional(_) | Light::Quad(_) | Light::Sphere(_) | Light::Mesh(_) => None,
+            Light::Directional(_)
+            | Light::Quad(_)
+            | Light::Sphere(_)
+            | Light::Mesh(_)
+            | Light::Environment(_) => None,
         }
     }
 
@@ -279,6 +300,7 @@ impl Light {
                 direction: d.direction,
             },
             Light::Quad(_) | Light::Sphere(_) | Light::Mesh(_) => LightOrigin::Surface,
+            Light::Environment(_) => LightOrigin::Surrounding,
         }
     }
 
@@ -292,14 +314,14 @@ impl Light {
     }
 
     /// Surface area (m²) of an area light's emitting surface; 0 for delta
-    /// lights.
+    /// lights and the environment.
     #[inline]
     pub fn area(&self) -> f32 {
         match self {
             Light::Quad(q) => q.quad.area(),
             Light::Sphere(s) => s.area(),
             Light::Mesh(m) => m.area(),
-            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 0.0,
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Environment(_) => 0.0,
         }
     }
 
@@ -307,7 +329,8 @@ impl Light {
     /// for it (next event estimation), divided by the point's density:
     /// uniform in solid angle for a rectangle and from outside a sphere,
     /// uniform in area otherwise (a mesh: a triangle chosen by its power,
-    /// see [`MeshLight`]) (`u ∈ [0,1)²`; delta lights use their
+    /// see [`MeshLight`]); a direction drawn by the map's brightness from
+    /// an environment ([`EnvironmentLight`]) (`u ∈ [0,1)²`; delta lights use their
     /// fixed point and ignore `u`). Also returns the choice's solid-angle
     /// density for MIS ([`Light::pdf_li`]), `None` for delta lights, which
     /// no sampled direction can hit.
@@ -323,6 +346,9 @@ impl Light {
             Light::Mesh(m) => m
                 .sample_incident(x, u)
                 .map(|(incident, pdf)| (incident, Some(pdf))),
+            Light::Environment(e) => e
+                .sample_incident(u)
+                .map(|(incident, pdf)| (incident, Some(pdf))),
             Light::Point(p) => p.incident(x).map(|i| (i, None)),
             Light::Spot(s) => s.incident(x).map(|i| (i, None)),
             Light::Directional(d) => Some((d.incident(), None)),
@@ -331,14 +357,16 @@ impl Light {
 
     /// Density per unit solid angle, seen from `x`, with which
     /// [`Light::sample_li`] picks the point `y` of an area light (with its
-    /// surface normal) in the unit direction `direction` from `x`; 0 for
-    /// delta lights.
+    /// surface normal) in the unit direction `direction` from `x`, or the
+    /// direction itself from an environment (`y` unused); 0 for delta
+    /// lights.
     #[inline]
     pub fn pdf_li(&self, x: Vec3, y: LightPoint, direction: Vec3) -> f32 {
         match self {
             Light::Quad(q) => q.pdf(x, y.position, direction),
             Light::Sphere(s) => s.pdf(x, y.position, direction),
             Light::Mesh(m) => m.pdf(x, y, direction),
+            Light::Environment(e) => e.pdf(direction),
             Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 0.0,
         }
     }
@@ -356,7 +384,9 @@ impl Light {
             Light::Point(p) => Some(p.sample_le(u_direction)),
             Light::Spot(s) => s.sample_le(u_direction),
             Light::Quad(q) => Some(q.sample_le(u_point, u_direction, u_side)),
-            Light::Directional(_) | Light::Sphere(_) | Light::Mesh(_) => None,
+            Light::Directional(_) | Light::Sphere(_) | Light::Mesh(_) | Light::Environment(_) => {
+                None
+            }
         }
     }
 
@@ -375,13 +405,15 @@ impl Light {
             | Light::Spot(_)
             | Light::Directional(_)
             | Light::Sphere(_)
-            | Light::Mesh(_) => 0.0,
+            | Light::Mesh(_)
+            | Light::Environment(_) => 0.0,
         }
     }
 
     /// Total emitted power Φ (W). A directional light's is the flux
     /// through a disk of radius `scene_radius` (the scene's bounding
-    /// sphere) facing it, `E·π·r²`, as pbrt-v4's `DistantLight`; emitters
+    /// sphere) facing it, `E·π·r²`, as pbrt-v4's `DistantLight` (an
+    /// environment's `π r² ∫ L dω`, as its infinite lights); emitters
     /// count `L·π·A` per emitting side (pbrt-v4's `DiffuseAreaLight::Phi`).
     pub fn power(&self, scene_radius: f32) -> Rgb {
         match self {
@@ -391,6 +423,7 @@ impl Light {
             Light::Quad(q) => q.power(),
             Light::Sphere(s) => s.power(),
             Light::Mesh(m) => m.power(),
+            Light::Environment(e) => e.power(scene_radius),
         }
     }
 }

@@ -13,7 +13,9 @@ use crate::accel::{Geometry, Hit, Primitive};
 use crate::camera::CameraSpec;
 use crate::color::Rgb;
 use crate::description::{DescError, MediumDesc, RegionDesc, SceneDesc};
-use crate::lights::{Light, LightSampler, LightSampling, MeshLight, QuadLight, SphereLight};
+use crate::lights::{
+    EnvironmentLight, Light, LightSampler, LightSampling, MeshLight, QuadLight, SphereLight,
+};
 use crate::materials::Material;
 use crate::materials::Surface;
 use crate::media::Fog;
@@ -40,8 +42,11 @@ pub struct Scene {
     pub(crate) volumes: Vec<Volume>,
     /// The emitting volumes as light sources for NEE.
     pub(crate) media_emitters: MediaEmitters,
-    /// Radiance of rays that leave the scene (linear RGB).
+    /// Radiance of rays that leave the scene (linear RGB) where there is
+    /// no environment light.
     pub(crate) background: Rgb,
+    /// The light number of the environment, if there is one.
+    environment: Option<usize>,
     pub(crate) glass: GlassSettings,
     /// (primitive, light) pairs of area lights, by primitive: the
     /// emissive quad, sphere or triangle a path may hit and the light that
@@ -102,9 +107,30 @@ impl Scene {
         &self.volumes
     }
 
-    /// Radiance of rays that leave the scene (linear RGB).
+    /// Radiance of rays that leave the scene (linear RGB) where there is
+    /// no environment light.
     pub fn background(&self) -> Rgb {
         self.background
+    }
+
+    /// The environment light and its light number, if there is one.
+    #[inline]
+    pub fn environment(&self) -> Option<(usize, &EnvironmentLight)> {
+        let index = self.environment?;
+        match &self.lights[index] {
+            Light::Environment(e) => Some((index, e)),
+            _ => None,
+        }
+    }
+
+    /// Radiance arriving along a ray that leaves the scene in the unit
+    /// `direction`: the environment's, or else the background.
+    #[inline]
+    pub fn escaped_radiance(&self, direction: Vec3) -> Rgb {
+        match self.environment() {
+            Some((_, e)) => e.radiance(direction),
+            None => self.background,
+        }
     }
 
     /// How glass appears to camera rays and combines along shadow rays.
@@ -343,6 +369,9 @@ impl Scene {
         area_lights.sort_unstable_by_key(|&(primitive, _)| primitive);
         lights.extend(desc.lights.iter().map(|l| Light::from(l.value.clone())));
         let flat_emitters = lights.iter().filter(|l| l.is_flat_emitter()).count();
+        let environment = lights
+            .iter()
+            .position(|l| matches!(l, Light::Environment(_)));
         let mut light_primitives = vec![None; lights.len()];
         for &(primitive, light) in &area_lights {
             if !matches!(lights[light as usize], Light::Mesh(_)) {
@@ -360,6 +389,7 @@ impl Scene {
             media_emitters: MediaEmitters::new(&volumes),
             volumes,
             background: desc.background,
+            environment,
             glass: desc.glass,
             flat_emitters,
             area_lights,

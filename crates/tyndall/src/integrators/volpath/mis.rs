@@ -33,6 +33,16 @@ impl Strategies {
         }
     }
 
+    /// Whether NEE and hits by sampled directions run at a vertex in a
+    /// volume (`in_volume`) or on a surface.
+    pub(super) fn at_vertex(self, in_volume: bool) -> (bool, bool) {
+        if in_volume {
+            (self.medium_nee, self.medium_hits)
+        } else {
+            (self.surface_nee, self.surface_hits)
+        }
+    }
+
     /// Equiangular samples per light on a segment after a scattering
     /// event: one.
     pub(super) fn later_equiangular(self) -> EquiangularCounts {

@@ -97,7 +97,7 @@ use glam::Vec3;
 use mis::{EquiangularCounts, balance_of_two};
 use nee::{PathVertex, media_emission_nee, medium_nee};
 use segment::{Connections, EquiangularNee, FogSegment};
-use segment_weights::emission_weight;
+use segment_weights::{emission_weight, escape_weight};
 
 /// Scattering events before Russian roulette may end a path.
 const ROULETTE_DEPTH: u32 = 3;
@@ -357,7 +357,11 @@ pub(crate) fn radiance<K: Keep>(
         }
         // No event before the surface: transmittance over its probability is 1.
         let Some(hit) = hit else {
-            radiance.add(history.component(), throughput * scene.background);
+            let weight = escape_weight(scene, strategies, arrival, ray.direction);
+            radiance.add(
+                history.component(),
+                throughput * scene.escaped_radiance(ray.direction) * weight,
+            );
             return radiance;
         };
         let SurfaceHit {

@@ -70,11 +70,7 @@ pub(super) fn emission_weight(
             },
             Some(index),
         ) => {
-            let (nee, hits) = if in_volume {
-                (strategies.medium_nee, strategies.medium_hits)
-            } else {
-                (strategies.surface_nee, strategies.surface_hits)
-            };
+            let (nee, hits) = strategies.at_vertex(in_volume);
             if !hits {
                 return 0.0;
             }
@@ -102,6 +98,47 @@ pub(super) fn emission_weight(
             pdf / FogEventDensities::new(strategies, p_light, pdf, q, p_connect).total()
         }
         _ => 1.0,
+    }
+}
+
+/// MIS weight of the environment's radiance found by a sampled direction
+/// that leaves the scene: the balance heuristic against NEE's density
+/// for the same direction (every estimate visits the environment, so it
+/// is chosen with probability 1). At a fog event NEE and phase sampling
+/// are the only strategies that reach it (no equiangular samples or
+/// light-vertex connections start from it). Without an environment, the
+/// background is seen only along the camera's and specular paths: it
+/// lights nothing (docs/scene-format.md), as in the single-scattering
+/// integrators.
+pub(super) fn escape_weight(
+    scene: &Scene,
+    strategies: Strategies,
+    arrival: Arrival,
+    direction: Vec3,
+) -> f32 {
+    let Some((_, environment)) = scene.environment() else {
+        return if matches!(arrival, Arrival::Unweighted) {
+            1.0
+        } else {
+            0.0
+        };
+    };
+    match arrival {
+        Arrival::Unweighted => 1.0,
+        Arrival::Sampled { pdf, in_volume, .. } => {
+            let (nee, hits) = strategies.at_vertex(in_volume);
+            if !hits {
+                return 0.0;
+            }
+            balance_of_two(pdf, nee, environment.pdf(direction))
+        }
+        Arrival::Medium { pdf, .. } => {
+            if !strategies.medium_hits {
+                return 0.0;
+            }
+            let p_light = environment.pdf(direction);
+            pdf / FogEventDensities::new(strategies, p_light, pdf, 0.0, 0.0).total()
+        }
     }
 }
 
