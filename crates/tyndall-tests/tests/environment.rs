@@ -170,8 +170,14 @@ map = {:?}
                 s.seed = seed;
             })
         };
-        let a = [shot(IntegratorKind::Single, 1), shot(IntegratorKind::Single, 2)];
-        let b = [shot(IntegratorKind::Volpath, 3), shot(IntegratorKind::Volpath, 4)];
+        let a = [
+            shot(IntegratorKind::Single, 1),
+            shot(IntegratorKind::Single, 2),
+        ];
+        let b = [
+            shot(IntegratorKind::Volpath, 3),
+            shot(IntegratorKind::Volpath, 4),
+        ];
         let (mean, stderr) = excess_disagreement([&a[0], &a[1]], [&b[0], &b[1]], 1.0);
         assert!(
             mean <= 4.0 * stderr,

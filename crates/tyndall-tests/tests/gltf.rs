@@ -80,7 +80,8 @@ fn gltf_loads_into_the_expected_description() {
             {"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.2, 0.1, 1.0], "metallicFactor": 0.0},
              "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}},
             {"extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
-                            "KHR_materials_volume": {"thicknessFactor": 0.1},
+                            "KHR_materials_volume": {"thicknessFactor": 0.1,
+                                "attenuationColor": [0.5, 0.25, 1.0], "attenuationDistance": 2.0},
                             "KHR_materials_ior": {"ior": 1.33}}},
             {"emissiveFactor": [1.0, 0.5, 0.0],
              "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4.0}}},
@@ -163,7 +164,17 @@ fn gltf_loads_into_the_expected_description() {
         panic!("{:?}", scene.material(1))
     };
     assert_eq!(glass.color, Rgb::new(0.9, 0.2, 0.1));
-    assert_eq!(*scene.material(2), Material::Dielectric { ior: 1.33 });
+    // KHR_materials_volume: half the red and a quarter of the green is
+    // left after 2 units, so σa = ln 2/2 and ln 4/2; blue is clear.
+    let Material::Dielectric { ior, absorption } = *scene.material(2) else {
+        panic!("{:?}", scene.material(2))
+    };
+    assert_eq!(ior, 1.33);
+    let expected = Rgb::new(2f32.ln() / 2.0, 4f32.ln() / 2.0, 0.0);
+    assert!(
+        (absorption - expected).abs().max_element() < 1e-6,
+        "{absorption}"
+    );
     assert_eq!(
         *scene.material(3),
         Material::Emissive {
@@ -388,6 +399,21 @@ fn bad_gltf_files_name_file_and_element() {
         m.contains("materials[0]") && m.contains("baseColorFactor"),
         "{m}"
     );
+
+    for (volume, named) in [
+        (json!({"attenuationDistance": 0.0}), "attenuationDistance"),
+        (json!({"attenuationColor": [1.5, 0.5, 0.5]}), "attenuationColor"),
+    ] {
+        let mut doc = scene(json!([{"mesh": 0}]));
+        let mut volume = volume;
+        volume["thicknessFactor"] = json!(0.1);
+        doc["extensionsUsed"] = json!(["KHR_materials_transmission", "KHR_materials_volume"]);
+        doc["materials"] = json!([{"extensions": {
+            "KHR_materials_transmission": {"transmissionFactor": 1.0},
+            "KHR_materials_volume": volume}}]);
+        let m = load_error("volume", &[triangle(0)], doc);
+        assert!(m.contains("materials[0]") && m.contains(named), "{m}");
+    }
 }
 
 /// A native scene's `[[include]]` adds the glTF file's triangles (placed

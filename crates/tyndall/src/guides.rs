@@ -94,7 +94,8 @@ pub fn first_surface(scene: &Scene, mut ray: Ray) -> FirstSurface {
                 throughput *= transmittance;
                 ray.origin = offset_origin(p, n, ray.direction);
             }
-            SurfaceEvent::Interface { ior } => {
+            // The guides see through a solid's absorption, as through fog.
+            SurfaceEvent::Interface { ior, .. } => {
                 if bounces >= MAX_GUIDE_BOUNCES {
                     return ends(throughput, Rgb::ONE);
                 }

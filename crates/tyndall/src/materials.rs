@@ -39,8 +39,11 @@ pub enum Material {
     /// faces). Light reflects or refracts by the Fresnel equations.
     /// Shadow rays cannot follow refraction, so for next event estimation
     /// a dielectric is opaque: light focused through it (caustics) is only
-    /// found by paths that happen to reach an emitter.
-    Dielectric { ior: f32 },
+    /// found by paths that happen to reach an emitter. Its inside absorbs
+    /// `absorption` σa per scene unit and channel (Beer–Lambert, a
+    /// homogeneous absorbing medium: glTF's `KHR_materials_volume`); zero
+    /// is clear.
+    Dielectric { ior: f32, absorption: Rgb },
 }
 
 /// What a ray does where it meets a material: the material's answer, so
@@ -56,8 +59,9 @@ pub enum SurfaceEvent {
     /// crossing (the filter model, the paper's eq. 6 from white).
     Pane { transmittance: Rgb },
     /// A smooth interface of index of refraction `ior` (relative to the
-    /// side its normal faces) where the ray refracts or reflects.
-    Interface { ior: f32 },
+    /// side its normal faces) where the ray refracts or reflects, and the
+    /// absorption σa (per scene unit) inside it.
+    Interface { ior: f32, absorption: Rgb },
     /// An opaque surface that reflects by its lobes.
     Reflector(Surface),
 }
@@ -86,7 +90,7 @@ impl Material {
             Material::Glass(glass) => SurfaceEvent::Pane {
                 transmittance: glass.filter_transmittance(),
             },
-            Material::Dielectric { ior } => SurfaceEvent::Interface { ior },
+            Material::Dielectric { ior, absorption } => SurfaceEvent::Interface { ior, absorption },
             Material::Opaque(surface) => SurfaceEvent::Reflector(surface),
         }
     }
@@ -452,10 +456,23 @@ mod tests {
             SurfaceEvent::Reflector(Surface::diffuse(glass.color))
         );
         assert_eq!(
-            Material::Dielectric { ior: 1.5 }.event(false, true),
-            SurfaceEvent::Interface { ior: 1.5 }
+            Material::Dielectric {
+                ior: 1.5,
+                absorption: Rgb::ZERO
+            }
+            .event(false, true),
+            SurfaceEvent::Interface {
+                ior: 1.5,
+                absorption: Rgb::ZERO
+            }
         );
-        assert!(Material::Dielectric { ior: 1.5 }.refracts());
+        assert!(
+            Material::Dielectric {
+                ior: 1.5,
+                absorption: Rgb::ZERO
+            }
+            .refracts()
+        );
         assert!(!Material::Glass(glass).refracts());
     }
 }

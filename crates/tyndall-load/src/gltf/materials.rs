@@ -223,15 +223,15 @@ impl GltfLoader<'_> {
             }
             let thickness = material.volume().map_or(0.0, |v| v.thickness_factor());
             if thickness > 0.0 {
-                if let Some(volume) = material.volume()
-                    && volume.attenuation_distance().is_finite()
-                {
-                    self.warn(
+                let absorption = match material.volume() {
+                    Some(volume) => self.absorption(
                         &element,
-                        "attenuationColor/attenuationDistance are ignored: the dielectric's inside is clear",
-                    );
-                }
-                return Ok((Material::Dielectric { ior }, None));
+                        volume.attenuation_color(),
+                        volume.attenuation_distance(),
+                    )?,
+                    None => Rgb::ZERO,
+                };
+                return Ok((Material::Dielectric { ior, absorption }, None));
             }
             if t < 1.0 {
                 self.warn(
@@ -345,6 +345,33 @@ impl GltfLoader<'_> {
             cutoff,
             factor: factor.clamp(0.0, 1.0),
         }))
+    }
+
+    /// The absorption σa per unit length inside a dielectric from
+    /// `KHR_materials_volume`: light crossing `attenuationDistance` keeps
+    /// `attenuationColor` of itself (Beer–Lambert), `σa = −ln(c)/d` per
+    /// channel; clear for an infinite distance (the default). A channel of
+    /// 0 is taken as 10⁻⁶ (opaque within the distance: the ratio stays
+    /// finite).
+    fn absorption(&self, element: &str, color: [f32; 3], distance: f32) -> Result<Rgb, SceneError> {
+        if distance.is_nan() || distance <= 0.0 {
+            return Err(self.err(
+                element,
+                format!("KHR_materials_volume attenuationDistance must be > 0, got {distance}"),
+            ));
+        }
+        let color = Rgb::from_array(color);
+        if !(color.is_finite() && color.min_element() >= 0.0 && color.max_element() <= 1.0) {
+            return Err(self.err(
+                element,
+                format!("KHR_materials_volume attenuationColor must be in [0, 1], got {color}"),
+            ));
+        }
+        if distance == f32::INFINITY {
+            return Ok(Rgb::ZERO);
+        }
+        let c = color.max(Rgb::splat(1e-6));
+        Ok(Rgb::new(-c.x.ln(), -c.y.ln(), -c.z.ln()) / distance)
     }
 
     /// The scene's texture for a glTF texture (its image, sRGB 8-bit,

@@ -431,7 +431,12 @@ impl Loader<'_> {
                 color: Rgb::from_array(color.0),
                 alpha,
             }),
-            MaterialTable::Dielectric(DielectricTable { ior }) => Material::Dielectric { ior },
+            MaterialTable::Dielectric(DielectricTable { ior, absorption }) => {
+                Material::Dielectric {
+                    ior,
+                    absorption: absorption.map_or(Rgb::ZERO, |a| Rgb::from_array(a.0)),
+                }
+            }
         }
     }
 

@@ -138,6 +138,8 @@ pub(super) enum MaterialTable {
 #[serde(deny_unknown_fields)]
 pub(super) struct DielectricTable {
     pub(super) ior: f32,
+    /// σa of the inside per scene unit (default clear).
+    pub(super) absorption: Option<ColorValue>,
 }
 
 #[derive(Deserialize)]

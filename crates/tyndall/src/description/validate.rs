@@ -401,8 +401,9 @@ fn validate_material(material: &Material, origin: &Origin) -> Result<(), DescErr
             item.color("color", glass.color, true)?;
             item.number("alpha", glass.alpha, (0.0, 1.0), "an opacity in [0, 1]")
         }
-        Material::Dielectric { ior } => {
-            item.number("ior", *ior, IOR, "an index of refraction in [0.01, 10]")
+        Material::Dielectric { ior, absorption } => {
+            item.number("ior", *ior, IOR, "an index of refraction in [0.01, 10]")?;
+            item.color("absorption", *absorption, false)
         }
     }
 }
@@ -687,7 +688,10 @@ mod tests {
             file: std::sync::Arc::from(std::path::Path::new("made.py")),
             path: "materials[0]".into(),
         };
-        desc.materials[0].value = Material::Dielectric { ior: -1.0 };
+        desc.materials[0].value = Material::Dielectric {
+            ior: -1.0,
+            absorption: Rgb::ZERO,
+        };
         desc.settings.spp = 0;
         let fields: Vec<&str> = desc.errors().iter().map(|e| e.field).collect();
         assert_eq!(fields, ["spp", "ior", "material"]);
@@ -727,7 +731,10 @@ mod tests {
 
         assert_eq!(refused(|d| d.shapes[0].material = 7), "material");
         assert_eq!(
-            refused(|d| d.materials[0].value = Material::Dielectric { ior: 0.0 }),
+            refused(|d| d.materials[0].value = Material::Dielectric {
+                ior: 0.0,
+                absorption: Rgb::ZERO
+            }),
             "ior"
         );
         assert_eq!(

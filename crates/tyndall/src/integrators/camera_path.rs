@@ -88,6 +88,10 @@ impl CameraPath<'_> {
             counts.camera += 1;
             let hit = scene.intersect(&ray, f32::INFINITY);
             let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
+            // Inside a solid the path crosses its absorbing inside.
+            if solids.inside() {
+                throughput *= solids.transmittance(t_hit);
+            }
             if let Some(fog) = &scene.fog
                 && !solids.inside()
             {
@@ -148,12 +152,19 @@ impl CameraPath<'_> {
                     ray.origin = offset_origin(p, geometric_normal, ray.direction);
                     continue;
                 }
-                SurfaceEvent::Interface { ior } => {
+                SurfaceEvent::Interface { ior, absorption } => {
                     if bounces >= self.max_bounces {
                         return radiance;
                     }
                     bounces += 1;
-                    ray = refract_or_reflect(&ray, p, geometric_normal, ior, sampler, &mut solids);
+                    ray = refract_or_reflect(
+                        &ray,
+                        p,
+                        geometric_normal,
+                        (ior, absorption),
+                        sampler,
+                        &mut solids,
+                    );
                     continue;
                 }
                 // Glass drawn opaque is a diffuse surface of its colour.

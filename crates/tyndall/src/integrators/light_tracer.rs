@@ -216,6 +216,8 @@ impl Tracer<'_> {
             let hit = scene.intersect(&ray, f32::INFINITY);
             let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
             let event = if solids.inside() {
+                // Inside a solid the path crosses its absorbing inside.
+                beta *= solids.transmittance(t_hit);
                 MediumEvent::None
             } else {
                 medium_event(scene, &ray, t_hit, sampler, &mut tracker, &mut beta)
@@ -259,13 +261,20 @@ impl Tracer<'_> {
                     beta *= transmittance;
                     ray.origin = offset_origin(p, geometric_normal, ray.direction);
                 }
-                SurfaceEvent::Interface { ior } => {
+                SurfaceEvent::Interface { ior, absorption } => {
                     if depth >= self.max_depth {
                         return;
                     }
                     depth += 1;
                     caustic = true;
-                    ray = refract_or_reflect(&ray, p, geometric_normal, ior, sampler, &mut solids);
+                    ray = refract_or_reflect(
+                        &ray,
+                        p,
+                        geometric_normal,
+                        (ior, absorption),
+                        sampler,
+                        &mut solids,
+                    );
                 }
                 SurfaceEvent::Reflector(surface) => {
                     if !self.scattering_allowed(caustic) || depth >= self.max_depth {

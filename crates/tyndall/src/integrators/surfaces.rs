@@ -3,7 +3,9 @@
 //! is, and the ray leaving a dielectric.
 
 use crate::accel::Hit;
+use crate::color::Rgb;
 use crate::materials::dielectric_scatter;
+use crate::media::transmittance;
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
@@ -13,45 +15,74 @@ use glam::Vec3;
 /// against degenerate scenes of stacked coincident panes).
 pub const MAX_GLASS_CROSSINGS: u32 = 64;
 
-/// How many solid dielectrics a path is inside. A solid displaces the
-/// media: no fog or volume exists inside glass, so segments inside one
-/// are not in-scattering (where regions and solids overlap, the solid
-/// wins).
+/// How many solid dielectrics a path is inside, and what they absorb. A
+/// solid displaces the media: no fog or volume exists inside glass, so
+/// segments inside one are not in-scattering (where regions and solids
+/// overlap, the solid wins); its own absorption
+/// ([`crate::materials::Material::Dielectric`]) attenuates them.
 #[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct SolidDepth(u32);
+pub(crate) struct SolidDepth {
+    depth: u32,
+    /// The absorption σa of the solids entered, innermost last (the first
+    /// [`MAX_NESTED_SOLIDS`]; deeper ones count as the last of them).
+    absorptions: [Rgb; MAX_NESTED_SOLIDS],
+}
+
+/// How many nested solids' absorptions a path keeps apart.
+const MAX_NESTED_SOLIDS: usize = 4;
 
 impl SolidDepth {
     pub fn inside(self) -> bool {
-        self.0 > 0
+        self.depth > 0
     }
 
     /// Records a scattering at a dielectric with geometric normal `n`
-    /// from `incoming` to `outgoing`: a transmission into its front
-    /// enters it, one out of its back leaves it.
-    pub fn cross(&mut self, incoming: Vec3, outgoing: Vec3, n: Vec3) {
+    /// and inside absorption `absorption` from `incoming` to `outgoing`: a
+    /// transmission into its front enters it, one out of its back leaves
+    /// it.
+    pub fn cross(&mut self, incoming: Vec3, outgoing: Vec3, n: Vec3, absorption: Rgb) {
         let (din, dout) = (incoming.dot(n), outgoing.dot(n));
         if din < 0.0 && dout < 0.0 {
-            self.0 += 1;
+            if let Some(slot) = self.absorptions.get_mut(self.depth as usize) {
+                *slot = absorption;
+            }
+            self.depth += 1;
         } else if din > 0.0 && dout > 0.0 {
-            self.0 = self.0.saturating_sub(1);
+            self.depth = self.depth.saturating_sub(1);
         }
+    }
+
+    /// Beer–Lambert transmittance `exp(−σa·d)` over `distance` inside the
+    /// innermost solid (1 outside any, and in a clear one even over an
+    /// infinite distance).
+    pub fn transmittance(self, distance: f32) -> Rgb {
+        if self.depth == 0 {
+            return Rgb::ONE;
+        }
+        let sigma = self.absorptions[(self.depth as usize - 1).min(MAX_NESTED_SOLIDS - 1)];
+        Rgb::new(
+            transmittance(sigma.x, distance),
+            transmittance(sigma.y, distance),
+            transmittance(sigma.z, distance),
+        )
     }
 }
 
-/// The ray leaving a solid dielectric of index `ior` at `p` (geometric
-/// normal `geometric_normal`) for `ray` arriving there: reflected or
-/// refracted with the Fresnel probabilities (one sample dimension), its
-/// origin moved off the surface; records entering or leaving the solid.
+/// The ray leaving a solid dielectric of index `ior` and inside
+/// absorption `absorption` at `p` (geometric normal `geometric_normal`)
+/// for `ray` arriving there: reflected or refracted with the Fresnel
+/// probabilities (one sample dimension), its origin moved off the
+/// surface; records entering or leaving the solid.
 pub(crate) fn refract_or_reflect(
     ray: &Ray,
     p: Vec3,
     geometric_normal: Vec3,
-    ior: f32,
+    (ior, absorption): (f32, Rgb),
     sampler: &mut PixelSampler,
     solids: &mut SolidDepth,
 ) -> Ray {
     let direction = dielectric_scatter(ray.direction, geometric_normal, ior, sampler.next_1d());
-    solids.cross(ray.direction, direction, geometric_normal);
+    solids.cross(ray.direction, direction, geometric_normal, absorption);
     Ray {
         origin: offset_origin(p, geometric_normal, direction),
         direction,

@@ -180,6 +180,10 @@ pub(crate) fn radiance<K: Keep>(
         counts.camera += 1;
         let hit = scene.intersect(&ray, f32::INFINITY);
         let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
+        // Inside a solid the path crosses its absorbing inside.
+        if solids.inside() {
+            throughput *= solids.transmittance(t_hit);
+        }
         // The fog's free-flight event, if one comes before the surface.
         let mut fog_event = None;
         if let Some(fog) = &scene.fog
@@ -407,13 +411,20 @@ pub(crate) fn radiance<K: Keep>(
                 connected_from = Connections::default();
                 continue;
             }
-            SurfaceEvent::Interface { ior } => {
+            SurfaceEvent::Interface { ior, absorption } => {
                 // A specular event: NEE cannot reach through it.
                 if depth >= max_events {
                     return radiance;
                 }
                 depth += 1;
-                ray = refract_or_reflect(&ray, p, geometric_normal, ior, sampler, &mut solids);
+                ray = refract_or_reflect(
+                    &ray,
+                    p,
+                    geometric_normal,
+                    (ior, absorption),
+                    sampler,
+                    &mut solids,
+                );
                 arrival = Arrival::Unweighted;
                 connected_from = Connections::default();
                 if !survives_roulette(&mut throughput, depth, sampler) {
