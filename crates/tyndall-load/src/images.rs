@@ -11,6 +11,11 @@ use tyndall::texture::{Texture, Wrap};
 /// Most texels an image file may hold (as glTF images, 2²⁸).
 pub const MAX_IMAGE_TEXELS: u64 = 1 << 28;
 
+/// Most texels an environment map may hold: 2²⁷, a 16384 × 8192 sky, the
+/// largest HDRIs published. A texel takes 20 bytes in memory (its radiance
+/// and its sampling weights), so this is 2.7 GB at most.
+pub const MAX_ENVIRONMENT_TEXELS: u64 = 1 << 27;
+
 /// Reads the PNG or JPEG at `path` as a texture (8-bit sRGB; 16-bit
 /// channels rounded to 8 bits, grey images become grey RGB, alpha is
 /// dropped), coordinates clamped at its edges. Errors name the file.
@@ -72,9 +77,10 @@ pub fn load_environment_map(path: &Path) -> Result<EnvironmentMap, String> {
         crate::files::read_capped(path, crate::files::MAX_IMAGE_FILE_BYTES).map_err(fail)?;
     let check = |width: usize, height: usize| {
         let texels = width as u64 * height as u64;
-        if texels > MAX_IMAGE_TEXELS {
+        if texels > MAX_ENVIRONMENT_TEXELS {
             return Err(format!(
-                "the map is {width}×{height}: at most {MAX_IMAGE_TEXELS} texels are supported"
+                "the map is {width}×{height}: at most {MAX_ENVIRONMENT_TEXELS} texels \
+                 (16384 × 8192) are supported"
             ));
         }
         Ok(())
@@ -164,6 +170,16 @@ mod tests {
             (texel - expected).abs().max_element() < 0.02 * 5.5,
             "{texel}"
         );
+        // A header claiming more texels than a map may hold is refused
+        // before any pixel is read (the file has none).
+        let huge = dir.join("huge.hdr");
+        std::fs::write(
+            &huge,
+            "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8193 +X 16384\n",
+        )
+        .expect("write");
+        let e = load_environment_map(&huge).unwrap_err();
+        assert!(e.contains("huge.hdr") && e.contains("16384×8193"), "{e}");
         let text = dir.join("sky.txt");
         std::fs::write(&text, "not an image").expect("write");
         let e = load_environment_map(&text).unwrap_err();

@@ -184,9 +184,15 @@ radiance = 1
              [materials.tinted]\ntype = \"dielectric\"\nior = 1.0\nabsorption = {absorption}\n"
         )
     };
-    let refused = common::parse_native(&tyndall_load::SourceText::new("glass.toml", &text("-1")));
-    let e = refused.err().expect("a negative absorption is refused").to_string();
-    assert!(e.starts_with("glass.toml:") && e.contains("absorption"), "{e}");
+    let refused = common::parse_native(&tyndall_load::SourceText::new("glass.toml", text("-1")));
+    let e = refused
+        .err()
+        .expect("a negative absorption is refused")
+        .to_string();
+    assert!(
+        e.starts_with("glass.toml:") && e.contains("absorption"),
+        "{e}"
+    );
     for kind in IntegratorKind::ALL {
         for b in [0.0f32, 0.5, 0.9, 1.2] {
             let ray = Ray::new(glam::Vec3::new(b, 0.0, 5.0), -glam::Vec3::Z);

@@ -402,7 +402,10 @@ fn bad_gltf_files_name_file_and_element() {
 
     for (volume, named) in [
         (json!({"attenuationDistance": 0.0}), "attenuationDistance"),
-        (json!({"attenuationColor": [1.5, 0.5, 0.5]}), "attenuationColor"),
+        (
+            json!({"attenuationColor": [1.5, 0.5, 0.5]}),
+            "attenuationColor",
+        ),
     ] {
         let mut doc = scene(json!([{"mesh": 0}]));
         let mut volume = volume;

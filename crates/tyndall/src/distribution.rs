@@ -1,7 +1,7 @@
 //! Piecewise-constant distributions over `[0, 1)` and `[0, 1)²`, sampled
 //! by inverting their CDFs (pbrt-v4, `PiecewiseConstant1D` and
 //! `PiecewiseConstant2D`, Pharr, Jakob & Humphreys 2023, §A.1): the
-//! importance sampling of an environment map by its luminance.
+//! importance sampling of an environment map by its brightness.
 //!
 //! A distribution's density is exactly the one its samples have: each
 //! cell of width `1/n` is chosen with probability `f_i / Σf` and its
@@ -28,6 +28,7 @@ impl PiecewiseConstant1D {
     /// at least one); a sum of 0 gives the uniform distribution, so that
     /// sampling stays defined.
     pub fn new(weights: Vec<f32>) -> Self {
+        assert!(!weights.is_empty(), "a distribution needs a cell");
         debug_assert!(weights.iter().all(|w| w.is_finite() && *w >= 0.0));
         let total: f64 = weights.iter().map(|&w| f64::from(w)).sum();
         let (weights, total) = if total > 0.0 {

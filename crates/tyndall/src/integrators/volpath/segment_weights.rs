@@ -147,7 +147,12 @@ impl FogSegment<'_> {
     /// lit from `y0`, in the solid-angle terms of the balance heuristic
     /// at a fog event.
     pub(super) fn light_vertex_terms(&self, t: f32, light: &Light, y0: Vec3) -> f32 {
-        if self.connected_from.first.is_none() && self.connected_from.reached.is_none() {
+        // Light subpaths start only on flat emitters (quads): no other
+        // light (a sphere, a mesh, the environment, whose `y0` is at
+        // infinity) has a light vertex.
+        if !light.is_flat_emitter()
+            || self.connected_from.first.is_none() && self.connected_from.reached.is_none()
+        {
             return 0.0;
         }
         let medium = &self.medium;
