@@ -373,3 +373,32 @@ fn vertex_colours_colour_the_diffuse_reflectance() {
         }
     }
 }
+
+/// The textures a material may carry that Tyndall does not apply are
+/// each named in a warning with the material, which says what the image
+/// lacks: a normal map's bumps, and the occlusion a path tracer computes
+/// itself (Cycles ignores it too).
+#[test]
+fn unapplied_textures_are_named() {
+    let dir = test_dir("unapplied");
+    write_checker(&dir);
+    let doc = sunlit(
+        1,
+        json!({
+            "images": [{"uri": "checker.png"}],
+            "textures": [{"source": 0}],
+            "materials": [{"normalTexture": {"index": 0}, "occlusionTexture": {"index": 0}}],
+        }),
+    );
+    let floor = square(0.0, 2.0, 0, Some(floor_uv));
+    let desc = common::load_gltf(&write_gltf(&dir, "maps", &[floor], doc)).expect("loads");
+    for (texture, lacks) in [("normalTexture", "bumps"), ("occlusionTexture", "Cycles")] {
+        assert!(
+            desc.warnings
+                .iter()
+                .any(|w| w.contains("materials[0]") && w.contains(texture) && w.contains(lacks)),
+            "{texture}: {:?}",
+            desc.warnings
+        );
+    }
+}

@@ -171,6 +171,20 @@ impl GltfLoader<'_> {
             }
             None => (base_factor, None),
         };
+        if material.normal_texture().is_some() {
+            self.warn(
+                &element,
+                "normalTexture is ignored: the surface is shaded with its own normals, \
+                 without the map's bumps",
+            );
+        }
+        if material.occlusion_texture().is_some() {
+            self.warn(
+                &element,
+                "occlusionTexture is ignored, as Cycles ignores it: a path tracer finds the \
+                 occlusion it bakes",
+            );
+        }
         let emissive_strength = material.emissive_strength().unwrap_or(1.0);
         let emission = Rgb::from_array(material.emissive_factor()) * emissive_strength;
         if !(emission.is_finite() && emission.min_element() >= 0.0) {
