@@ -374,29 +374,124 @@ fn vertex_colours_colour_the_diffuse_reflectance() {
     }
 }
 
-/// The textures a material may carry that Tyndall does not apply are
-/// each named in a warning with the material, which says what the image
-/// lacks: a normal map's bumps, and the occlusion a path tracer computes
-/// itself (Cycles ignores it too).
+/// A normal map bends the shading normal as its texels say (the closed
+/// form of a tilted plane): a flat floor whose 1×1 map holds the tangent-
+/// space vector `m = 2c/255 − 1` (x and y times `scale`) shades as a
+/// floor of normal `normalize(m.x·T + m.y·B + m.z·N)`, where N = +y, T =
+/// +x (u grows along x) and B = −z (v grows along z, and the map's +y
+/// points up its image, against v). Under a sun from the side the map
+/// tilts towards, the Lambertian floor of reflectance ρ is
+/// `ρ/π·E·(n·ω)`: brighter than the flat floor's `ρ/π·E·cos γ`, exactly so
+/// — also where the floor's node mirrors it (T turns, B does not).
+/// Each map is checked by `single` and `volpath`; the paths are
+/// deterministic (one sun, a diffuse floor seen from above), so the
+/// estimates agree with the closed form to f32.
+#[test]
+fn normal_maps_tilt_the_shading_normal() {
+    let dir = test_dir("normal-map");
+    let rho = 0.8f32;
+    let gamma = 50f32.to_radians();
+    // (texel codes, scale, the direction the sun's light comes from, and
+    // whether the floor's node mirrors x, which turns T to −x while B stays)
+    let cases = [
+        (
+            [218u8, 128, 218],
+            1.0f32,
+            Vec3::new(gamma.sin(), gamma.cos(), 0.0),
+            false,
+        ),
+        (
+            [218, 128, 218],
+            0.5,
+            Vec3::new(gamma.sin(), gamma.cos(), 0.0),
+            false,
+        ),
+        (
+            [128, 218, 218],
+            1.0,
+            Vec3::new(0.0, gamma.cos(), -gamma.sin()),
+            false,
+        ),
+        (
+            [200, 200, 218],
+            1.0,
+            Vec3::new(-gamma.sin(), gamma.cos(), -gamma.sin()).normalize(),
+            true,
+        ),
+    ];
+    for (k, (codes, scale, towards_sun, mirrored)) in cases.into_iter().enumerate() {
+        image::RgbImage::from_raw(1, 1, codes.to_vec())
+            .expect("image")
+            .save(dir.join(format!("normal{k}.png")))
+            .expect("png");
+        let mut doc = sunlit(
+            1,
+            json!({
+                "images": [{"uri": format!("normal{k}.png")}],
+                "textures": [{"source": 0}],
+                "materials": [{
+                    "pbrMetallicRoughness": {"baseColorFactor": [rho, rho, rho, 1.0],
+                                             "metallicFactor": 0.0},
+                    "normalTexture": {"index": 0, "scale": scale},
+                    "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}],
+            }),
+        );
+        // The sun's light travels along −towards_sun: its node's −z.
+        let turn = glam::Quat::from_rotation_arc(Vec3::NEG_Z, -towards_sun);
+        doc["nodes"][1]["rotation"] = json!(turn.to_array());
+        if mirrored {
+            doc["nodes"][0]["scale"] = json!([-1.0, 1.0, 1.0]);
+        }
+        let floor = square(0.0, 2.0, 0, Some(floor_uv));
+        let desc = common::load_gltf(&write_gltf(&dir, &format!("bumped{k}"), &[floor], doc))
+            .expect("loads");
+        let c = Vec3::new(codes[0] as f32, codes[1] as f32, codes[2] as f32) / 255.0;
+        let m = (c * 2.0 - Vec3::ONE) * Vec3::new(scale, scale, 1.0);
+        let tangent = if mirrored { Vec3::NEG_X } else { Vec3::X };
+        let n = (tangent * m.x - Vec3::Z * m.y + Vec3::Y * m.z).normalize();
+        let expected = rho / PI * n.dot(towards_sun);
+        assert!(
+            expected > rho / PI * gamma.cos() * 1.05,
+            "the case tilts towards the sun"
+        );
+        for kind in [IntegratorKind::Single, IntegratorKind::Volpath] {
+            let seen = looking_down(&desc, kind, 0.3, 1.0, -0.4);
+            assert!(
+                (seen - Rgb::splat(expected)).abs().max_element() < 1e-5,
+                "map {k}, {kind:?}: {seen} vs {expected}"
+            );
+        }
+    }
+}
+
+/// A texture a material may carry that Tyndall does not apply is named
+/// in a warning with the material, which says what the image lacks: the
+/// occlusion a path tracer computes itself (Cycles ignores it too), and a
+/// normal map on a surface that is not opaque.
 #[test]
 fn unapplied_textures_are_named() {
     let dir = test_dir("unapplied");
     write_checker(&dir);
     let doc = sunlit(
-        1,
+        2,
         json!({
             "images": [{"uri": "checker.png"}],
             "textures": [{"source": 0}],
-            "materials": [{"normalTexture": {"index": 0}, "occlusionTexture": {"index": 0}}],
+            "materials": [{"occlusionTexture": {"index": 0}},
+                          {"normalTexture": {"index": 0}, "emissiveFactor": [1.0, 1.0, 1.0]}],
         }),
     );
     let floor = square(0.0, 2.0, 0, Some(floor_uv));
-    let desc = common::load_gltf(&write_gltf(&dir, "maps", &[floor], doc)).expect("loads");
-    for (texture, lacks) in [("normalTexture", "bumps"), ("occlusionTexture", "Cycles")] {
+    let lamp = square(1.0, 0.5, 1, Some(floor_uv));
+    let desc = common::load_gltf(&write_gltf(&dir, "maps", &[floor, lamp], doc)).expect("loads");
+    for (material, texture, lacks) in [
+        ("materials[0]", "occlusionTexture", "Cycles"),
+        ("materials[1]", "normalTexture", "opaque"),
+    ] {
         assert!(
             desc.warnings
                 .iter()
-                .any(|w| w.contains("materials[0]") && w.contains(texture) && w.contains(lacks)),
+                .any(|w| w.contains(material) && w.contains(texture) && w.contains(lacks)),
             "{texture}: {:?}",
             desc.warnings
         );

@@ -11,7 +11,7 @@
 //! the same filtering.
 
 use crate::color::{Rgb, srgb_to_linear};
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 use std::sync::OnceLock;
 
 /// Index of a texture in a scene's texture list.
@@ -188,6 +188,23 @@ impl Texture {
                 .sum(),
             None => self.mean,
         }
+    }
+
+    /// The texels' codes read as data, not colour (`code/255` per channel,
+    /// no sRGB decoding: a normal map's vectors), at texture coordinates
+    /// `uv`, filtered as [`Texture::lookup`] filters colour; `None` at
+    /// non-finite coordinates.
+    pub fn lookup_data(&self, uv: Vec2) -> Option<Vec3> {
+        let corners = self.bilinear(uv)?;
+        Some(
+            corners
+                .into_iter()
+                .map(|(x, y, w)| {
+                    let [r, g, b] = self.texels[self.index(x, y)];
+                    Vec3::new(f32::from(r), f32::from(g), f32::from(b)) * (w / 255.0)
+                })
+                .sum(),
+        )
     }
 
     /// The coverage (alpha, in `[0, 1]`) at texture coordinates `uv`,

@@ -42,6 +42,24 @@ pub(super) struct BaseTexture {
     pub transform: UvTransform,
 }
 
+/// The normal map of an opaque material (`normalTexture`): the scene's
+/// texture, which TEXCOORD set its coordinates come from and how they
+/// are transformed, and its `scale`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct NormalTexture {
+    pub texture: TextureId,
+    pub tex_coord: u32,
+    pub transform: UvTransform,
+    pub scale: f32,
+}
+
+/// The textures a converted material binds to its primitives.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct MaterialTextures {
+    pub base: Option<BaseTexture>,
+    pub normal: Option<NormalTexture>,
+}
+
 /// An affine map of texture coordinates, `KHR_texture_transform`'s
 /// `T(offset)·R(rotation)·S(scale)` (its README: the rotation matrix
 /// `[cos sin; −sin cos]` of the extension's texture space). Affine, so it
@@ -76,12 +94,13 @@ impl UvTransform {
 
 impl GltfLoader<'_> {
     /// The scene's material for a glTF material (added on first use) and
-    /// its base colour texture, if the material keeps one.
+    /// the textures it binds: its base colour texture and its normal map,
+    /// if the material keeps them.
     pub(super) fn material_id(
         &mut self,
         material: &::gltf::Material,
         scene: &mut SceneDesc,
-    ) -> Result<(MaterialId, Option<BaseTexture>), SceneError> {
+    ) -> Result<(MaterialId, MaterialTextures), SceneError> {
         if let Some(&converted) = self.materials.get(&material.index()) {
             return Ok(converted);
         }
@@ -90,9 +109,33 @@ impl GltfLoader<'_> {
             Some(i) => format!("materials[{i}]"),
             None => "the default material".into(),
         };
+        let normal = match (material.normal_texture(), converted) {
+            (Some(info), Material::Opaque(_)) => {
+                let (id, _) = self.texture(&element, &info.texture(), scene)?;
+                let (transform, tex_coord) = texture_transform(info.extensions(), info.tex_coord());
+                Some(NormalTexture {
+                    texture: id,
+                    tex_coord,
+                    transform,
+                    scale: info.scale(),
+                })
+            }
+            (Some(_), _) => {
+                self.warn(
+                    &element,
+                    "normalTexture is ignored: only opaque surfaces are normal-mapped",
+                );
+                None
+            }
+            (None, _) => None,
+        };
+        let texture = MaterialTextures {
+            base: texture,
+            normal,
+        };
         // A cut-out without a texture's alpha is wholly there or wholly
         // a hole (coverage: the factor alone).
-        if texture.is_none_or(|t| t.cutout.is_none())
+        if texture.base.is_none_or(|t| t.cutout.is_none())
             && self
                 .alpha_cutout(material, &element)?
                 .is_some_and(|c| c.is_hole(1.0))
@@ -171,13 +214,6 @@ impl GltfLoader<'_> {
             }
             None => (base_factor, None),
         };
-        if material.normal_texture().is_some() {
-            self.warn(
-                &element,
-                "normalTexture is ignored: the surface is shaded with its own normals, \
-                 without the map's bumps",
-            );
-        }
         if material.occlusion_texture().is_some() {
             self.warn(
                 &element,
@@ -577,4 +613,36 @@ impl GltfLoader<'_> {
             format,
         })
     }
+}
+
+/// The `KHR_texture_transform` of a texture reference whose `gltf` type
+/// has no accessor for it (`normalTexture`), read from its `extensions`,
+/// and the TEXCOORD set it names (else `tex_coord`).
+fn texture_transform(
+    extensions: Option<&serde_json::Map<String, serde_json::Value>>,
+    tex_coord: u32,
+) -> (UvTransform, u32) {
+    let Some(t) = extensions.and_then(|e| e.get("KHR_texture_transform")) else {
+        return (UvTransform::IDENTITY, tex_coord);
+    };
+    let pair = |key: &str, default: [f32; 2]| {
+        t.get(key)
+            .and_then(|v| v.as_array())
+            .and_then(|a| Some([a.first()?.as_f64()? as f32, a.get(1)?.as_f64()? as f32]))
+            .unwrap_or(default)
+    };
+    let rotation = t.get("rotation").and_then(|v| v.as_f64()).unwrap_or(0.0) as f32;
+    let set = t
+        .get("texCoord")
+        .and_then(|v| v.as_u64())
+        .and_then(|n| u32::try_from(n).ok())
+        .unwrap_or(tex_coord);
+    (
+        UvTransform::new(
+            pair("offset", [0.0, 0.0]),
+            rotation,
+            pair("scale", [1.0, 1.0]),
+        ),
+        set,
+    )
 }

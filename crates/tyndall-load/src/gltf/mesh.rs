@@ -3,12 +3,13 @@
 //! normals and base colour texture coordinates.
 
 use super::GltfLoader;
+use super::materials::UvTransform;
 use crate::source::SceneError;
 use ::gltf::mesh::Mode;
 use ::gltf::{Accessor, Semantic};
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use tyndall::color::Rgb;
-use tyndall::description::{MeshAttributes, SceneDesc, SurfaceTexture};
+use tyndall::description::{MeshAttributes, NormalMap, SceneDesc, SurfaceTexture};
 use tyndall::materials::Material;
 use tyndall::shapes::Triangle;
 
@@ -100,7 +101,8 @@ impl GltfLoader<'_> {
                     true,
                 )?;
             }
-            let (material, base_texture) = self.material_id(&primitive.material(), scene)?;
+            let (material, textures) = self.material_id(&primitive.material(), scene)?;
+            let base_texture = textures.base;
             if self
                 .hidden_materials
                 .contains(&primitive.material().index())
@@ -148,36 +150,50 @@ impl GltfLoader<'_> {
                     ),
                 ));
             }
-            // The base colour texture's coordinates (TEXCOORD_n), if the
-            // material has one.
+            // A texture's coordinates (its TEXCOORD_n set, transformed):
+            // `Err(n)` where the primitive has no set n.
+            let read_coords = |set: u32, transform: UvTransform| {
+                let Some(coords) = reader.read_tex_coords(set) else {
+                    return Ok(Err(set));
+                };
+                let coords: Vec<[f32; 2]> =
+                    coords.into_f32().map(|uv| transform.apply(uv)).collect();
+                if coords.len() != positions.len() {
+                    return Err(self.err(
+                        &element,
+                        format!(
+                            "TEXCOORD_{set} has {} entries but POSITION has {}",
+                            coords.len(),
+                            positions.len()
+                        ),
+                    ));
+                }
+                Ok(Ok(coords))
+            };
+            // The base colour texture's coordinates, if the material has
+            // one, and the normal map's.
             let mut missing_coords = None;
-            let tex_coords: Option<Vec<[f32; 2]>> = match base_texture {
-                Some(texture) => match reader.read_tex_coords(texture.tex_coord) {
-                    Some(coords) => Some(
-                        coords
-                            .into_f32()
-                            .map(|uv| texture.transform.apply(uv))
-                            .collect(),
-                    ),
-                    None => {
-                        missing_coords = Some(texture.tex_coord);
+            let tex_coords = match base_texture {
+                Some(texture) => match read_coords(texture.tex_coord, texture.transform)? {
+                    Ok(coords) => Some(coords),
+                    Err(set) => {
+                        missing_coords = Some(set);
                         None
                     }
                 },
                 None => None,
             };
-            if let Some(coords) = &tex_coords
-                && coords.len() != positions.len()
-            {
-                return Err(self.err(
-                    &element,
-                    format!(
-                        "TEXCOORD has {} entries but POSITION has {}",
-                        coords.len(),
-                        positions.len()
-                    ),
-                ));
-            }
+            let mut missing_normal_coords = None;
+            let normal_coords = match textures.normal {
+                Some(map) => match read_coords(map.tex_coord, map.transform)? {
+                    Ok(coords) => Some(coords),
+                    Err(set) => {
+                        missing_normal_coords = Some(set);
+                        None
+                    }
+                },
+                None => None,
+            };
             // Vertex colours (COLOR_0, linear, glTF §3.7.2.1), which
             // multiply the base colour: of an opaque surface's diffuse
             // reflectance here.
@@ -226,6 +242,7 @@ impl GltfLoader<'_> {
                 None => None,
             };
             let mut corner_uvs = Vec::new();
+            let mut corner_normal_uvs = Vec::new();
             let mut corner_colours = Vec::new();
             let mut corner_normals = Vec::new();
             let indices: Vec<u32> = match primitive.indices() {
@@ -278,6 +295,10 @@ impl GltfLoader<'_> {
                         if let Some(coords) = &tex_coords {
                             corner_uvs.push(order.map(|i| Vec2::from_array(coords[i as usize])));
                         }
+                        if let Some(coords) = &normal_coords {
+                            corner_normal_uvs
+                                .push(order.map(|i| Vec2::from_array(coords[i as usize])));
+                        }
                         if let Some(colours) = &colours {
                             corner_colours.push(order.map(|i| colours[i as usize]));
                         }
@@ -309,16 +330,34 @@ impl GltfLoader<'_> {
                     ),
                 );
             }
+            if let Some(n) = missing_normal_coords {
+                self.warn(
+                    &element,
+                    format!(
+                        "the material's normalTexture uses TEXCOORD_{n}, which the primitive \
+                         does not have: it is not applied"
+                    ),
+                );
+            }
             let origin = self.origin(element);
             let texture = base_texture.map(|t| SurfaceTexture {
                 texture: t.texture,
                 uvs: corner_uvs,
                 cutout: t.cutout,
             });
+            let normal_map = match (textures.normal, normal_coords) {
+                (Some(map), Some(_)) => Some(NormalMap {
+                    texture: map.texture,
+                    uvs: corner_normal_uvs,
+                    scale: map.scale,
+                }),
+                _ => None,
+            };
             let attributes = MeshAttributes {
                 vertex_normals: corner_normals,
                 vertex_colours: corner_colours,
                 texture,
+                normal_map,
             };
             scene.add_mesh(triangles, attributes, material, origin);
         }

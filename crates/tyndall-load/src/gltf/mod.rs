@@ -29,7 +29,7 @@ mod validate;
 
 pub use glb::glb_bytes;
 
-use materials::BaseTexture;
+use materials::MaterialTextures;
 
 use crate::photometry::{candela_to_watts_per_sr, lux_to_watts_per_m2};
 use crate::source::SceneError;
@@ -479,7 +479,7 @@ struct GltfLoader<'a> {
     /// Tyndall material of each glTF material (`None`: the default one),
     /// with the base colour texture that multiplies its diffuse
     /// reflectance, if any.
-    materials: HashMap<Option<usize>, (MaterialId, Option<BaseTexture>)>,
+    materials: HashMap<Option<usize>, (MaterialId, MaterialTextures)>,
     /// glTF materials that are cut out everywhere (`MASK` below its
     /// cutoff without a texture's alpha): their primitives are left out.
     hidden_materials: HashSet<Option<usize>>,

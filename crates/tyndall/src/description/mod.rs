@@ -108,6 +108,8 @@ pub struct ShapeDesc {
     /// triangle, in the order of `vertex_normals`, interpolated across it.
     /// Empty for none.
     pub vertex_colours: Vec<[Rgb; 3]>,
+    /// A tangent-space normal map over the mesh's triangles, if any.
+    pub normal_map: Option<NormalMap>,
 }
 
 /// What a mesh carries per corner or per point besides its positions,
@@ -118,6 +120,7 @@ pub struct MeshAttributes {
     pub vertex_normals: Vec<[Vec3; 3]>,
     pub vertex_colours: Vec<[Rgb; 3]>,
     pub texture: Option<SurfaceTexture>,
+    pub normal_map: Option<NormalMap>,
 }
 
 impl ShapeDesc {
@@ -139,6 +142,23 @@ pub struct SurfaceTexture {
     pub uvs: Vec<[Vec2; 3]>,
     /// Holes where the texture's alpha is below a cutoff, if any.
     pub cutout: Option<AlphaCutout>,
+}
+
+/// A tangent-space normal map over a mesh (glTF's `normalTexture`): at
+/// each point the texture's texel `c` (read as data, `code/255`) gives
+/// the shading normal `normalize(x·T + y·B + z·N)` with
+/// `(x, y, z) = (2c − 1)·(scale, scale, 1)`, where N is the mesh's
+/// shading normal there, T the direction of increasing u and B that of
+/// decreasing v along the triangle (glTF's v runs down its images, and
+/// +y of the map points up them, as Blender and Cycles read it), both
+/// made perpendicular to N. The coordinates are one per corner of each
+/// triangle, in the order of [`ShapeDesc::vertex_normals`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct NormalMap {
+    pub texture: TextureId,
+    pub uvs: Vec<[Vec2; 3]>,
+    /// glTF's `normalTexture.scale`: the map's x and y are multiplied by it.
+    pub scale: f32,
 }
 
 /// A light that is not a shape. Area lights are shapes with an emissive
@@ -326,6 +346,7 @@ impl SceneDesc {
             vertex_normals: Vec::new(),
             texture: None,
             vertex_colours: Vec::new(),
+            normal_map: None,
         });
     }
 
@@ -343,6 +364,7 @@ impl SceneDesc {
             vertex_normals,
             vertex_colours,
             texture,
+            normal_map,
         } = attributes;
         self.shapes.push(ShapeDesc {
             shapes: triangles.into_iter().map(Shape::Triangle).collect(),
@@ -351,6 +373,7 @@ impl SceneDesc {
             vertex_normals,
             texture,
             vertex_colours,
+            normal_map,
         });
     }
 

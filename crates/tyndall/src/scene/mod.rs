@@ -166,12 +166,18 @@ impl Scene {
 
     /// The shading normal at the point `p` of `primitive`: its vertex
     /// normals interpolated, if it is a triangle of a smooth mesh
-    /// ([`ShapeDesc::vertex_normals`](crate::description::ShapeDesc));
-    /// not oriented to any side.
+    /// ([`ShapeDesc::vertex_normals`](crate::description::ShapeDesc)),
+    /// bent by its normal map if it has one
+    /// ([`crate::description::NormalMap`]); not oriented to any side.
     #[inline]
     pub fn shading_normal(&self, primitive: u32, p: Vec3) -> Option<Vec3> {
         match &self.geometry.primitive(primitive).shape {
-            Shape::Triangle(triangle) => self.shading_normals.normal_at(primitive, triangle, p),
+            Shape::Triangle(triangle) => {
+                let smooth = self.shading_normals.normal_at(primitive, triangle, p);
+                self.textures
+                    .normal_at(primitive, triangle, p, smooth.unwrap_or(triangle.normal))
+                    .or(smooth)
+            }
             Shape::Sphere(_) | Shape::Quad(_) => None,
         }
     }
@@ -312,6 +318,19 @@ impl Scene {
                 for k in 0..item.shapes.len() {
                     let uvs = texture.uvs.get(k).copied();
                     textures.bind(first + k as u32, texture.texture, uvs, texture.cutout);
+                }
+            }
+            if let Some(map) = &item.normal_map {
+                for (k, (shape, &uvs)) in item.shapes.iter().zip(&map.uvs).enumerate() {
+                    if let Shape::Triangle(triangle) = shape {
+                        textures.bind_normal_map(
+                            first + k as u32,
+                            triangle,
+                            map.texture,
+                            uvs,
+                            map.scale,
+                        );
+                    }
                 }
             }
             let material = &materials[item.material as usize];

@@ -1,7 +1,8 @@
-//! Colour textures bound to mesh triangles: which texture multiplies a
+//! Textures bound to mesh triangles: which colour texture multiplies a
 //! primitive's diffuse reflectance, and its texture coordinates at the
-//! triangle's corners, interpolated by barycentric weights; and the alpha
-//! cut-outs that make holes in them.
+//! triangle's corners, interpolated by barycentric weights; the alpha
+//! cut-outs that make holes in them; and tangent-space normal maps
+//! ([`crate::description::NormalMap`]) that bend the shading normal.
 
 use crate::color::Rgb;
 use crate::shapes::Triangle;
@@ -18,6 +19,18 @@ struct Binding {
     cutout: Option<AlphaCutout>,
 }
 
+/// A primitive's normal map: its texture, its corners' coordinates, its
+/// scale, and the triangle's tangent frame from them — `∂P/∂u` and
+/// `−∂P/∂v`, before they are made perpendicular to the shading normal.
+#[derive(Clone, Copy, Debug)]
+struct NormalBinding {
+    texture: TextureId,
+    uvs: [Vec2; 3],
+    scale: f32,
+    tangent: Vec3,
+    bitangent: Vec3,
+}
+
 /// The textures of a scene and the primitives they are bound to.
 #[derive(Debug, Default)]
 pub(crate) struct SurfaceTextures {
@@ -28,6 +41,9 @@ pub(crate) struct SurfaceTextures {
     bindings: Vec<Binding>,
     /// Whether some binding has a cut-out.
     cutouts: bool,
+    /// Per primitive, its index in `normal_bindings` or [`NONE`].
+    normal_slot: Vec<u32>,
+    normal_bindings: Vec<NormalBinding>,
 }
 
 const NONE: u32 = u32::MAX;
@@ -62,6 +78,68 @@ impl SurfaceTextures {
         });
     }
 
+    /// Binds a normal map to `triangle` (primitive `primitive`): `texture`
+    /// at the corners' coordinates `uvs`, its x and y times `scale`. A
+    /// triangle whose coordinates do not span the plane (no tangent frame)
+    /// is left without.
+    pub fn bind_normal_map(
+        &mut self,
+        primitive: u32,
+        triangle: &Triangle,
+        texture: TextureId,
+        uvs: [Vec2; 3],
+        scale: f32,
+    ) {
+        // e1 = T·Δu₁ + P_v·Δv₁ and e2 = T·Δu₂ + P_v·Δv₂, solved for the
+        // surface's derivatives T = ∂P/∂u and P_v = ∂P/∂v.
+        let (d1, d2) = (uvs[1] - uvs[0], uvs[2] - uvs[0]);
+        let det = d1.x * d2.y - d2.x * d1.y;
+        let tangent = (triangle.e1 * d2.y - triangle.e2 * d1.y) / det;
+        let along_v = (triangle.e2 * d1.x - triangle.e1 * d2.x) / det;
+        if !(det != 0.0 && tangent.is_finite() && along_v.is_finite()) {
+            return;
+        }
+        let index = primitive as usize;
+        if self.normal_slot.len() <= index {
+            self.normal_slot.resize(index + 1, NONE);
+        }
+        self.normal_slot[index] = self.normal_bindings.len() as u32;
+        self.normal_bindings.push(NormalBinding {
+            texture,
+            uvs,
+            scale,
+            tangent,
+            bitangent: -along_v,
+        });
+    }
+
+    /// The shading normal at the point `p` of `triangle` (primitive
+    /// `primitive`) bent by its normal map, if it has one, from the
+    /// unbent unit normal `n` (see [`crate::description::NormalMap`]);
+    /// `None` where the map leaves no direction (a zero vector, or a
+    /// tangent along `n`).
+    #[inline]
+    pub fn normal_at(&self, primitive: u32, triangle: &Triangle, p: Vec3, n: Vec3) -> Option<Vec3> {
+        let slot = *self.normal_slot.get(primitive as usize)?;
+        if slot == NONE {
+            return None;
+        }
+        let binding = &self.normal_bindings[slot as usize];
+        let texture = &self.textures[binding.texture as usize];
+        let c = texture.lookup_data(interpolate(binding.uvs, triangle, p))?;
+        let m = (c * 2.0 - Vec3::ONE) * Vec3::new(binding.scale, binding.scale, 1.0);
+        // Gram–Schmidt: the tangent made perpendicular to n, and the
+        // bitangent n × T on the side the triangle's −∂P/∂v lies.
+        let t = (binding.tangent - n * n.dot(binding.tangent)).try_normalize()?;
+        let b = n.cross(t);
+        let b = if b.dot(binding.bitangent) < 0.0 {
+            -b
+        } else {
+            b
+        };
+        (t * m.x + b * m.y + n * m.z).try_normalize()
+    }
+
     /// Whether some primitive has an alpha cut-out.
     pub fn has_cutouts(&self) -> bool {
         self.cutouts
@@ -86,9 +164,9 @@ impl SurfaceTextures {
         cutout.is_hole(alpha)
     }
 
-    /// Whether any primitive is textured.
+    /// Whether any primitive is textured or normal-mapped.
     pub fn is_used(&self) -> bool {
-        !self.bindings.is_empty()
+        !self.bindings.is_empty() || !self.normal_bindings.is_empty()
     }
 
     /// The texture colour at the point `p` of triangle `triangle`

@@ -7,9 +7,7 @@
 //! (docs/scene-format.md), so that a loader that keeps its text can point
 //! at that key.
 
-use super::{
-    DescError, LightDesc, MediumDesc, Origin, RegionDesc, SceneDesc, ShapeDesc, SurfaceTexture,
-};
+use super::{DescError, LightDesc, MediumDesc, Origin, RegionDesc, SceneDesc, ShapeDesc};
 use crate::camera::FieldOfView;
 use crate::color::Rgb;
 use crate::limits;
@@ -21,6 +19,8 @@ use crate::media::volume::Density;
 use crate::phase::PhaseFunction;
 use crate::shapes::{Bounds, Shape};
 use glam::Vec3;
+
+mod mesh_attributes;
 
 /// Largest |g| of a Henyey–Greenstein phase function.
 const MAX_ASYMMETRY: f32 = 0.999;
@@ -255,128 +255,8 @@ impl SceneDesc {
                 }
             }
         }
-        if let Some(texture) = &shape.texture {
-            self.validate_texture(shape, texture, &item)?;
-        }
-        let colour = |c: Vec3| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0;
-        validate_corners(
-            shape,
-            &shape.vertex_colours,
-            ("vertex-colour", "vertex colours", "colors"),
-            &item,
-            colour,
-            |t, _| format!("triangle {t} has a vertex colour outside [0, 1]"),
-        )?;
-        let unit = |n: Vec3| n.is_finite() && (n.length() - 1.0).abs() < 1e-3;
-        validate_corners(
-            shape,
-            &shape.vertex_normals,
-            ("vertex-normal", "vertex normals", "normals"),
-            &item,
-            unit,
-            |t, n| format!("triangle {t} has a vertex normal {n} that is not a unit vector"),
-        )?;
-        Ok(())
+        self.validate_mesh_attributes(shape, &item)
     }
-}
-
-impl SceneDesc {
-    fn validate_texture(
-        &self,
-        shape: &ShapeDesc,
-        texture: &SurfaceTexture,
-        item: &Item,
-    ) -> Result<(), DescError> {
-        if texture.texture as usize >= self.textures.len() {
-            return item.fail(
-                "texture",
-                format!(
-                    "texture {} does not exist (the scene has {})",
-                    texture.texture,
-                    self.textures.len()
-                ),
-            );
-        }
-        if !shape.is_mesh() {
-            return item.fail("texture", "only triangle meshes can be textured".into());
-        }
-        if let Some(cutout) = texture.cutout {
-            for (name, v) in [
-                ("cutoff", cutout.cutoff),
-                ("coverage factor", cutout.factor),
-            ] {
-                if !(0.0..=1.0).contains(&v) {
-                    return item.fail(
-                        "cutout",
-                        format!("the alpha cut-out's {name} must be in [0, 1], got {v}"),
-                    );
-                }
-            }
-        }
-        if texture.uvs.is_empty() {
-            return Ok(());
-        }
-        per_triangle(shape, texture.uvs.len(), "texture-coordinate", "uvs", item)?;
-        match texture
-            .uvs
-            .iter()
-            .position(|c| !c.iter().all(|uv| uv.is_finite()))
-        {
-            Some(t) => item.fail(
-                "uvs",
-                format!("triangle {t} has texture coordinates that are not finite"),
-            ),
-            None => Ok(()),
-        }
-    }
-}
-
-/// Checks that a mesh attribute (`field`, `what` in the message) has
-/// `count` entries, one per triangle.
-fn per_triangle(
-    shape: &ShapeDesc,
-    count: usize,
-    what: &str,
-    field: &'static str,
-    item: &Item,
-) -> Result<(), DescError> {
-    if count == shape.shapes.len() {
-        return Ok(());
-    }
-    item.fail(
-        field,
-        format!(
-            "{count} {what} triples for {} triangles: a mesh has one per triangle",
-            shape.shapes.len()
-        ),
-    )
-}
-
-/// Checks a mesh attribute given per triangle corner (`names`: the
-/// triples' name, the attribute's, and its field): none, or a triangle
-/// mesh's one triple per triangle whose every value is `valid` (else the
-/// message `invalid(triangle, value)`).
-fn validate_corners(
-    shape: &ShapeDesc,
-    values: &[[Vec3; 3]],
-    (triples, attribute, field): (&str, &str, &'static str),
-    item: &Item,
-    valid: impl Fn(Vec3) -> bool,
-    invalid: impl Fn(usize, Vec3) -> String,
-) -> Result<(), DescError> {
-    if values.is_empty() {
-        return Ok(());
-    }
-    if !shape.is_mesh() {
-        return item.fail(field, format!("only triangle meshes have {attribute}"));
-    }
-    per_triangle(shape, values.len(), triples, field, item)?;
-    for (t, corners) in values.iter().enumerate() {
-        if let Some(&v) = corners.iter().find(|&&v| !valid(v)) {
-            return item.fail(field, invalid(t, v));
-        }
-    }
-    Ok(())
 }
 
 /// The names a surface's reflectances go by in the native format: a

@@ -1,0 +1,177 @@
+//! Validation of what a mesh carries per triangle corner: texture
+//! coordinates and their colour texture (with its cut-out), a normal map,
+//! vertex colours and vertex normals.
+
+use super::Item;
+use crate::description::{DescError, NormalMap, SceneDesc, ShapeDesc, SurfaceTexture};
+use glam::{Vec2, Vec3};
+
+impl SceneDesc {
+    /// The shape's per-corner attributes, each checked against its
+    /// triangles.
+    pub(super) fn validate_mesh_attributes(
+        &self,
+        shape: &ShapeDesc,
+        item: &Item,
+    ) -> Result<(), DescError> {
+        if let Some(texture) = &shape.texture {
+            self.validate_texture(shape, texture, item)?;
+        }
+        if let Some(map) = &shape.normal_map {
+            self.validate_normal_map(shape, map, item)?;
+        }
+        let colour = |c: Vec3| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0;
+        validate_corners(
+            shape,
+            &shape.vertex_colours,
+            ("vertex-colour", "vertex colours", "colors"),
+            item,
+            colour,
+            |t, _| format!("triangle {t} has a vertex colour outside [0, 1]"),
+        )?;
+        let unit = |n: Vec3| n.is_finite() && (n.length() - 1.0).abs() < 1e-3;
+        validate_corners(
+            shape,
+            &shape.vertex_normals,
+            ("vertex-normal", "vertex normals", "normals"),
+            item,
+            unit,
+            |t, n| format!("triangle {t} has a vertex normal {n} that is not a unit vector"),
+        )
+    }
+
+    /// A normal map names a texture of the scene, has one finite
+    /// coordinate triple per triangle and a finite scale.
+    fn validate_normal_map(
+        &self,
+        shape: &ShapeDesc,
+        map: &NormalMap,
+        item: &Item,
+    ) -> Result<(), DescError> {
+        if map.texture as usize >= self.textures.len() {
+            return item.fail(
+                "normal_map",
+                format!(
+                    "normal map texture {} does not exist (the scene has {})",
+                    map.texture,
+                    self.textures.len()
+                ),
+            );
+        }
+        if !shape.is_mesh() {
+            return item.fail("normal_map", "only triangle meshes have normal maps".into());
+        }
+        if !map.scale.is_finite() {
+            return item.fail(
+                "normal_map",
+                format!("the normal map's scale must be finite, got {}", map.scale),
+            );
+        }
+        per_triangle(
+            shape,
+            map.uvs.len(),
+            "normal-map coordinate",
+            "normal_map",
+            item,
+        )?;
+        finite_uvs(&map.uvs, "normal_map", item)
+    }
+
+    fn validate_texture(
+        &self,
+        shape: &ShapeDesc,
+        texture: &SurfaceTexture,
+        item: &Item,
+    ) -> Result<(), DescError> {
+        if texture.texture as usize >= self.textures.len() {
+            return item.fail(
+                "texture",
+                format!(
+                    "texture {} does not exist (the scene has {})",
+                    texture.texture,
+                    self.textures.len()
+                ),
+            );
+        }
+        if !shape.is_mesh() {
+            return item.fail("texture", "only triangle meshes can be textured".into());
+        }
+        if let Some(cutout) = texture.cutout {
+            for (name, v) in [
+                ("cutoff", cutout.cutoff),
+                ("coverage factor", cutout.factor),
+            ] {
+                if !(0.0..=1.0).contains(&v) {
+                    return item.fail(
+                        "cutout",
+                        format!("the alpha cut-out's {name} must be in [0, 1], got {v}"),
+                    );
+                }
+            }
+        }
+        if texture.uvs.is_empty() {
+            return Ok(());
+        }
+        per_triangle(shape, texture.uvs.len(), "texture-coordinate", "uvs", item)?;
+        finite_uvs(&texture.uvs, "uvs", item)
+    }
+}
+
+/// Checks that a mesh attribute (`field`, `what` in the message) has
+/// `count` entries, one per triangle.
+fn per_triangle(
+    shape: &ShapeDesc,
+    count: usize,
+    what: &str,
+    field: &'static str,
+    item: &Item,
+) -> Result<(), DescError> {
+    if count == shape.shapes.len() {
+        return Ok(());
+    }
+    item.fail(
+        field,
+        format!(
+            "{count} {what} triples for {} triangles: a mesh has one per triangle",
+            shape.shapes.len()
+        ),
+    )
+}
+
+/// Checks a mesh attribute given per triangle corner (`names`: the
+/// triples' name, the attribute's, and its field): none, or a triangle
+/// mesh's one triple per triangle whose every value is `valid` (else the
+/// message `invalid(triangle, value)`).
+fn validate_corners(
+    shape: &ShapeDesc,
+    values: &[[Vec3; 3]],
+    (triples, attribute, field): (&str, &str, &'static str),
+    item: &Item,
+    valid: impl Fn(Vec3) -> bool,
+    invalid: impl Fn(usize, Vec3) -> String,
+) -> Result<(), DescError> {
+    if values.is_empty() {
+        return Ok(());
+    }
+    if !shape.is_mesh() {
+        return item.fail(field, format!("only triangle meshes have {attribute}"));
+    }
+    per_triangle(shape, values.len(), triples, field, item)?;
+    for (t, corners) in values.iter().enumerate() {
+        if let Some(&v) = corners.iter().find(|&&v| !valid(v)) {
+            return item.fail(field, invalid(t, v));
+        }
+    }
+    Ok(())
+}
+
+/// Checks that every texture coordinate of `uvs` (field `field`) is finite.
+fn finite_uvs(uvs: &[[Vec2; 3]], field: &'static str, item: &Item) -> Result<(), DescError> {
+    match uvs.iter().position(|c| !c.iter().all(|uv| uv.is_finite())) {
+        Some(t) => item.fail(
+            field,
+            format!("triangle {t} has texture coordinates that are not finite"),
+        ),
+        None => Ok(()),
+    }
+}
