@@ -87,7 +87,7 @@ impl PiecewiseConstant1D {
         let mut x = (cell as f32 + within.clamp(0.0, 1.0)) / self.len() as f32;
         // Rounding may carry x onto the next cell's start (or 1): step
         // back into the chosen cell, so that `pdf(x)` is this cell's.
-        while x > 0.0 && self.cell_of(x) > cell || x >= 1.0 {
+        while x >= 1.0 || (x > 0.0 && self.cell_of(x) > cell) {
             x = f32::from_bits(x.to_bits() - 1);
         }
         (x, self.density_of_cell(cell), cell)

@@ -35,7 +35,7 @@ use crate::aov::Aov;
 use crate::color::Rgb;
 use crate::film::Image;
 use crate::integrators::{MAX_GLASS_CROSSINGS, SurfaceHit};
-use crate::materials::{SurfaceEvent, dielectric_reflectance, dielectric_scatter};
+use crate::materials::{Interface, SurfaceEvent, dielectric_reflectance, dielectric_scatter};
 use crate::ray::{Ray, offset_origin};
 use crate::scene::Scene;
 use glam::{DVec3, Vec3};
@@ -95,7 +95,7 @@ pub fn first_surface(scene: &Scene, mut ray: Ray) -> FirstSurface {
                 ray.origin = offset_origin(p, n, ray.direction);
             }
             // The guides see through a solid's absorption, as through fog.
-            SurfaceEvent::Interface { ior, .. } => {
+            SurfaceEvent::Interface(Interface { ior, .. }) => {
                 if bounces >= MAX_GUIDE_BOUNCES {
                     return ends(throughput, Rgb::ONE);
                 }

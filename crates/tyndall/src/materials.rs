@@ -46,6 +46,15 @@ pub enum Material {
     Dielectric { ior: f32, absorption: Rgb },
 }
 
+/// A solid dielectric's surface as a path meets it: its index of
+/// refraction `ior` relative to the side its normal faces, and the
+/// absorption σa (per scene unit and channel) inside it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interface {
+    pub ior: f32,
+    pub absorption: Rgb,
+}
+
 /// What a ray does where it meets a material: the material's answer, so
 /// that integrators act on it without naming the material's kind.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,10 +67,8 @@ pub enum SurfaceEvent {
     /// A thin pane the ray crosses, multiplied by `transmittance` per
     /// crossing (the filter model, the paper's eq. 6 from white).
     Pane { transmittance: Rgb },
-    /// A smooth interface of index of refraction `ior` (relative to the
-    /// side its normal faces) where the ray refracts or reflects, and the
-    /// absorption σa (per scene unit) inside it.
-    Interface { ior: f32, absorption: Rgb },
+    /// A smooth interface where the ray refracts or reflects.
+    Interface(Interface),
     /// An opaque surface that reflects by its lobes.
     Reflector(Surface),
 }
@@ -90,7 +97,9 @@ impl Material {
             Material::Glass(glass) => SurfaceEvent::Pane {
                 transmittance: glass.filter_transmittance(),
             },
-            Material::Dielectric { ior, absorption } => SurfaceEvent::Interface { ior, absorption },
+            Material::Dielectric { ior, absorption } => {
+                SurfaceEvent::Interface(Interface { ior, absorption })
+            }
             Material::Opaque(surface) => SurfaceEvent::Reflector(surface),
         }
     }
@@ -461,10 +470,10 @@ mod tests {
                 absorption: Rgb::ZERO
             }
             .event(false, true),
-            SurfaceEvent::Interface {
+            SurfaceEvent::Interface(Interface {
                 ior: 1.5,
                 absorption: Rgb::ZERO
-            }
+            })
         );
         assert!(
             Material::Dielectric {

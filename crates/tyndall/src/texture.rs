@@ -33,7 +33,7 @@ pub enum Wrap {
 impl Wrap {
     /// Texel index `i` (any integer) mapped into `0..n`.
     #[inline]
-    fn index(self, i: i64, n: u32) -> usize {
+    pub(crate) fn index(self, i: i64, n: u32) -> usize {
         let n = i64::from(n);
         let wrapped = match self {
             Wrap::Repeat => i.rem_euclid(n),
@@ -223,28 +223,9 @@ impl Texture {
         }
     }
 
-    /// The four texels nearest `uv` (unwrapped indices) and their
-    /// bilinear weights, which sum to 1; `None` for non-finite `uv`.
     #[inline]
     fn bilinear(&self, uv: Vec2) -> Option<[(i64, i64, f32); 4]> {
-        if !uv.is_finite() {
-            return None;
-        }
-        // Far outside [0, 1] (beyond 2⁵² texels, where f64 holds no
-        // fraction) the position is held there, so the texel indices stay
-        // far from i64's limits.
-        const FAR: f64 = 4_503_599_627_370_496.0;
-        let x = (f64::from(uv.x) * f64::from(self.width) - 0.5).clamp(-FAR, FAR);
-        let y = (f64::from(uv.y) * f64::from(self.height) - 0.5).clamp(-FAR, FAR);
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
-        let (x0, y0) = (x0 as i64, y0 as i64);
-        Some([
-            (x0, y0, (1.0 - fx) * (1.0 - fy)),
-            (x0 + 1, y0, fx * (1.0 - fy)),
-            (x0, y0 + 1, (1.0 - fx) * fy),
-            (x0 + 1, y0 + 1, fx * fy),
-        ])
+        bilinear_corners(uv, self.width, self.height)
     }
 
     /// The position in the texel array of texel (`x`, `y`), wrapped.
@@ -254,6 +235,32 @@ impl Texture {
         let y = self.wrap[1].index(y, self.height);
         y * self.width as usize + x
     }
+}
+
+/// The four texels of a `width × height` image nearest the image
+/// coordinates `uv` (texel centres at `((i + ½)/width, (j + ½)/height)`;
+/// unwrapped indices, for a [`Wrap`] to place) and their bilinear
+/// weights, which sum to 1; `None` for non-finite `uv`.
+#[inline]
+pub(crate) fn bilinear_corners(uv: Vec2, width: u32, height: u32) -> Option<[(i64, i64, f32); 4]> {
+    if !uv.is_finite() {
+        return None;
+    }
+    // Far outside [0, 1] (beyond 2⁵² texels, where f64 holds no
+    // fraction) the position is held there, so the texel indices stay
+    // far from i64's limits.
+    const FAR: f64 = 4_503_599_627_370_496.0;
+    let x = (f64::from(uv.x) * f64::from(width) - 0.5).clamp(-FAR, FAR);
+    let y = (f64::from(uv.y) * f64::from(height) - 0.5).clamp(-FAR, FAR);
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
+    let (x0, y0) = (x0 as i64, y0 as i64);
+    Some([
+        (x0, y0, (1.0 - fx) * (1.0 - fy)),
+        (x0 + 1, y0, fx * (1.0 - fy)),
+        (x0, y0 + 1, (1.0 - fx) * fy),
+        (x0 + 1, y0 + 1, fx * fy),
+    ])
 }
 
 #[cfg(test)]

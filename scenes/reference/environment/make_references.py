@@ -12,6 +12,12 @@ the reference's own relMSE estimated from its halves).
 
 Run in the peers' venv (../../../../shared/peers/setup.sh):
     .venv/bin/python scenes/reference/environment/make_references.py [--spp N]
+
+With `--time`, it instead times Mitsuba on the map scenes against the
+references it made (relMSE and seconds of `mi.render` at 16 and 64 spp,
+after a warm-up render for the JIT), for docs/benchmarks.md; Tyndall's side
+is `tyndall render SCENE.toml --spp N -o OUT.exr` under `time`, compared by
+`tyndall compare OUT.exr SCENE.exr`.
 """
 
 import argparse
@@ -147,14 +153,34 @@ def relmse(a, b):
     return float(np.mean((a - b) ** 2 / (b ** 2 + 1e-2)))
 
 
+def time_mitsuba(mi, names, spps=(16, 64)):
+    """Prints relMSE against each reference and the seconds of one render."""
+    for name in names:
+        reference = np.asarray(mi.Bitmap(os.path.join(HERE, f"{name}.exr")),
+                               dtype=np.float64)[..., :3]
+        for spp in spps:
+            scene = mitsuba_scene(mi, SCENES[name], spp, 7)
+            mi.render(scene, spp=4, seed=1)  # the JIT's warm-up
+            start = time.time()
+            image = np.asarray(mi.render(scene, spp=spp, seed=7), dtype=np.float64)[..., :3]
+            elapsed = time.time() - start
+            print(f"{name}, {spp} spp: relMSE {relmse(image, reference):.3e}, {elapsed:.2f} s",
+                  flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--spp", type=int, default=2048, help="samples per pixel of each half")
     ap.add_argument("--pass-spp", type=int, default=64)
     ap.add_argument("--only", nargs="*", default=list(SCENES))
+    ap.add_argument("--time", action="store_true",
+                    help="time Mitsuba on the map scenes instead of making references")
     args = ap.parse_args()
     import mitsuba as mi
     mi.set_variant("llvm_ad_rgb")
+    if args.time:
+        time_mitsuba(mi, ["env-map", "env-map-fog"])
+        return
     mi.Bitmap(sky()).write(os.path.join(HERE, "sky.exr"))
     mi.Bitmap(sky(rows="poles")).write(os.path.join(HERE, "sky-mitsuba.exr"))
     for name in args.only:

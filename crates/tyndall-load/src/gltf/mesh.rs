@@ -172,28 +172,15 @@ impl GltfLoader<'_> {
             };
             // The base colour texture's coordinates, if the material has
             // one, and the normal map's.
-            let mut missing_coords = None;
-            let tex_coords = match base_texture {
-                Some(texture) => match read_coords(texture.tex_coord, texture.transform)? {
-                    Ok(coords) => Some(coords),
-                    Err(set) => {
-                        missing_coords = Some(set);
-                        None
-                    }
-                },
-                None => None,
-            };
-            let mut missing_normal_coords = None;
-            let normal_coords = match textures.normal {
-                Some(map) => match read_coords(map.tex_coord, map.transform)? {
-                    Ok(coords) => Some(coords),
-                    Err(set) => {
-                        missing_normal_coords = Some(set);
-                        None
-                    }
-                },
-                None => None,
-            };
+            let base_coords = base_texture
+                .map(|t| read_coords(t.tex_coord, t.transform))
+                .transpose()?;
+            let normal_coords = textures
+                .normal
+                .map(|m| read_coords(m.tex_coord, m.transform))
+                .transpose()?;
+            let tex_coords = base_coords.as_ref().and_then(|c| c.as_ref().ok());
+            let map_coords = normal_coords.as_ref().and_then(|c| c.as_ref().ok());
             // Vertex colours (COLOR_0, linear, glTF §3.7.2.1), which
             // multiply the base colour: of an opaque surface's diffuse
             // reflectance here.
@@ -292,13 +279,11 @@ impl GltfLoader<'_> {
                 match Triangle::new(a, b, c) {
                     Some(triangle) => {
                         self.bounds = self.bounds.union(triangle.bounds());
-                        if let Some(coords) = &tex_coords {
-                            corner_uvs.push(order.map(|i| Vec2::from_array(coords[i as usize])));
-                        }
-                        if let Some(coords) = &normal_coords {
-                            corner_normal_uvs
-                                .push(order.map(|i| Vec2::from_array(coords[i as usize])));
-                        }
+                        let corners = |coords: &Vec<[f32; 2]>| {
+                            order.map(|i| Vec2::from_array(coords[i as usize]))
+                        };
+                        corner_uvs.extend(tex_coords.map(corners));
+                        corner_normal_uvs.extend(map_coords.map(corners));
                         if let Some(colours) = &colours {
                             corner_colours.push(order.map(|i| colours[i as usize]));
                         }
@@ -321,23 +306,23 @@ impl GltfLoader<'_> {
             if let Some(warning) = colour_warning {
                 self.warn(&element, warning);
             }
-            if let Some(n) = missing_coords {
-                self.warn(
-                    &element,
-                    format!(
-                        "the material's baseColorTexture uses TEXCOORD_{n}, which the primitive \
-                         does not have: the texture's mean colour applies"
-                    ),
-                );
-            }
-            if let Some(n) = missing_normal_coords {
-                self.warn(
-                    &element,
-                    format!(
-                        "the material's normalTexture uses TEXCOORD_{n}, which the primitive \
-                         does not have: it is not applied"
-                    ),
-                );
+            for (coords, texture, outcome) in [
+                (
+                    &base_coords,
+                    "baseColorTexture",
+                    "the texture's mean colour applies",
+                ),
+                (&normal_coords, "normalTexture", "it is not applied"),
+            ] {
+                if let Some(Err(n)) = coords {
+                    self.warn(
+                        &element,
+                        format!(
+                            "the material's {texture} uses TEXCOORD_{n}, which the primitive \
+                             does not have: {outcome}"
+                        ),
+                    );
+                }
             }
             let origin = self.origin(element);
             let texture = base_texture.map(|t| SurfaceTexture {
@@ -345,7 +330,7 @@ impl GltfLoader<'_> {
                 uvs: corner_uvs,
                 cutout: t.cutout,
             });
-            let normal_map = match (textures.normal, normal_coords) {
+            let normal_map = match (textures.normal, map_coords) {
                 (Some(map), Some(_)) => Some(NormalMap {
                     texture: map.texture,
                     uvs: corner_normal_uvs,

@@ -434,21 +434,22 @@ impl SceneDesc {
             .any(|m| m.region == RegionDesc::Everywhere && m.sigma_t.max_element() > 0.0);
         if unbounded_fog || unbounded_volume {
             // Lights from infinitely far, each kind named once.
-            let mut from_afar: Vec<&str> = Vec::new();
-            for light in &self.lights {
-                let kind = match light.value {
-                    LightDesc::Directional(_) => "a directional light",
-                    LightDesc::Environment(_) => "an environment light",
-                    _ => continue,
-                };
-                if !from_afar.contains(&kind) {
-                    from_afar.push(kind);
+            let has = |kind: fn(&LightDesc) -> bool| self.lights.iter().any(|l| kind(&l.value));
+            for (kind, present) in [
+                (
+                    "a directional light",
+                    has(|l| matches!(l, LightDesc::Directional(_))),
+                ),
+                (
+                    "an environment light",
+                    has(|l| matches!(l, LightDesc::Environment(_))),
+                ),
+            ] {
+                if present {
+                    warnings.push(format!(
+                        "{kind} shines into fog that fills all space: its light is fully extinguished before it arrives; bound the medium with a box"
+                    ));
                 }
-            }
-            for kind in from_afar {
-                warnings.push(format!(
-                    "{kind} shines into fog that fills all space: its light is fully extinguished before it arrives; bound the medium with a box"
-                ));
             }
         }
         warnings

@@ -152,7 +152,7 @@ impl CameraPath<'_> {
                     ray.origin = offset_origin(p, geometric_normal, ray.direction);
                     continue;
                 }
-                SurfaceEvent::Interface { ior, absorption } => {
+                SurfaceEvent::Interface(interface) => {
                     if bounces >= self.max_bounces {
                         return radiance;
                     }
@@ -161,7 +161,7 @@ impl CameraPath<'_> {
                         &ray,
                         p,
                         geometric_normal,
-                        (ior, absorption),
+                        interface,
                         sampler,
                         &mut solids,
                     );

@@ -261,7 +261,7 @@ impl Tracer<'_> {
                     beta *= transmittance;
                     ray.origin = offset_origin(p, geometric_normal, ray.direction);
                 }
-                SurfaceEvent::Interface { ior, absorption } => {
+                SurfaceEvent::Interface(interface) => {
                     if depth >= self.max_depth {
                         return;
                     }
@@ -271,7 +271,7 @@ impl Tracer<'_> {
                         &ray,
                         p,
                         geometric_normal,
-                        (ior, absorption),
+                        interface,
                         sampler,
                         &mut solids,
                     );

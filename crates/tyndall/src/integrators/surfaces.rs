@@ -4,7 +4,7 @@
 
 use crate::accel::Hit;
 use crate::color::Rgb;
-use crate::materials::dielectric_scatter;
+use crate::materials::{Interface, dielectric_scatter};
 use crate::media::transmittance;
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
@@ -68,21 +68,30 @@ impl SolidDepth {
     }
 }
 
-/// The ray leaving a solid dielectric of index `ior` and inside
-/// absorption `absorption` at `p` (geometric normal `geometric_normal`)
-/// for `ray` arriving there: reflected or refracted with the Fresnel
+/// The ray leaving a solid dielectric's surface `interface` at `p`
+/// (geometric normal `geometric_normal`) for `ray` arriving there: reflected or refracted with the Fresnel
 /// probabilities (one sample dimension), its origin moved off the
 /// surface; records entering or leaving the solid.
 pub(crate) fn refract_or_reflect(
     ray: &Ray,
     p: Vec3,
     geometric_normal: Vec3,
-    (ior, absorption): (f32, Rgb),
+    interface: Interface,
     sampler: &mut PixelSampler,
     solids: &mut SolidDepth,
 ) -> Ray {
-    let direction = dielectric_scatter(ray.direction, geometric_normal, ior, sampler.next_1d());
-    solids.cross(ray.direction, direction, geometric_normal, absorption);
+    let direction = dielectric_scatter(
+        ray.direction,
+        geometric_normal,
+        interface.ior,
+        sampler.next_1d(),
+    );
+    solids.cross(
+        ray.direction,
+        direction,
+        geometric_normal,
+        interface.absorption,
+    );
     Ray {
         origin: offset_origin(p, geometric_normal, direction),
         direction,

@@ -25,6 +25,7 @@ use super::{Incident, mean_channel};
 use crate::color::Rgb;
 use crate::distribution::PiecewiseConstant2D;
 use crate::sampling::{uniform_cone, uniform_cone_pdf};
+use crate::texture::{Wrap, bilinear_corners};
 use glam::{Mat3, Vec2, Vec3};
 use std::f32::consts::{PI, TAU};
 use std::sync::Arc;
@@ -115,22 +116,20 @@ impl EnvironmentMap {
     }
 
     /// The radiance at map coordinates `uv` (bilinear between texel
-    /// centres, wrapping in `u`, clamped in `v`).
+    /// centres, as textures are filtered, wrapping in `u`, clamped in `v`);
+    /// 0 at non-finite coordinates.
     pub fn lookup(&self, uv: Vec2) -> Rgb {
-        let (w, h) = (self.width as i64, self.height as i64);
-        let x = uv.x * w as f32 - 0.5;
-        let y = (uv.y * h as f32 - 0.5).clamp(0.0, (h - 1) as f32);
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let texel = |i: i64, j: i64| {
-            let column = i.rem_euclid(w) as usize;
-            let row = j.clamp(0, h - 1) as usize;
-            self.texels[row * self.width as usize + column]
+        let Some(corners) = bilinear_corners(uv, self.width, self.height) else {
+            return Rgb::ZERO;
         };
-        let (i, j) = (x0 as i64, y0 as i64);
-        let top = texel(i, j) * (1.0 - fx) + texel(i + 1, j) * fx;
-        let bottom = texel(i, j + 1) * (1.0 - fx) + texel(i + 1, j + 1) * fx;
-        top * (1.0 - fy) + bottom * fy
+        corners
+            .into_iter()
+            .map(|(i, j, weight)| {
+                let column = Wrap::Repeat.index(i, self.width);
+                let row = Wrap::Clamp.index(j, self.height);
+                self.texels[row * self.width as usize + column] * weight
+            })
+            .sum()
     }
 }
 

@@ -48,16 +48,12 @@ impl SceneDesc {
         map: &NormalMap,
         item: &Item,
     ) -> Result<(), DescError> {
-        if map.texture as usize >= self.textures.len() {
-            return item.fail(
-                "normal_map",
-                format!(
-                    "normal map texture {} does not exist (the scene has {})",
-                    map.texture,
-                    self.textures.len()
-                ),
-            );
-        }
+        item.exists(
+            "normal_map",
+            "normal map texture",
+            map.texture,
+            self.textures.len(),
+        )?;
         if !shape.is_mesh() {
             return item.fail("normal_map", "only triangle meshes have normal maps".into());
         }
@@ -67,14 +63,7 @@ impl SceneDesc {
                 format!("the normal map's scale must be finite, got {}", map.scale),
             );
         }
-        per_triangle(
-            shape,
-            map.uvs.len(),
-            "normal-map coordinate",
-            "normal_map",
-            item,
-        )?;
-        finite_uvs(&map.uvs, "normal_map", item)
+        corner_uvs(shape, &map.uvs, "normal-map coordinate", "normal_map", item)
     }
 
     fn validate_texture(
@@ -83,16 +72,7 @@ impl SceneDesc {
         texture: &SurfaceTexture,
         item: &Item,
     ) -> Result<(), DescError> {
-        if texture.texture as usize >= self.textures.len() {
-            return item.fail(
-                "texture",
-                format!(
-                    "texture {} does not exist (the scene has {})",
-                    texture.texture,
-                    self.textures.len()
-                ),
-            );
-        }
+        item.exists("texture", "texture", texture.texture, self.textures.len())?;
         if !shape.is_mesh() {
             return item.fail("texture", "only triangle meshes can be textured".into());
         }
@@ -112,8 +92,7 @@ impl SceneDesc {
         if texture.uvs.is_empty() {
             return Ok(());
         }
-        per_triangle(shape, texture.uvs.len(), "texture-coordinate", "uvs", item)?;
-        finite_uvs(&texture.uvs, "uvs", item)
+        corner_uvs(shape, &texture.uvs, "texture-coordinate", "uvs", item)
     }
 }
 
@@ -165,8 +144,16 @@ fn validate_corners(
     Ok(())
 }
 
-/// Checks that every texture coordinate of `uvs` (field `field`) is finite.
-fn finite_uvs(uvs: &[[Vec2; 3]], field: &'static str, item: &Item) -> Result<(), DescError> {
+/// Checks texture coordinates given per triangle corner (`what` the
+/// triples' name, `field` theirs): one finite triple per triangle.
+fn corner_uvs(
+    shape: &ShapeDesc,
+    uvs: &[[Vec2; 3]],
+    what: &str,
+    field: &'static str,
+    item: &Item,
+) -> Result<(), DescError> {
+    per_triangle(shape, uvs.len(), what, field, item)?;
     match uvs.iter().position(|c| !c.iter().all(|uv| uv.is_finite())) {
         Some(t) => item.fail(
             field,

@@ -39,6 +39,24 @@ impl Item<'_> {
     }
 
     /// A position within [`limits::MAX_COORDINATE`].
+    /// Checks that `index` names one of the description's `count` items
+    /// of a kind (`what`: "material", "texture").
+    fn exists(
+        &self,
+        field: &'static str,
+        what: &str,
+        index: u32,
+        count: usize,
+    ) -> Result<(), DescError> {
+        if (index as usize) < count {
+            return Ok(());
+        }
+        self.fail(
+            field,
+            format!("{what} {index} does not exist (the scene has {count})"),
+        )
+    }
+
     fn point(&self, field: &'static str, v: Vec3) -> Result<(), DescError> {
         limits::check_coordinates(&format!("`{field}`"), v).or_else(|m| self.fail(field, m))
     }
@@ -222,16 +240,7 @@ impl SceneDesc {
         let item = Item {
             origin: &shape.origin,
         };
-        if shape.material as usize >= self.materials.len() {
-            return item.fail(
-                "material",
-                format!(
-                    "material {} does not exist (the scene has {})",
-                    shape.material,
-                    self.materials.len()
-                ),
-            );
-        }
+        item.exists("material", "material", shape.material, self.materials.len())?;
         for s in &shape.shapes {
             match s {
                 Shape::Sphere(sphere) => {

@@ -411,20 +411,14 @@ pub(crate) fn radiance<K: Keep>(
                 connected_from = Connections::default();
                 continue;
             }
-            SurfaceEvent::Interface { ior, absorption } => {
+            SurfaceEvent::Interface(interface) => {
                 // A specular event: NEE cannot reach through it.
                 if depth >= max_events {
                     return radiance;
                 }
                 depth += 1;
-                ray = refract_or_reflect(
-                    &ray,
-                    p,
-                    geometric_normal,
-                    (ior, absorption),
-                    sampler,
-                    &mut solids,
-                );
+                ray =
+                    refract_or_reflect(&ray, p, geometric_normal, interface, sampler, &mut solids);
                 arrival = Arrival::Unweighted;
                 connected_from = Connections::default();
                 if !survives_roulette(&mut throughput, depth, sampler) {
