@@ -312,9 +312,15 @@ fn material(m: &Material) -> Result<GpuMaterial, GpuError> {
             specular: v4(s.specular, 0.0),
             ..Default::default()
         },
+        Material::Emissive { surface, .. } if surface.reflects() => {
+            return Err(GpuError::Unsupported(
+                "emitters that also reflect (glTF emission over a base colour)".into(),
+            ));
+        }
         Material::Emissive {
             radiance,
             two_sided,
+            ..
         } => GpuMaterial {
             kind: MATERIAL_EMISSIVE,
             two_sided: two_sided as u32,
@@ -496,13 +502,7 @@ mod tests {
             }),
             Origin::Code,
         );
-        let glow = desc.add_material(
-            Material::Emissive {
-                radiance: Rgb::ONE,
-                two_sided: false,
-            },
-            Origin::Code,
-        );
+        let glow = desc.add_material(Material::emitter(Rgb::ONE, false), Origin::Code);
         // Triangle k of a mesh has legs k + 1 and 1: area (k + 1)/2.
         let mesh = |z: f32, count: usize| -> Vec<Shape> {
             (0..count)

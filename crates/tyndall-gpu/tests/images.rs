@@ -327,13 +327,7 @@ fn cornell_with_every_area_light() -> SceneDesc {
     // surfaces sample the lights differently from fog points, shows.
     desc.fog.as_mut().expect("the box has fog").value.sigma_t = 0.2;
     let emitter = |desc: &mut SceneDesc, radiance: Rgb, two_sided: bool, shapes: Vec<Shape>| {
-        let material = desc.add_material(
-            Material::Emissive {
-                radiance,
-                two_sided,
-            },
-            Origin::Code,
-        );
+        let material = desc.add_material(Material::emitter(radiance, two_sided), Origin::Code);
         desc.add_shapes(shapes, material, Origin::Code);
     };
     emitter(

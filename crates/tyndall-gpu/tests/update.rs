@@ -147,10 +147,7 @@ fn updates_equal_a_fresh_march_of_the_final_state() {
                 use tyndall::materials::Material;
                 use tyndall::shapes::{Shape, Triangle};
                 let glow = d.add_material(
-                    Material::Emissive {
-                        radiance: tyndall::Rgb::new(3.0, 2.0, 1.0),
-                        two_sided: true,
-                    },
+                    Material::emitter(tyndall::Rgb::new(3.0, 2.0, 1.0), true),
                     Origin::Code,
                 );
                 let corner = |x: f32, y: f32| Vec3::new(x, y, -1.0);

@@ -125,6 +125,52 @@ box = { min = [-2, -2, -2], max = [2, 2, 2] }
     }
 }
 
+/// The white sphere made a lamp that also reflects (glTF's emission over
+/// a base colour): emitting 0.25 over a diffuse reflectance of 0.75
+/// under the sky of radiance 1 it leaves 0.25 + 0.75 · 1 = 1, so the
+/// furnace stays white — for every integrator, and for `volpath` in
+/// lossless fog, where the fog sees the sphere's emission by NEE and by
+/// phase-sampled hits weighed against each other, and the sphere
+/// reflects the fog's light. A lamp that did not reflect would leave
+/// 0.25 on the sphere; one that ignored its emission, 0.75.
+#[test]
+fn an_emitter_that_reflects_keeps_the_furnace_white() {
+    use tyndall::materials::{Material, Surface};
+    let fog = r#"
+[fog]
+sigma_t = 0.8
+albedo = 1
+g = 0.4
+box = { min = [-2, -2, -2], max = [2, 2, 2] }
+"#;
+    let runs = IntegratorKind::ALL
+        .into_iter()
+        .map(|k| (k, "", 64))
+        .chain([(IntegratorKind::Volpath, fog, 64)]);
+    for (kind, medium, spp) in runs {
+        let mut desc = scene(&white_sphere(medium)).desc;
+        for material in &mut desc.materials {
+            material.value = Material::Emissive {
+                radiance: tyndall::Rgb::splat(0.25),
+                two_sided: false,
+                surface: Surface::diffuse(tyndall::Rgb::splat(0.75)),
+            };
+        }
+        let desc = common::Loaded::new(desc).expect("scene");
+        let image = render(&desc, |s| {
+            s.spp = spp;
+            s.integrator = kind;
+        });
+        let (mean, stderr) = mean_of_channels(&image);
+        assert!(
+            (mean - 1.0).abs() <= 4.0 * stderr + 1e-5,
+            "{kind:?}{}: mean {mean:.5} ± {stderr:.1e}",
+            if medium.is_empty() { "" } else { " in fog" }
+        );
+        assert!(stderr < 2e-3, "the test has no power: {stderr:.1e}");
+    }
+}
+
 /// `single` (light sampled at the surface point and at the distance
 /// sample on each camera ray) and `volpath` limited to one scattering
 /// event (NEE at its events weighed against phase- and BSDF-sampled

@@ -175,11 +175,18 @@ fn gltf_loads_into_the_expected_description() {
         (absorption - expected).abs().max_element() < 1e-6,
         "{absorption}"
     );
+    // Emission adds to the surface's reflection: here glTF's default
+    // white metal (metallicFactor and roughnessFactor 1).
     assert_eq!(
         *scene.material(3),
         Material::Emissive {
             radiance: Rgb::new(4.0, 2.0, 0.0),
-            two_sided: false
+            two_sided: false,
+            surface: Surface {
+                diffuse: Rgb::ZERO,
+                specular: Rgb::ONE,
+                roughness: 1.0,
+            },
         }
     );
     let Material::Opaque(metal) = *scene.material(4) else {

@@ -155,6 +155,83 @@ fn base_colour_texture_colours_points() {
     }
 }
 
+/// An emission texture makes a surface glow point by point, over the
+/// light it reflects (glTF adds emission to the BRDF, as Cycles does; the
+/// DamagedHelmet's visor and lamps): a grey floor (base colour 0.8,
+/// Lambert) emitting `2 · texel` of the colour checker, under a sun
+/// straight down (E = 1 W/m²), leaves `2·texel + 0.8/π` at each texel's
+/// centre and the mean of two texels' glow halfway between them, by
+/// `single` and `volpath`; its albedo guide is the grey it reflects.
+/// Without TEXCOORD_0 the texture is not applied, with a warning, and the
+/// floor glows `emissiveFactor` everywhere.
+#[test]
+fn emission_texture_glows_point_by_point() {
+    let dir = test_dir("emission-texture");
+    write_checker(&dir);
+    let texels = CHECKER;
+    let doc = sunlit(
+        1,
+        json!({
+            "images": [{"uri": "checker.png"}],
+            "samplers": [{"wrapS": 33071, "wrapT": 33071}],
+            "textures": [{"source": 0, "sampler": 0}],
+            "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0],
+                                                    "metallicFactor": 0.0},
+                           "emissiveFactor": [1.0, 1.0, 1.0],
+                           "emissiveTexture": {"index": 0},
+                           "extensions": {"KHR_materials_specular": {"specularFactor": 0.0},
+                                          "KHR_materials_emissive_strength": {"emissiveStrength": 2.0}}}],
+            "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_specular",
+                               "KHR_materials_emissive_strength"]
+        }),
+    );
+    let floor = |uv| square(0.0, 2.0, 0, uv);
+    let glowing = common::load_gltf(&write_gltf(
+        &dir,
+        "glowing",
+        &[floor(Some(floor_uv))],
+        doc.clone(),
+    ))
+    .expect("loads");
+    let plain = common::load_gltf(&write_gltf(&dir, "no-uvs", &[floor(None)], doc)).expect("loads");
+    assert!(
+        plain
+            .warnings
+            .iter()
+            .any(|w| w.contains("emissiveTexture") && w.contains("TEXCOORD_0")),
+        "{:?}",
+        plain.warnings
+    );
+    let reflected = Rgb::splat(0.8 / PI);
+    let glow = |texel: Rgb| texel * 2.0 + reflected;
+    let cases = [
+        (&glowing, [-1.0, -1.0], glow(texels[0])),
+        (&glowing, [1.0, -1.0], glow(texels[1])),
+        (&glowing, [-1.0, 1.0], glow(texels[2])),
+        (&glowing, [1.0, 1.0], glow(texels[3])),
+        (&glowing, [0.0, 1.0], glow((texels[2] + texels[3]) / 2.0)),
+        (&plain, [0.7, -1.3], glow(Rgb::ONE)),
+    ];
+    for kind in [IntegratorKind::Single, IntegratorKind::Volpath] {
+        for (desc, [x, z], expected) in cases {
+            let got = looking_down(desc, kind, x, 1.0, z);
+            assert!(
+                (got - expected).abs().max_element() < 1e-5,
+                "{kind:?} at ({x}, {z}): {got} vs {expected}"
+            );
+        }
+    }
+    for (desc, [x, z], _) in cases {
+        let ray = Ray::new(Vec3::new(x, 1.0, z), Vec3::new(0.0, -1.0, 0.0));
+        let guide = tyndall::guides::first_surface(&desc.scene, ray);
+        assert!(
+            (guide.albedo - Rgb::splat(0.8)).abs().max_element() < 1e-5,
+            "albedo at ({x}, {z}): {}",
+            guide.albedo
+        );
+    }
+}
+
 /// Alpha cut-outs (glTF `alphaMode` `MASK`): a leaf quad at height 1,
 /// its base colour texture a 2×2 checker of alpha 1 and 0 (clamped, so
 /// coverage ≥ ½ exactly on the quadrants of its opaque texels), over a
@@ -467,7 +544,7 @@ fn normal_maps_tilt_the_shading_normal() {
 /// A texture a material may carry that Tyndall does not apply is named
 /// in a warning with the material, which says what the image lacks: the
 /// occlusion a path tracer computes itself (Cycles ignores it too), and a
-/// normal map on a surface that is not opaque.
+/// normal map on a surface that is not opaque (thin glass).
 #[test]
 fn unapplied_textures_are_named() {
     let dir = test_dir("unapplied");
@@ -478,12 +555,13 @@ fn unapplied_textures_are_named() {
             "images": [{"uri": "checker.png"}],
             "textures": [{"source": 0}],
             "materials": [{"occlusionTexture": {"index": 0}},
-                          {"normalTexture": {"index": 0}, "emissiveFactor": [1.0, 1.0, 1.0]}],
+                          {"normalTexture": {"index": 0},
+                           "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}}],
         }),
     );
     let floor = square(0.0, 2.0, 0, Some(floor_uv));
-    let lamp = square(1.0, 0.5, 1, Some(floor_uv));
-    let desc = common::load_gltf(&write_gltf(&dir, "maps", &[floor, lamp], doc)).expect("loads");
+    let pane = square(1.0, 0.5, 1, Some(floor_uv));
+    let desc = common::load_gltf(&write_gltf(&dir, "maps", &[floor, pane], doc)).expect("loads");
     for (material, texture, lacks) in [
         ("materials[0]", "occlusionTexture", "Cycles"),
         ("materials[1]", "normalTexture", "opaque"),

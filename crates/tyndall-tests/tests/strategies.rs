@@ -216,76 +216,109 @@ fn strategies_agree_under_an_emissive_sphere() {
 /// one-sided outwards: an area light whose NEE picks a triangle by power
 /// and a point on it by area, and which phase and BSDF sampling hit):
 /// light sampling alone, hits alone, and both, at two scattering events.
+/// Then the same lamp with an emission texture (white fading to black
+/// along x: NEE weighs its points by the texture at the point it
+/// sampled, a hit by the texture where it hit, two lookups that must
+/// agree) over a grey diffuse surface that also reflects (glTF's emission
+/// over a base colour: paths go on from the lamp).
 #[test]
 fn strategies_agree_under_an_emissive_mesh() {
-    use glam::Vec3;
-    use tyndall::description::Origin;
-    use tyndall::materials::Material;
-    use tyndall::shapes::{Shape, Triangle};
-    let mut desc = scene(
-        r#"
-        [camera]
-        position = [0, 1.2, 4]
-        look_at = [0, 0.8, 0]
-        fov_y_deg = 45
-        [fog]
-        sigma_t = 0.3
-        albedo = 0.9
-        g = 0.3
-        [materials.floor]
-        type = "diffuse"
-        reflectance = 0.7
-        [[shapes]]
-        type = "quad"
-        corners = [[-3, 0, -3], [-3, 0, 3], [3, 0, 3], [3, 0, -3]]
-        material = "floor"
-        "#,
-    )
-    .desc;
-    // An octahedron stretched along x, its faces wound outwards.
-    let centre = Vec3::new(0.3, 1.0, -0.5);
-    let axes = [Vec3::X * 1.2, Vec3::Y * 0.5, Vec3::Z * 0.8];
-    let mut shapes = Vec::new();
-    for sx in [-1.0f32, 1.0] {
-        for sy in [-1.0f32, 1.0] {
-            for sz in [-1.0f32, 1.0] {
-                let [a, b, c] = [axes[0] * sx, axes[1] * sy, axes[2] * sz].map(|v| centre + v);
-                let t = Triangle::new_one_sided(a, b, c).unwrap();
-                let t = if t.normal.dot(a - centre) > 0.0 {
-                    t
-                } else {
-                    Triangle::new_one_sided(a, c, b).unwrap()
-                };
-                shapes.push(Shape::Triangle(t));
+    use glam::{Vec2, Vec3};
+    use std::sync::Arc;
+    use tyndall::description::{EmissionMap, MeshAttributes, Origin};
+    use tyndall::materials::{Material, Surface};
+    use tyndall::shapes::Triangle;
+    use tyndall::texture::{Texture, Wrap};
+    for textured in [false, true] {
+        let mut desc = scene(
+            r#"
+            [camera]
+            position = [0, 1.2, 4]
+            look_at = [0, 0.8, 0]
+            fov_y_deg = 45
+            [fog]
+            sigma_t = 0.3
+            albedo = 0.9
+            g = 0.3
+            [materials.floor]
+            type = "diffuse"
+            reflectance = 0.7
+            [[shapes]]
+            type = "quad"
+            corners = [[-3, 0, -3], [-3, 0, 3], [3, 0, 3], [3, 0, -3]]
+            material = "floor"
+            "#,
+        )
+        .desc;
+        // An octahedron stretched along x, its faces wound outwards.
+        let centre = Vec3::new(0.3, 1.0, -0.5);
+        let axes = [Vec3::X * 1.2, Vec3::Y * 0.5, Vec3::Z * 0.8];
+        let mut triangles = Vec::new();
+        for sx in [-1.0f32, 1.0] {
+            for sy in [-1.0f32, 1.0] {
+                for sz in [-1.0f32, 1.0] {
+                    let [a, b, c] = [axes[0] * sx, axes[1] * sy, axes[2] * sz].map(|v| centre + v);
+                    let t = Triangle::new_one_sided(a, b, c).unwrap();
+                    let t = if t.normal.dot(a - centre) > 0.0 {
+                        t
+                    } else {
+                        Triangle::new_one_sided(a, c, b).unwrap()
+                    };
+                    triangles.push(t);
+                }
             }
         }
+        let radiance = tyndall::Rgb::new(6.0, 5.0, 4.0);
+        let (glow, attributes) = if textured {
+            let ramp = Texture::new(2, 1, vec![[255; 3], [0; 3]], [Wrap::Clamp; 2]).unwrap();
+            let texture = desc.add_texture(Arc::new(ramp), Origin::Code);
+            // u runs along x over the lamp's width.
+            let uv = |p: Vec3| Vec2::new((p.x - centre.x) / 2.4 + 0.5, 0.5);
+            let uvs = triangles
+                .iter()
+                .map(|t| [t.v0, t.v0 + t.e1, t.v0 + t.e2].map(uv))
+                .collect();
+            let material = Material::Emissive {
+                radiance,
+                two_sided: false,
+                surface: Surface::diffuse(tyndall::Rgb::splat(0.5)),
+            };
+            let attributes = MeshAttributes {
+                emission_map: Some(EmissionMap { texture, uvs }),
+                ..MeshAttributes::default()
+            };
+            (material, attributes)
+        } else {
+            (
+                Material::emitter(radiance, false),
+                MeshAttributes::default(),
+            )
+        };
+        let glow = desc.add_material(glow, Origin::Code);
+        desc.add_mesh(triangles, attributes, glow, Origin::Code);
+        let desc = Loaded::new(desc).expect("scene");
+        let nee = Strategies {
+            surface_nee: true,
+            medium_nee: true,
+            ..Strategies::NONE
+        };
+        let hits = Strategies {
+            surface_hits: true,
+            medium_hits: true,
+            ..Strategies::NONE
+        };
+        let name = match textured {
+            false => "emissive mesh in fog",
+            true => "textured, reflecting emissive mesh in fog",
+        };
+        check(
+            &desc,
+            name,
+            (40, 30),
+            64,
+            &[("light sampling", nee), ("hits", hits)],
+        );
     }
-    let glow = desc.add_material(
-        Material::Emissive {
-            radiance: tyndall::Rgb::new(6.0, 5.0, 4.0),
-            two_sided: false,
-        },
-        Origin::Code,
-    );
-    desc.add_shapes(shapes, glow, Origin::Code);
-    let desc = Loaded::new(desc).expect("scene");
-    let nee = Strategies {
-        surface_nee: true,
-        medium_nee: true,
-        ..Strategies::NONE
-    };
-    let hits = Strategies {
-        surface_hits: true,
-        medium_hits: true,
-        ..Strategies::NONE
-    };
-    check(
-        &desc,
-        "emissive mesh in fog",
-        (40, 30),
-        64,
-        &[("light sampling", nee), ("hits", hits)],
-    );
 }
 
 /// Emitting media (the fire lighting a floor and wall, one bounce): next

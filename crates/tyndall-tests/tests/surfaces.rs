@@ -343,10 +343,7 @@ fn emissive_mesh_lights_like_its_triangles() {
         })
         .collect();
     let lamp = desc.add_material(
-        Material::Emissive {
-            radiance: tyndall::Rgb::splat(radiance as f32),
-            two_sided: false,
-        },
+        Material::emitter(tyndall::Rgb::splat(radiance as f32), false),
         Origin::Code,
     );
     desc.add_shapes(shapes, lamp, Origin::Code);

@@ -82,8 +82,10 @@ pub fn first_surface(scene: &Scene, mut ray: Ray) -> FirstSurface {
         let event = scene
             .material(hit.primitive)
             .event(surface_hit.front, scene.glass.opaque_to_camera);
-        match event {
+        // An emitter that also reflects is seen as its surface.
+        match event.without_emission() {
             SurfaceEvent::Emitter { emitted, .. } => {
+                let emitted = emitted.map(|le| scene.emitted_at(le, hit.primitive, p));
                 return ends(throughput, emitted.unwrap_or(Rgb::ZERO));
             }
             SurfaceEvent::Pane { transmittance } => {

@@ -19,9 +19,18 @@ pub type MaterialId = u32;
 pub enum Material {
     /// An opaque surface: Lambertian diffuse plus a reflective layer.
     Opaque(Surface),
-    /// An emitter of constant radiance `radiance` (W·sr⁻¹·m⁻²) from its
-    /// front face (both faces if `two_sided`). Emitters are opaque.
-    Emissive { radiance: Rgb, two_sided: bool },
+    /// An emitter of radiance `radiance` (W·sr⁻¹·m⁻²) from its front face
+    /// (both faces if `two_sided`), constant unless an emission map
+    /// ([`crate::description::EmissionMap`]) scales it point by point.
+    /// Emitters are opaque. The emission adds to the light `surface`
+    /// reflects (glTF 2.0 Appendix B: "the emissive term is added to the
+    /// BRDF's"; Cycles' Principled BSDF with emission); a pure emitter's
+    /// surface is [`Surface::BLACK`] ([`Material::emitter`]).
+    Emissive {
+        radiance: Rgb,
+        two_sided: bool,
+        surface: Surface,
+    },
     /// The visible face of a lamp whose light is sampled as a delta light
     /// elsewhere (the paper's legacy spotlight: an emissive quad with a
     /// cutoff `c`, whose light is a [`crate::lights::SpotLight`] at its
@@ -59,11 +68,16 @@ pub struct Interface {
 /// that integrators act on it without naming the material's kind.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SurfaceEvent {
-    /// The path ends on an emitter. `emitted` is the radiance leaving
-    /// towards the ray, `None` from the dark back of a one-sided emitter;
-    /// `lamp` marks a lamp face ([`Material::LampFace`]), which only paths
-    /// without a scattering event count.
-    Emitter { emitted: Option<Rgb>, lamp: bool },
+    /// An emitter. `emitted` is the radiance leaving towards the ray,
+    /// `None` from the dark back of a one-sided emitter; `lamp` marks a
+    /// lamp face ([`Material::LampFace`]), which only paths without a
+    /// scattering event count. The path ends there unless the emitter
+    /// also `reflects` by an opaque surface's lobes.
+    Emitter {
+        emitted: Option<Rgb>,
+        lamp: bool,
+        reflects: Option<Surface>,
+    },
     /// A thin pane the ray crosses, multiplied by `transmittance` per
     /// crossing (the filter model, the paper's eq. 6 from white).
     Pane { transmittance: Rgb },
@@ -73,7 +87,31 @@ pub enum SurfaceEvent {
     Reflector(Surface),
 }
 
+impl SurfaceEvent {
+    /// The event for a path that gathers no emission (light paths, the
+    /// guides): an emitter that also reflects is its surface.
+    #[inline]
+    pub fn without_emission(self) -> Self {
+        match self {
+            SurfaceEvent::Emitter {
+                reflects: Some(surface),
+                ..
+            } => SurfaceEvent::Reflector(surface),
+            event => event,
+        }
+    }
+}
+
 impl Material {
+    /// An emitter that reflects nothing (see [`Material::Emissive`]).
+    pub fn emitter(radiance: Rgb, two_sided: bool) -> Self {
+        Material::Emissive {
+            radiance,
+            two_sided,
+            surface: Surface::BLACK,
+        }
+    }
+
     /// The event of a ray arriving on the `front` (normal) side or the
     /// back. With `glass_is_opaque`, thin glass is an opaque diffuse
     /// surface of its colour, as the paper drew it for camera rays.
@@ -83,13 +121,16 @@ impl Material {
             Material::Emissive {
                 radiance,
                 two_sided,
+                surface,
             } => SurfaceEvent::Emitter {
                 emitted: (front || two_sided).then_some(radiance),
                 lamp: false,
+                reflects: surface.reflects().then_some(surface),
             },
             Material::LampFace { radiance } => SurfaceEvent::Emitter {
                 emitted: front.then_some(radiance),
                 lamp: true,
+                reflects: None,
             },
             Material::Glass(glass) if glass_is_opaque => {
                 SurfaceEvent::Reflector(Surface::diffuse(glass.color))
@@ -175,6 +216,13 @@ pub struct Surface {
 }
 
 impl Surface {
+    /// A surface that reflects nothing.
+    pub const BLACK: Self = Self {
+        diffuse: Rgb::ZERO,
+        specular: Rgb::ZERO,
+        roughness: 0.0,
+    };
+
     /// A purely diffuse surface.
     pub fn diffuse(reflectance: Rgb) -> Self {
         Self {
@@ -192,6 +240,11 @@ impl Surface {
 
     pub fn has_specular(&self) -> bool {
         self.specular.max_element() > 0.0
+    }
+
+    /// Whether the surface reflects any light (by either lobe).
+    pub fn reflects(&self) -> bool {
+        self.diffuse.max_element() > 0.0 || self.has_specular()
     }
 
     /// Direction of the reflected ray for a ray travelling along
@@ -432,24 +485,31 @@ mod tests {
     fn events_by_side_and_glass_setting() {
         use crate::glass::Glass;
         let le = Rgb::new(1.0, 2.0, 3.0);
-        let one_sided = Material::Emissive {
-            radiance: le,
-            two_sided: false,
-        };
+        let one_sided = Material::emitter(le, false);
         let emitted = |m: Material, front| match m.event(front, false) {
-            SurfaceEvent::Emitter { emitted, lamp } => (emitted, lamp),
+            SurfaceEvent::Emitter {
+                emitted,
+                lamp,
+                reflects,
+            } => (emitted, lamp, reflects),
             other => panic!("{other:?}"),
         };
-        assert_eq!(emitted(one_sided, true), (Some(le), false));
-        assert_eq!(emitted(one_sided, false), (None, false));
-        let two_sided = Material::Emissive {
+        assert_eq!(emitted(one_sided, true), (Some(le), false, None));
+        assert_eq!(emitted(one_sided, false), (None, false, None));
+        let two_sided = Material::emitter(le, true);
+        assert_eq!(emitted(two_sided, false), (Some(le), false, None));
+        // An emitter over a reflecting surface reflects from both sides.
+        let grey = Surface::diffuse(Rgb::splat(0.5));
+        let glowing = Material::Emissive {
             radiance: le,
-            two_sided: true,
+            two_sided: false,
+            surface: grey,
         };
-        assert_eq!(emitted(two_sided, false), (Some(le), false));
+        assert_eq!(emitted(glowing, true), (Some(le), false, Some(grey)));
+        assert_eq!(emitted(glowing, false), (None, false, Some(grey)));
         let lamp = Material::LampFace { radiance: le };
-        assert_eq!(emitted(lamp, true), (Some(le), true));
-        assert_eq!(emitted(lamp, false), (None, true));
+        assert_eq!(emitted(lamp, true), (Some(le), true, None));
+        assert_eq!(emitted(lamp, false), (None, true, None));
         let glass = Glass {
             color: Rgb::new(0.9, 0.2, 0.1),
             alpha: 0.5,

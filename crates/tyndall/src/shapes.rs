@@ -5,7 +5,7 @@
 //! meshes are built from quads and triangles by the scene loaders.
 
 use crate::ray::Ray;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 /// Smallest ray parameter accepted as a hit. Zero: secondary rays start
 /// from origins already moved off their surface
@@ -286,6 +286,15 @@ impl Triangle {
         let (b1, b2) = self.barycentric(p);
         let (b1, b2) = (b1.clamp(0.0, 1.0), b2.clamp(0.0, 1.0));
         [(1.0 - b1 - b2).max(0.0), b1, b2]
+    }
+
+    /// Texture coordinates at the point `p` of the triangle, interpolated
+    /// from its corners' `uvs` (in the order of its corners) by
+    /// [`Triangle::corner_weights`].
+    #[inline]
+    pub fn uv_at(&self, [t0, t1, t2]: [Vec2; 3], p: Vec3) -> Vec2 {
+        let [b0, b1, b2] = self.corner_weights(p);
+        t0 * b0 + t1 * b1 + t2 * b2
     }
 
     /// Möller–Trumbore ray/triangle intersection.

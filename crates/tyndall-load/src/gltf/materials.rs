@@ -42,14 +42,20 @@ pub(super) struct BaseTexture {
     pub transform: UvTransform,
 }
 
-/// The normal map of an opaque material (`normalTexture`): the scene's
-/// texture, which TEXCOORD set its coordinates come from and how they
-/// are transformed, and its `scale`.
+/// A texture of a material: the scene's texture, which TEXCOORD set its
+/// coordinates come from and how they are transformed.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct NormalTexture {
+pub(super) struct MappedTexture {
     pub texture: TextureId,
     pub tex_coord: u32,
     pub transform: UvTransform,
+}
+
+/// The normal map of an opaque material (`normalTexture`) and its
+/// `scale`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct NormalTexture {
+    pub map: MappedTexture,
     pub scale: f32,
 }
 
@@ -58,6 +64,8 @@ pub(super) struct NormalTexture {
 pub(super) struct MaterialTextures {
     pub base: Option<BaseTexture>,
     pub normal: Option<NormalTexture>,
+    /// An emitter's `emissiveTexture`.
+    pub emission: Option<MappedTexture>,
 }
 
 /// An affine map of texture coordinates, `KHR_texture_transform`'s
@@ -94,8 +102,8 @@ impl UvTransform {
 
 impl GltfLoader<'_> {
     /// The scene's material for a glTF material (added on first use) and
-    /// the textures it binds: its base colour texture and its normal map,
-    /// if the material keeps them.
+    /// the textures it binds: its base colour texture, its normal map and
+    /// its emission texture, if the material keeps them.
     pub(super) fn material_id(
         &mut self,
         material: &::gltf::Material,
@@ -109,29 +117,51 @@ impl GltfLoader<'_> {
             Some(i) => format!("materials[{i}]"),
             None => "the default material".into(),
         };
-        let normal = match (material.normal_texture(), converted) {
-            (Some(info), Material::Opaque(_)) => {
+        // A surface that reflects is normal-mapped, whether it emits too
+        // or not.
+        let reflects = match converted {
+            Material::Opaque(_) => true,
+            Material::Emissive { surface, .. } => surface.reflects(),
+            _ => false,
+        };
+        let normal = match material.normal_texture() {
+            Some(info) if reflects => {
                 let (id, _) = self.texture(&element, &info.texture(), scene)?;
                 let (transform, tex_coord) = texture_transform(info.extensions(), info.tex_coord());
                 Some(NormalTexture {
-                    texture: id,
-                    tex_coord,
-                    transform,
+                    map: MappedTexture {
+                        texture: id,
+                        tex_coord,
+                        transform,
+                    },
                     scale: info.scale(),
                 })
             }
-            (Some(_), _) => {
+            Some(_) => {
                 self.warn(
                     &element,
                     "normalTexture is ignored: only opaque surfaces are normal-mapped",
                 );
                 None
             }
-            (None, _) => None,
+            None => None,
+        };
+        let emission = match (material.emissive_texture(), converted) {
+            (Some(info), Material::Emissive { .. }) => {
+                let (id, _) = self.texture(&element, &info.texture(), scene)?;
+                let (transform, tex_coord) = texture_transform(info.extensions(), info.tex_coord());
+                Some(MappedTexture {
+                    texture: id,
+                    tex_coord,
+                    transform,
+                })
+            }
+            _ => None,
         };
         let texture = MaterialTextures {
             base: texture,
             normal,
+            emission,
         };
         // A cut-out without a texture's alpha is wholly there or wholly
         // a hole (coverage: the factor alone).
@@ -151,8 +181,11 @@ impl GltfLoader<'_> {
     ///
     /// 1. `emissiveFactor × emissive_strength` non-zero → an emitter of
     ///    that radiance (W·sr⁻¹·m⁻², the number Blender's emission
-    ///    strength gives Cycles), two-sided if `doubleSided`; emitters do
-    ///    not reflect.
+    ///    strength gives Cycles), two-sided if `doubleSided`, times its
+    ///    `emissiveTexture` (returned to be bound), over the opaque
+    ///    surface of rule 3, which reflects as well (glTF adds emission
+    ///    to the BRDF, as Cycles' Principled BSDF does); its transmission
+    ///    is ignored, with a warning.
     /// 2. KHR_materials_transmission factor > 0: with KHR_materials_volume
     ///    thickness > 0 a refractive dielectric of KHR_materials_ior's
     ///    index (1.5 by default); without, thin coloured glass of the base
@@ -230,26 +263,12 @@ impl GltfLoader<'_> {
             ));
         }
         let masked = material.alpha_mode() == AlphaMode::Mask && texture.is_some();
-        if emission.max_element() > 0.0 {
-            if masked {
-                self.warn(
-                    &element,
-                    "alphaMode MASK is ignored on an emitter: it emits over its whole surface",
-                );
-            }
-            if material.emissive_texture().is_some() {
-                self.warn(
-                    &element,
-                    "emissiveTexture is ignored: the surface emits emissiveFactor",
-                );
-            }
-            return Ok((
-                Material::Emissive {
-                    radiance: emission,
-                    two_sided: material.double_sided(),
-                },
-                None,
-            ));
+        let emits = emission.max_element() > 0.0;
+        if emits && masked {
+            self.warn(
+                &element,
+                "alphaMode MASK is ignored on an emitter: it emits over its whole surface",
+            );
         }
         let ior = material.ior().unwrap_or(DEFAULT_IOR);
         if !(ior.is_finite() && (1.0..=10.0).contains(&ior)) {
@@ -258,8 +277,18 @@ impl GltfLoader<'_> {
                 format!("KHR_materials_ior ior must be in [1, 10], got {ior}"),
             ));
         }
+        let transmits = material
+            .transmission()
+            .is_some_and(|t| t.transmission_factor() > 0.0);
+        if emits && transmits {
+            self.warn(
+                &element,
+                "KHR_materials_transmission is ignored on an emitter: it is rendered opaque",
+            );
+        }
         if let Some(transmission) = material.transmission()
-            && transmission.transmission_factor() > 0.0
+            && transmits
+            && !emits
         {
             let t = transmission.transmission_factor();
             if masked {
@@ -355,7 +384,10 @@ impl GltfLoader<'_> {
                 roughness: roughness * roughness,
             }
         };
-        let cutout = self.alpha_cutout(material, &element)?;
+        let cutout = match emits {
+            true => None,
+            false => self.alpha_cutout(material, &element)?,
+        };
         if material.alpha_mode() == AlphaMode::Blend {
             self.warn(
                 &element,
@@ -370,7 +402,15 @@ impl GltfLoader<'_> {
             }
             (t, _) => t.filter(|_| diffuse != Rgb::ZERO),
         };
-        Ok((Material::Opaque(surface), texture))
+        let converted = match emits {
+            true => Material::Emissive {
+                radiance: emission,
+                two_sided: material.double_sided(),
+                surface,
+            },
+            false => Material::Opaque(surface),
+        };
+        Ok((converted, texture))
     }
 
     /// The alpha cut-out of a `MASK` material (`alphaCutoff`, 0.5 by

@@ -9,7 +9,7 @@ use ::gltf::mesh::Mode;
 use ::gltf::{Accessor, Semantic};
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use tyndall::color::Rgb;
-use tyndall::description::{MeshAttributes, NormalMap, SceneDesc, SurfaceTexture};
+use tyndall::description::{EmissionMap, MeshAttributes, NormalMap, SceneDesc, SurfaceTexture};
 use tyndall::materials::Material;
 use tyndall::shapes::Triangle;
 
@@ -171,16 +171,21 @@ impl GltfLoader<'_> {
                 Ok(Ok(coords))
             };
             // The base colour texture's coordinates, if the material has
-            // one, and the normal map's.
+            // one, the normal map's and the emission texture's.
             let base_coords = base_texture
                 .map(|t| read_coords(t.tex_coord, t.transform))
                 .transpose()?;
             let normal_coords = textures
                 .normal
+                .map(|m| read_coords(m.map.tex_coord, m.map.transform))
+                .transpose()?;
+            let emission_coords = textures
+                .emission
                 .map(|m| read_coords(m.tex_coord, m.transform))
                 .transpose()?;
             let tex_coords = base_coords.as_ref().and_then(|c| c.as_ref().ok());
             let map_coords = normal_coords.as_ref().and_then(|c| c.as_ref().ok());
+            let glow_coords = emission_coords.as_ref().and_then(|c| c.as_ref().ok());
             // Vertex colours (COLOR_0, linear, glTF §3.7.2.1), which
             // multiply the base colour: of an opaque surface's diffuse
             // reflectance here.
@@ -204,7 +209,9 @@ impl GltfLoader<'_> {
                         return Err(self.err(&element, "COLOR_0 values must be in [0, 1]"));
                     }
                     match scene.materials[material as usize].value {
-                        Material::Opaque(surface) if surface.diffuse != Rgb::ZERO => {
+                        Material::Opaque(surface) | Material::Emissive { surface, .. }
+                            if surface.diffuse != Rgb::ZERO =>
+                        {
                             if surface.specular != Rgb::ZERO {
                                 colour_warning = Some(
                                     "COLOR_0 colours the diffuse reflectance only, not the specular",
@@ -230,6 +237,7 @@ impl GltfLoader<'_> {
             };
             let mut corner_uvs = Vec::new();
             let mut corner_normal_uvs = Vec::new();
+            let mut corner_emission_uvs = Vec::new();
             let mut corner_colours = Vec::new();
             let mut corner_normals = Vec::new();
             let indices: Vec<u32> = match primitive.indices() {
@@ -284,6 +292,7 @@ impl GltfLoader<'_> {
                         };
                         corner_uvs.extend(tex_coords.map(corners));
                         corner_normal_uvs.extend(map_coords.map(corners));
+                        corner_emission_uvs.extend(glow_coords.map(corners));
                         if let Some(colours) = &colours {
                             corner_colours.push(order.map(|i| colours[i as usize]));
                         }
@@ -313,6 +322,11 @@ impl GltfLoader<'_> {
                     "the texture's mean colour applies",
                 ),
                 (&normal_coords, "normalTexture", "it is not applied"),
+                (
+                    &emission_coords,
+                    "emissiveTexture",
+                    "it is not applied: the surface emits emissiveFactor",
+                ),
             ] {
                 if let Some(Err(n)) = coords {
                     self.warn(
@@ -331,10 +345,17 @@ impl GltfLoader<'_> {
                 cutout: t.cutout,
             });
             let normal_map = match (textures.normal, map_coords) {
-                (Some(map), Some(_)) => Some(NormalMap {
-                    texture: map.texture,
+                (Some(normal), Some(_)) => Some(NormalMap {
+                    texture: normal.map.texture,
                     uvs: corner_normal_uvs,
-                    scale: map.scale,
+                    scale: normal.scale,
+                }),
+                _ => None,
+            };
+            let emission_map = match (textures.emission, glow_coords) {
+                (Some(map), Some(_)) => Some(EmissionMap {
+                    texture: map.texture,
+                    uvs: corner_emission_uvs,
                 }),
                 _ => None,
             };
@@ -343,6 +364,7 @@ impl GltfLoader<'_> {
                 vertex_colours: corner_colours,
                 texture,
                 normal_map,
+                emission_map,
             };
             scene.add_mesh(triangles, attributes, material, origin);
         }

@@ -80,10 +80,7 @@ pub(super) fn build(
         .iter()
         .map(|m| {
             let material = if m.emitted.max_element() > 0.0 {
-                Material::Emissive {
-                    radiance: m.emitted,
-                    two_sided: !one_sided,
-                }
+                Material::emitter(m.emitted, !one_sided)
             } else if m.alpha < 1.0 {
                 Material::Glass(Glass {
                     color: m.diffuse.min(Rgb::ONE),

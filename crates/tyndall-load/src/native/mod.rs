@@ -423,10 +423,7 @@ impl Loader<'_> {
             MaterialTable::Emissive(EmissiveTable {
                 radiance,
                 two_sided,
-            }) => Material::Emissive {
-                radiance: Rgb::from_array(radiance.0),
-                two_sided,
-            },
+            }) => Material::emitter(Rgb::from_array(radiance.0), two_sided),
             MaterialTable::Glass(GlassTable { color, alpha }) => Material::Glass(Glass {
                 color: Rgb::from_array(color.0),
                 alpha,

@@ -110,6 +110,8 @@ pub struct ShapeDesc {
     pub vertex_colours: Vec<[Rgb; 3]>,
     /// A tangent-space normal map over the mesh's triangles, if any.
     pub normal_map: Option<NormalMap>,
+    /// A texture scaling an emissive mesh's radiance, if any.
+    pub emission_map: Option<EmissionMap>,
 }
 
 /// What a mesh carries per corner or per point besides its positions,
@@ -121,6 +123,7 @@ pub struct MeshAttributes {
     pub vertex_colours: Vec<[Rgb; 3]>,
     pub texture: Option<SurfaceTexture>,
     pub normal_map: Option<NormalMap>,
+    pub emission_map: Option<EmissionMap>,
 }
 
 impl ShapeDesc {
@@ -159,6 +162,19 @@ pub struct NormalMap {
     pub uvs: Vec<[Vec2; 3]>,
     /// glTF's `normalTexture.scale`: the map's x and y are multiplied by it.
     pub scale: f32,
+}
+
+/// A colour texture over an emissive mesh (glTF's `emissiveTexture`):
+/// its colour (sRGB-decoded, bilinear) multiplies the radiance of the
+/// mesh's [`Material::Emissive`] at each point, at the texture
+/// coordinates interpolated across each triangle from one per corner (in
+/// the order of [`ShapeDesc::vertex_normals`]). The mesh's light samples
+/// its points uniformly by area and weighs them by the texture
+/// ([`crate::lights::MeshLight`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EmissionMap {
+    pub texture: TextureId,
+    pub uvs: Vec<[Vec2; 3]>,
 }
 
 /// A light that is not a shape. Area lights are shapes with an emissive
@@ -347,12 +363,14 @@ impl SceneDesc {
             texture: None,
             vertex_colours: Vec::new(),
             normal_map: None,
+            emission_map: None,
         });
     }
 
     /// Adds a mesh with its per-corner attributes: unit normals for
     /// smooth shading ([`ShapeDesc::vertex_normals`]; empty for flat
-    /// shading), vertex colours, and a colour texture, if any.
+    /// shading), vertex colours, a colour texture, a normal map and an
+    /// emission texture, if any.
     pub fn add_mesh(
         &mut self,
         triangles: Vec<Triangle>,
@@ -365,6 +383,7 @@ impl SceneDesc {
             vertex_colours,
             texture,
             normal_map,
+            emission_map,
         } = attributes;
         self.shapes.push(ShapeDesc {
             shapes: triangles.into_iter().map(Shape::Triangle).collect(),
@@ -374,6 +393,7 @@ impl SceneDesc {
             texture,
             vertex_colours,
             normal_map,
+            emission_map,
         });
     }
 
@@ -386,13 +406,7 @@ impl SceneDesc {
         two_sided: bool,
         origin: Origin,
     ) {
-        let material = self.add_material(
-            Material::Emissive {
-                radiance,
-                two_sided,
-            },
-            origin.clone(),
-        );
+        let material = self.add_material(Material::emitter(radiance, two_sided), origin.clone());
         self.add_shapes(vec![Shape::Quad(quad)], material, origin);
     }
 

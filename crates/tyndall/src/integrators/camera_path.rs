@@ -133,11 +133,18 @@ impl CameraPath<'_> {
             let surface = match event {
                 // Camera paths here have only specular events: they see
                 // lamps too.
-                SurfaceEvent::Emitter { emitted, .. } => {
+                SurfaceEvent::Emitter {
+                    emitted, reflects, ..
+                } => {
                     if let Some(le) = emitted {
+                        let le = scene.emitted_at(le, hit.primitive, p);
                         radiance.add(history.component(), throughput * le);
                     }
-                    return radiance;
+                    // An emitter that also reflects is lit as a surface.
+                    match reflects {
+                        Some(surface) => scene.surface_at(surface, hit.primitive, p),
+                        None => return radiance,
+                    }
                 }
                 SurfaceEvent::Pane { transmittance } => {
                     crossings += 1;

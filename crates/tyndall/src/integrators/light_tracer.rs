@@ -250,8 +250,13 @@ impl Tracer<'_> {
             let p = ray.at(hit.t);
             let geometric_normal = scene.geometry.normal(hit.primitive, p);
             // Light paths cross glass even where camera rays draw it opaque,
-            // and end on any emitter, whichever side they meet.
-            match scene.material(hit.primitive).event(true, false) {
+            // and end on any emitter, whichever side they meet, unless it
+            // also reflects.
+            match scene
+                .material(hit.primitive)
+                .event(true, false)
+                .without_emission()
+            {
                 SurfaceEvent::Emitter { .. } => return,
                 SurfaceEvent::Pane { transmittance } => {
                     crossings += 1;

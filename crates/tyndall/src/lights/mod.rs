@@ -50,7 +50,7 @@ pub use directional::DirectionalLight;
 pub use environment::{EnvironmentLight, EnvironmentMap};
 pub use gobo::Gobo;
 pub use light_sampler::{Chosen, LightSampler, LightSampling};
-pub use mesh::MeshLight;
+pub use mesh::{EmissionTexture, MeshLight};
 pub use photometric::{Luminaire, PhotometricProfile};
 pub use point::PointLight;
 pub use spot::{SpotLight, SpotProfile};
@@ -82,6 +82,12 @@ pub struct LightPoint {
     /// The emitting surface's unit normal at `position`; `None` for point
     /// and spot lights.
     pub normal: Option<Vec3>,
+    /// The radiance leaving the point where it varies over the light's
+    /// surface (a mesh light with an emission texture, set by its
+    /// [`Light::sample_point`]); `None` where the light's radiance is
+    /// uniform, or where the point was not sampled from the light (a
+    /// ray's hit, whose density alone is asked for).
+    pub radiance: Option<Rgb>,
 }
 
 impl LightPoint {
@@ -90,6 +96,7 @@ impl LightPoint {
         Self {
             position,
             normal: None,
+            radiance: None,
         }
     }
 
@@ -99,6 +106,7 @@ impl LightPoint {
         Self {
             position,
             normal: Some(normal),
+            radiance: None,
         }
     }
 }
@@ -123,12 +131,14 @@ pub struct Incident {
 
 impl Incident {
     /// The light's point this light comes from, seen from the receiver
-    /// `x`; meaningless for a directional light (infinitely far).
+    /// `x` (for its density: the point's radiance is not kept);
+    /// meaningless for a directional light (infinitely far).
     #[inline]
     pub fn light_point(&self, x: Vec3) -> LightPoint {
         LightPoint {
             position: x + self.direction * self.distance,
             normal: self.light_normal,
+            radiance: None,
         }
     }
 }
@@ -235,7 +245,8 @@ impl Light {
 
     /// What shapes this light's emission beyond its kind's own law, named
     /// for messages: a measured (IES) profile on a point or spot light, a
-    /// gobo on a spot; `None` for plain lights.
+    /// gobo on a spot, an emission texture on a mesh; `None` for plain
+    /// lights.
     #[inline]
     pub fn emission_pattern(&self) -> Option<&'static str> {
         match self {
@@ -245,11 +256,10 @@ impl Light {
                 (None, Some(_)) => Some("a gobo"),
                 (None, None) => None,
             },
-            Light::Directional(_)
-            | Light::Quad(_)
-            | Light::Sphere(_)
-            | Light::Mesh(_)
-            | Light::Environment(_) => None,
+            Light::Mesh(m) => m.emission_texture().map(|_| "an emission texture"),
+            Light::Directional(_) | Light::Quad(_) | Light::Sphere(_) | Light::Environment(_) => {
+                None
+            }
         }
     }
 

@@ -14,7 +14,8 @@ use crate::camera::CameraSpec;
 use crate::color::Rgb;
 use crate::description::{DescError, MediumDesc, RegionDesc, SceneDesc};
 use crate::lights::{
-    EnvironmentLight, Light, LightSampler, LightSampling, MeshLight, QuadLight, SphereLight,
+    EmissionTexture, EnvironmentLight, Light, LightSampler, LightSampling, MeshLight, QuadLight,
+    SphereLight,
 };
 use crate::materials::Material;
 use crate::materials::Surface;
@@ -27,6 +28,16 @@ use corner_values::CornerValues;
 use glam::Vec3;
 use std::ops::ControlFlow;
 use surface_textures::SurfaceTextures;
+
+/// An emissive quad, sphere or triangle a path may hit, the light that
+/// samples it (one light for all the triangles of a mesh), and which of
+/// a mesh light's triangles it is (0 for quads and spheres).
+#[derive(Clone, Copy, Debug)]
+struct EmitterPrimitive {
+    primitive: u32,
+    light: u32,
+    triangle: u32,
+}
 
 /// Everything the integrators need to know about the world.
 pub struct Scene {
@@ -48,10 +59,8 @@ pub struct Scene {
     /// The light number of the environment, if there is one.
     environment: Option<usize>,
     pub(crate) glass: GlassSettings,
-    /// (primitive, light) pairs of area lights, by primitive: the
-    /// emissive quad, sphere or triangle a path may hit and the light that
-    /// samples it (one light for all the triangles of a mesh).
-    area_lights: Vec<(u32, u32)>,
+    /// The emissive primitives of area lights, by primitive.
+    area_lights: Vec<EmitterPrimitive>,
     /// How many of the lights have a flat emitting surface.
     flat_emitters: usize,
     /// The primitive of each light that is one primitive (quads and
@@ -140,10 +149,33 @@ impl Scene {
 
     /// The index of the area light whose geometry is `primitive`.
     pub fn area_light_at(&self, primitive: u32) -> Option<usize> {
+        self.emitter_primitive(primitive).map(|e| e.light as usize)
+    }
+
+    #[inline]
+    fn emitter_primitive(&self, primitive: u32) -> Option<EmitterPrimitive> {
         self.area_lights
-            .binary_search_by_key(&primitive, |&(p, _)| p)
+            .binary_search_by_key(&primitive, |e| e.primitive)
             .ok()
-            .map(|i| self.area_lights[i].1 as usize)
+            .map(|i| self.area_lights[i])
+    }
+
+    /// The radiance `emitted` by the emissive material of `primitive`
+    /// (from [`Material::event`]) as it leaves the primitive's point `p`:
+    /// scaled by its mesh light's emission texture there, if it has one
+    /// ([`MeshLight::radiance_at`]), the same radiance that light sampling
+    /// finds at `p`.
+    #[inline]
+    pub fn emitted_at(&self, emitted: Rgb, primitive: u32, p: Vec3) -> Rgb {
+        match self.emitter_primitive(primitive) {
+            Some(e) => match &self.lights[e.light as usize] {
+                Light::Mesh(mesh) if mesh.emission_texture().is_some() => {
+                    mesh.radiance_at(e.triangle as usize, p)
+                }
+                _ => emitted,
+            },
+            None => emitted,
+        }
     }
 
     /// The primitive that is light number `light`'s geometry, if it is one
@@ -345,6 +377,7 @@ impl Scene {
                 if let Material::Emissive {
                     radiance,
                     two_sided,
+                    ..
                 } = *material
                 {
                     let light = match shape {
@@ -363,7 +396,11 @@ impl Scene {
                         }
                     };
                     if let Some(light) = light {
-                        area_lights.push((primitives.len() as u32, lights.len() as u32));
+                        area_lights.push(EmitterPrimitive {
+                            primitive: primitives.len() as u32,
+                            light: lights.len() as u32,
+                            triangle: 0,
+                        });
                         lights.push(light);
                     }
                 }
@@ -375,26 +412,42 @@ impl Scene {
             if let Material::Emissive {
                 radiance,
                 two_sided,
+                ..
             } = *material
                 && let Some(light) = MeshLight::new(mesh, radiance, two_sided)
             {
+                // An emission map lies on a mesh (validated), so the
+                // mesh's triangles are the item's shapes, in order.
+                let light = match &item.emission_map {
+                    Some(map) => light.with_texture(EmissionTexture {
+                        texture: desc.textures[map.texture as usize].value.clone(),
+                        uvs: map.uvs.clone(),
+                    }),
+                    None => light,
+                };
                 let index = lights.len() as u32;
-                area_lights.extend(mesh_primitives.iter().map(|&p| (p, index)));
+                area_lights.extend(mesh_primitives.iter().enumerate().map(|(k, &p)| {
+                    EmitterPrimitive {
+                        primitive: p,
+                        light: index,
+                        triangle: k as u32,
+                    }
+                }));
                 lights.push(Light::Mesh(light));
             }
         }
         // By primitive, for `area_light_at`'s binary search (an item's
         // mesh light is numbered after its quads and spheres).
-        area_lights.sort_unstable_by_key(|&(primitive, _)| primitive);
+        area_lights.sort_unstable_by_key(|e| e.primitive);
         lights.extend(desc.lights.iter().map(|l| Light::from(l.value.clone())));
         let flat_emitters = lights.iter().filter(|l| l.is_flat_emitter()).count();
         let environment = lights
             .iter()
             .position(|l| matches!(l, Light::Environment(_)));
         let mut light_primitives = vec![None; lights.len()];
-        for &(primitive, light) in &area_lights {
-            if !matches!(lights[light as usize], Light::Mesh(_)) {
-                light_primitives[light as usize] = Some(primitive);
+        for e in &area_lights {
+            if !matches!(lights[e.light as usize], Light::Mesh(_)) {
+                light_primitives[e.light as usize] = Some(e.primitive);
             }
         }
         Scene {

@@ -126,7 +126,7 @@ impl SurfaceTextures {
         }
         let binding = &self.normal_bindings[slot as usize];
         let texture = &self.textures[binding.texture as usize];
-        let c = texture.lookup_data(interpolate(binding.uvs, triangle, p))?;
+        let c = texture.lookup_data(triangle.uv_at(binding.uvs, p))?;
         let m = (c * 2.0 - Vec3::ONE) * Vec3::new(binding.scale, binding.scale, 1.0);
         // Gram–Schmidt: the tangent made perpendicular to n, and the
         // bitangent n × T on the side the triangle's −∂P/∂v lies.
@@ -158,7 +158,7 @@ impl SurfaceTextures {
             return false;
         };
         let alpha = match binding.uvs {
-            Some(uvs) => texture.alpha(interpolate(uvs, triangle, p)),
+            Some(uvs) => texture.alpha(triangle.uv_at(uvs, p)),
             None => texture.mean_alpha(),
         };
         cutout.is_hole(alpha)
@@ -178,7 +178,7 @@ impl SurfaceTextures {
         let Some(uvs) = binding.uvs else {
             return Some(texture.mean());
         };
-        Some(texture.lookup(interpolate(uvs, triangle, p)))
+        Some(texture.lookup(triangle.uv_at(uvs, p)))
     }
 
     /// Primitive `primitive`'s binding and its texture, if it is textured.
@@ -191,12 +191,4 @@ impl SurfaceTextures {
         let binding = self.bindings[slot as usize];
         Some((binding, &self.textures[binding.texture as usize]))
     }
-}
-
-/// The texture coordinates at the point `p` of `triangle`, interpolated
-/// from its corners' `uvs` by [`Triangle::corner_weights`].
-#[inline]
-fn interpolate([t0, t1, t2]: [Vec2; 3], triangle: &Triangle, p: Vec3) -> Vec2 {
-    let [b0, b1, b2] = triangle.corner_weights(p);
-    t0 * b0 + t1 * b1 + t2 * b2
 }

@@ -1,9 +1,9 @@
 //! Validation of what a mesh carries per triangle corner: texture
 //! coordinates and their colour texture (with its cut-out), a normal map,
-//! vertex colours and vertex normals.
+//! an emission texture, vertex colours and vertex normals.
 
 use super::Item;
-use crate::description::{DescError, NormalMap, SceneDesc, ShapeDesc, SurfaceTexture};
+use crate::description::{DescError, EmissionMap, NormalMap, SceneDesc, ShapeDesc, SurfaceTexture};
 use glam::{Vec2, Vec3};
 
 impl SceneDesc {
@@ -19,6 +19,9 @@ impl SceneDesc {
         }
         if let Some(map) = &shape.normal_map {
             self.validate_normal_map(shape, map, item)?;
+        }
+        if let Some(map) = &shape.emission_map {
+            self.validate_emission_map(shape, map, item)?;
         }
         let colour = |c: Vec3| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0;
         validate_corners(
@@ -64,6 +67,41 @@ impl SceneDesc {
             );
         }
         corner_uvs(shape, &map.uvs, "normal-map coordinate", "normal_map", item)
+    }
+
+    /// An emission map names a texture of the scene, lies on an emissive
+    /// mesh and has one finite coordinate triple per triangle.
+    fn validate_emission_map(
+        &self,
+        shape: &ShapeDesc,
+        map: &EmissionMap,
+        item: &Item,
+    ) -> Result<(), DescError> {
+        item.exists(
+            "emission_map",
+            "emission texture",
+            map.texture,
+            self.textures.len(),
+        )?;
+        if !shape.is_mesh() {
+            return item.fail(
+                "emission_map",
+                "only triangle meshes have emission textures".into(),
+            );
+        }
+        if !self.is_emissive(shape.material) {
+            return item.fail(
+                "emission_map",
+                "an emission texture needs an emissive material".into(),
+            );
+        }
+        corner_uvs(
+            shape,
+            &map.uvs,
+            "emission-texture coordinate",
+            "emission_map",
+            item,
+        )
     }
 
     fn validate_texture(

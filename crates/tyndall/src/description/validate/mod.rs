@@ -283,9 +283,13 @@ fn validate_material(material: &Material, origin: &Origin) -> Result<(), DescErr
     let item = Item { origin };
     match material {
         Material::Opaque(surface) => validate_surface(surface, &item),
-        Material::Emissive { radiance, .. } | Material::LampFace { radiance } => {
-            item.emission("radiance", *radiance)
+        Material::Emissive {
+            radiance, surface, ..
+        } => {
+            item.emission("radiance", *radiance)?;
+            validate_surface(surface, &item)
         }
+        Material::LampFace { radiance } => item.emission("radiance", *radiance),
         Material::Glass(glass) => {
             item.color("color", glass.color, true)?;
             item.number("alpha", glass.alpha, (0.0, 1.0), "an opacity in [0, 1]")
@@ -671,5 +675,53 @@ mod tests {
             origin: Origin::Code,
         };
         assert_eq!(refused(|d| d.media.push(smoke)), "density");
+    }
+
+    /// An emission texture lies on an emissive triangle mesh, names a
+    /// texture of the scene and has one coordinate triple per triangle;
+    /// an emitter's reflecting surface is checked as any surface.
+    #[test]
+    fn emission_maps_and_reflecting_emitters_are_checked() {
+        use crate::description::{EmissionMap, MeshAttributes};
+        use crate::shapes::Triangle;
+        use crate::texture::{Texture, Wrap};
+        let triangle = Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y).expect("triangle");
+        // A glowing triangle with a 1×1 texture, then `change`.
+        let glowing = |change: fn(&mut SceneDesc)| {
+            refused(|d| {
+                let white = Texture::new(1, 1, vec![[255; 3]], [Wrap::Repeat; 2]).expect("texture");
+                let texture = d.add_texture(std::sync::Arc::new(white), Origin::Code);
+                let glow = d.add_material(Material::emitter(Rgb::ONE, false), Origin::Code);
+                let attributes = MeshAttributes {
+                    emission_map: Some(EmissionMap {
+                        texture,
+                        uvs: vec![[glam::Vec2::ZERO; 3]],
+                    }),
+                    ..MeshAttributes::default()
+                };
+                d.add_mesh(vec![triangle], attributes, glow, Origin::Code);
+                change(d);
+            })
+        };
+        fn map(d: &mut SceneDesc) -> &mut EmissionMap {
+            d.shapes[1].emission_map.as_mut().expect("map")
+        }
+        assert_eq!(glowing(|d| map(d).texture = 9), "emission_map");
+        assert_eq!(glowing(|d| map(d).uvs.clear()), "emission_map");
+        assert_eq!(glowing(|d| map(d).uvs[0][1].x = f32::NAN), "emission_map");
+        // On the grey sphere: not a mesh, and not emissive.
+        assert_eq!(
+            glowing(|d| d.shapes[0].emission_map = d.shapes[1].emission_map.clone()),
+            "emission_map"
+        );
+        assert_eq!(glowing(|d| d.shapes[1].material = 0), "emission_map");
+        assert_eq!(
+            glowing(|d| d.materials[1].value = Material::Emissive {
+                radiance: Rgb::ONE,
+                two_sided: false,
+                surface: Surface::diffuse(Rgb::splat(2.0)),
+            }),
+            "reflectance"
+        );
     }
 }

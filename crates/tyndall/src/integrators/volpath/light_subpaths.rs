@@ -250,13 +250,7 @@ mod tests {
     fn lamp_in_fog() -> Scene {
         let camera = CameraSpec::looking_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 40.0);
         let mut desc = SceneDesc::new(Sourced::code(camera));
-        let lamp = desc.add_material(
-            Material::Emissive {
-                radiance: Rgb::splat(5.0),
-                two_sided: false,
-            },
-            Origin::Code,
-        );
+        let lamp = desc.add_material(Material::emitter(Rgb::splat(5.0), false), Origin::Code);
         let quad = Quad::new(Vec3::new(-0.5, 2.0, -0.5), Vec3::X, Vec3::Z, true).expect("quad");
         desc.add_shapes(vec![Shape::Quad(quad)], lamp, Origin::Code);
         desc.fog = Some(Sourced::code(Fog {

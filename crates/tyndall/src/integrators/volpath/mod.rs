@@ -379,27 +379,39 @@ pub(crate) fn radiance<K: Keep>(
             .event(front, scene.glass.opaque_to_camera);
         let surface = match event {
             SurfaceEvent::Emitter {
-                emitted: Some(le),
-                lamp: false,
+                emitted,
+                lamp,
+                reflects,
             } => {
-                let weight =
-                    emission_weight(scene, strategies, arrival, hit.primitive, p, ray.direction);
-                radiance.add(history.component(), throughput * le * weight);
-                return radiance;
-            }
-            // A spot's lamp is seen only by paths without a scattering
-            // event (camera and specular): scattered light already has
-            // the spot by NEE.
-            SurfaceEvent::Emitter {
-                emitted: Some(le),
-                lamp: true,
-            } => {
-                if matches!(arrival, Arrival::Unweighted) {
-                    radiance.add(history.component(), throughput * le);
+                match emitted {
+                    // A spot's lamp is seen only by paths without a
+                    // scattering event (camera and specular): scattered
+                    // light already has the spot by NEE.
+                    Some(le) if lamp => {
+                        if matches!(arrival, Arrival::Unweighted) {
+                            radiance.add(history.component(), throughput * le);
+                        }
+                    }
+                    Some(le) => {
+                        let le = scene.emitted_at(le, hit.primitive, p);
+                        let weight = emission_weight(
+                            scene,
+                            strategies,
+                            arrival,
+                            hit.primitive,
+                            p,
+                            ray.direction,
+                        );
+                        radiance.add(history.component(), throughput * le * weight);
+                    }
+                    None => {}
                 }
-                return radiance;
+                // An emitter that also reflects goes on as a surface.
+                match reflects {
+                    Some(surface) => scene.surface_at(surface, hit.primitive, p),
+                    None => return radiance,
+                }
             }
-            SurfaceEvent::Emitter { emitted: None, .. } => return radiance,
             SurfaceEvent::Pane { transmittance } => {
                 crossings += 1;
                 if crossings > MAX_GLASS_CROSSINGS {
