@@ -232,6 +232,106 @@ fn emission_texture_glows_point_by_point() {
     }
 }
 
+/// A `metallicRoughnessTexture` varies the surface point by point (its
+/// blue channel the metalness, its green the roughness, read as data and
+/// multiplied by the factors): a floor of base colour 0.8, metallicFactor
+/// 1, roughnessFactor 0.5 and F0 = 0 (specularFactor 0), the colour
+/// checker as its texture, so that red and green texels are dielectric
+/// (m = 0) and blue and white ones metal (m = 1), green and white rough
+/// (α = 0.5²) and red and blue smooth. Under a sun straight down only the
+/// diffuse part `0.8·(1 − m)/π` is lit (a glossy lobe finds no sun): so
+/// at each texel's centre, and halfway between a dielectric and a metal
+/// texel `0.4/π`, by `single` and `volpath`; the surface there is
+/// `MetallicRoughness::surface` of those parameters, written out here.
+/// Without the texture's TEXCOORD the factors hold, with a warning.
+#[test]
+fn metallic_roughness_texture_varies_the_surface() {
+    use tyndall::materials::Surface;
+    let dir = test_dir("metallic-roughness");
+    write_checker(&dir);
+    let doc = sunlit(
+        1,
+        json!({
+            "images": [{"uri": "checker.png"}],
+            "samplers": [{"wrapS": 33071, "wrapT": 33071}],
+            "textures": [{"source": 0, "sampler": 0}],
+            "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0],
+                                                    "metallicFactor": 1.0,
+                                                    "roughnessFactor": 0.5,
+                                                    "metallicRoughnessTexture": {"index": 0}},
+                           "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}]
+        }),
+    );
+    let floor = |uv| square(0.0, 2.0, 0, uv);
+    let mapped = common::load_gltf(&write_gltf(
+        &dir,
+        "mapped",
+        &[floor(Some(floor_uv))],
+        doc.clone(),
+    ))
+    .expect("loads");
+    let plain = common::load_gltf(&write_gltf(&dir, "no-uvs", &[floor(None)], doc)).expect("loads");
+    assert!(
+        plain
+            .warnings
+            .iter()
+            .any(|w| w.contains("metallicRoughnessTexture") && w.contains("TEXCOORD_0")),
+        "{:?}",
+        plain.warnings
+    );
+    assert!(
+        !mapped
+            .warnings
+            .iter()
+            .any(|w| w.contains("metallicRoughness")),
+        "{:?}",
+        mapped.warnings
+    );
+    // (metalness, roughness) at each point, from the texels' channels.
+    let cases = [
+        (&mapped, [-1.0, -1.0], (0.0, 0.0)),
+        (&mapped, [1.0, -1.0], (0.0, 0.5)),
+        (&mapped, [-1.0, 1.0], (1.0, 0.0)),
+        (&mapped, [1.0, 1.0], (1.0, 0.5)),
+        (&mapped, [-1.0, 0.0], (0.5, 0.0)),
+        (&plain, [0.7, -1.3], (1.0, 0.5)),
+    ];
+    for (desc, [x, z], (m, r)) in cases {
+        let expected = Rgb::splat(0.8 * (1.0 - m) / PI);
+        for kind in [IntegratorKind::Single, IntegratorKind::Volpath] {
+            let got = looking_down(desc, kind, x, 1.0, z);
+            assert!(
+                (got - expected).abs().max_element() < 1e-5,
+                "{kind:?} at ({x}, {z}): {got} vs {expected}"
+            );
+        }
+        let ray = Ray::new(Vec3::new(x, 1.0, z), Vec3::new(0.0, -1.0, 0.0));
+        let hit = desc
+            .scene
+            .intersect(&ray, f32::INFINITY)
+            .expect("the floor");
+        let tyndall::materials::Material::Opaque(surface) = *desc.scene.material(hit.primitive)
+        else {
+            panic!("{:?}", desc.scene.material(hit.primitive))
+        };
+        let at = desc.scene.surface_at(surface, hit.primitive, ray.at(hit.t));
+        let base = Rgb::splat(0.8);
+        let diffuse = base * (1.0 - m);
+        let specular = base * m;
+        let close = |a: Rgb, b: Rgb| (a - b).abs().max_element() < 1e-5;
+        if m == 0.0 {
+            assert_eq!(at, Surface::diffuse(diffuse), "({x}, {z})");
+        } else {
+            assert!(
+                close(at.diffuse, diffuse)
+                    && close(at.specular, specular)
+                    && (at.roughness - r * r).abs() < 1e-6,
+                "({x}, {z}): {at:?}"
+            );
+        }
+    }
+}
+
 /// Alpha cut-outs (glTF `alphaMode` `MASK`): a leaf quad at height 1,
 /// its base colour texture a 2×2 checker of alpha 1 and 0 (clamped, so
 /// coverage ≥ ½ exactly on the quadrants of its opaque texels), over a

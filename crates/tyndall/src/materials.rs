@@ -270,6 +270,42 @@ impl Surface {
     }
 }
 
+/// glTF's metallic-roughness material (glTF 2.0 §3.9.2 and Appendix B)
+/// as a [`Surface`]: base colour `base`, metalness `metallic` and
+/// perceptual `roughness` (each in `[0, 1]`), and the dielectric's
+/// normal-incidence reflectance `f0` (`((ior − 1)/(ior + 1))²` times
+/// `KHR_materials_specular`'s factors). Its surface is the glTF BRDF's
+/// mix at normal incidence: diffuse `base·(1 − m)·(1 − max f0)`,
+/// specular `base·m + f0·(1 − m)`, and the lobe's roughness `roughness²`
+/// (glTF's α). Evaluated once per material, or at each point where
+/// textures vary its parameters (`metallicRoughnessTexture`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MetallicRoughness {
+    pub base: Rgb,
+    pub metallic: f32,
+    pub roughness: f32,
+    pub f0: Rgb,
+}
+
+impl MetallicRoughness {
+    /// The surface these parameters make (purely diffuse where nothing
+    /// is specular).
+    #[inline]
+    pub fn surface(&self) -> Surface {
+        let m = self.metallic;
+        let diffuse = self.base * ((1.0 - m) * (1.0 - self.f0.max_element()));
+        let specular = self.base * m + self.f0 * (1.0 - m);
+        if specular == Rgb::ZERO {
+            return Surface::diffuse(diffuse);
+        }
+        Surface {
+            diffuse,
+            specular,
+            roughness: self.roughness * self.roughness,
+        }
+    }
+}
+
 /// The lobe of a [`Surface`] a sampled direction came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Lobe {

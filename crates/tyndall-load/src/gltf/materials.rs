@@ -11,7 +11,7 @@ use std::sync::Arc;
 use tyndall::color::Rgb;
 use tyndall::description::SceneDesc;
 use tyndall::glass::Glass;
-use tyndall::materials::{Material, MaterialId, Surface};
+use tyndall::materials::{Material, MaterialId, MetallicRoughness};
 use tyndall::texture::{AlphaCutout, Texture, TextureId, Wrap};
 
 /// glTF's `alphaCutoff` when a `MASK` material does not give it
@@ -59,6 +59,14 @@ pub(super) struct NormalTexture {
     pub scale: f32,
 }
 
+/// A metallic-roughness surface evaluated point by point: the material's
+/// factors, and its `metallicRoughnessTexture` if it has one.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct MetallicRoughnessTexture {
+    pub factors: MetallicRoughness,
+    pub map: Option<MappedTexture>,
+}
+
 /// The textures a converted material binds to its primitives.
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct MaterialTextures {
@@ -66,6 +74,7 @@ pub(super) struct MaterialTextures {
     pub normal: Option<NormalTexture>,
     /// An emitter's `emissiveTexture`.
     pub emission: Option<MappedTexture>,
+    pub metallic_roughness: Option<MetallicRoughnessTexture>,
 }
 
 /// An affine map of texture coordinates, `KHR_texture_transform`'s
@@ -112,7 +121,7 @@ impl GltfLoader<'_> {
         if let Some(&converted) = self.materials.get(&material.index()) {
             return Ok(converted);
         }
-        let (converted, texture) = self.material(material, scene)?;
+        let (converted, mut textures) = self.material(material, scene)?;
         let element = match material.index() {
             Some(i) => format!("materials[{i}]"),
             None => "the default material".into(),
@@ -124,19 +133,17 @@ impl GltfLoader<'_> {
             Material::Emissive { surface, .. } => surface.reflects(),
             _ => false,
         };
-        let normal = match material.normal_texture() {
-            Some(info) if reflects => {
-                let (id, _) = self.texture(&element, &info.texture(), scene)?;
-                let (transform, tex_coord) = texture_transform(info.extensions(), info.tex_coord());
-                Some(NormalTexture {
-                    map: MappedTexture {
-                        texture: id,
-                        tex_coord,
-                        transform,
-                    },
-                    scale: info.scale(),
-                })
-            }
+        textures.normal = match material.normal_texture() {
+            Some(info) if reflects => Some(NormalTexture {
+                map: self.mapped(
+                    &element,
+                    &info.texture(),
+                    info.extensions(),
+                    info.tex_coord(),
+                    scene,
+                )?,
+                scale: info.scale(),
+            }),
             Some(_) => {
                 self.warn(
                     &element,
@@ -146,23 +153,17 @@ impl GltfLoader<'_> {
             }
             None => None,
         };
-        let emission = match (material.emissive_texture(), converted) {
-            (Some(info), Material::Emissive { .. }) => {
-                let (id, _) = self.texture(&element, &info.texture(), scene)?;
-                let (transform, tex_coord) = texture_transform(info.extensions(), info.tex_coord());
-                Some(MappedTexture {
-                    texture: id,
-                    tex_coord,
-                    transform,
-                })
-            }
+        textures.emission = match (material.emissive_texture(), converted) {
+            (Some(info), Material::Emissive { .. }) => Some(self.mapped(
+                &element,
+                &info.texture(),
+                info.extensions(),
+                info.tex_coord(),
+                scene,
+            )?),
             _ => None,
         };
-        let texture = MaterialTextures {
-            base: texture,
-            normal,
-            emission,
-        };
+        let texture = textures;
         // A cut-out without a texture's alpha is wholly there or wholly
         // a hole (coverage: the factor alone).
         if texture.base.is_none_or(|t| t.cutout.is_none())
@@ -175,6 +176,26 @@ impl GltfLoader<'_> {
         let id = scene.add_material(converted, self.origin(element));
         self.materials.insert(material.index(), (id, texture));
         Ok((id, texture))
+    }
+
+    /// The scene's texture for a material's `texture` and the coordinates
+    /// it reads: its `tex_coord` set, or `KHR_texture_transform`'s (in
+    /// `extensions`) with its transform.
+    fn mapped(
+        &mut self,
+        element: &str,
+        texture: &::gltf::Texture,
+        extensions: Option<&serde_json::Map<String, serde_json::Value>>,
+        tex_coord: u32,
+        scene: &mut SceneDesc,
+    ) -> Result<MappedTexture, SceneError> {
+        let (id, _) = self.texture(element, texture, scene)?;
+        let (transform, tex_coord) = texture_transform(extensions, tex_coord);
+        Ok(MappedTexture {
+            texture: id,
+            tex_coord,
+            transform,
+        })
     }
 
     /// Tyndall's material for a glTF material, first match wins:
@@ -190,25 +211,26 @@ impl GltfLoader<'_> {
     ///    thickness > 0 a refractive dielectric of KHR_materials_ior's
     ///    index (1.5 by default); without, thin coloured glass of the base
     ///    colour (the stained-glass case).
-    /// 3. Otherwise an opaque surface: with metallic `m`, base colour `c`
-    ///    and dielectric normal-incidence reflectance
+    /// 3. Otherwise an opaque surface: glTF's metallic-roughness BRDF as
+    ///    [`MetallicRoughness::surface`] makes it, with the dielectric's
+    ///    normal-incidence reflectance
     ///    `F0 = ((ior − 1)/(ior + 1))² · specularFactor · specularColorFactor`
     ///    (KHR_materials_specular; Blender writes factor 0 for a pure
-    ///    Lambert surface), diffuse `c·(1 − m)·(1 − max F0)` and specular
-    ///    `c·m + F0·(1 − m)`, the glTF BRDF's mix at normal incidence; the
-    ///    roughness of the reflective lobe is glTF's `roughness²` (its α).
+    ///    Lambert surface).
     ///
     /// A base colour texture (sRGB-decoded, bilinear, the sampler's wrap
     /// modes) multiplies an opaque surface's diffuse reflectance at each
-    /// point, and is returned to be bound to the primitives; where the
-    /// base colour also enters elsewhere — a metal's specular colour,
-    /// thin glass — the texture's mean colour stands for it, with a
-    /// warning.
+    /// point, and is returned to be bound to the primitives, as is a
+    /// `metallicRoughnessTexture` (metalness in blue, roughness in green)
+    /// with the factors: where it is given, or where the base colour
+    /// colours a metal's specular layer too, the surface is evaluated at
+    /// each point. Where one colour must stand for the texture — thin
+    /// glass — the texture's mean colour applies, with a warning.
     fn material(
         &mut self,
         material: &::gltf::Material,
         scene: &mut SceneDesc,
-    ) -> Result<(Material, Option<BaseTexture>), SceneError> {
+    ) -> Result<(Material, MaterialTextures), SceneError> {
         let element = match material.index() {
             Some(i) => format!("materials[{i}]"),
             None => "the default material".to_string(),
@@ -310,7 +332,10 @@ impl GltfLoader<'_> {
                     )?,
                     None => Rgb::ZERO,
                 };
-                return Ok((Material::Dielectric { ior, absorption }, None));
+                return Ok((
+                    Material::Dielectric { ior, absorption },
+                    MaterialTextures::default(),
+                ));
             }
             if t < 1.0 {
                 self.warn(
@@ -331,7 +356,7 @@ impl GltfLoader<'_> {
                     color: base,
                     alpha: 1.0,
                 }),
-                None,
+                MaterialTextures::default(),
             ));
         }
         let metallic = pbr.metallic_factor();
@@ -340,12 +365,6 @@ impl GltfLoader<'_> {
             if !(v.is_finite() && (0.0..=1.0).contains(&v)) {
                 return Err(self.err(&element, format!("{name} must be in [0, 1], got {v}")));
             }
-        }
-        if pbr.metallic_roughness_texture().is_some() {
-            self.warn(
-                &element,
-                "metallicRoughnessTexture is ignored: the factors apply everywhere",
-            );
         }
         let (specular_factor, specular_color) = match material.specular() {
             Some(s) => {
@@ -364,26 +383,44 @@ impl GltfLoader<'_> {
         if !f0.is_finite() {
             return Err(self.err(&element, "KHR_materials_specular factors must be finite"));
         }
+        let factors = MetallicRoughness {
+            base: base_factor,
+            metallic,
+            roughness,
+            f0,
+        };
+        // A metallic-roughness texture, or a metal's colour that follows
+        // its base colour texture, makes the surface vary point by
+        // point: it is then evaluated at each (the material's own surface,
+        // of the texture's mean colour, stands for it where one must).
+        let metallic_roughness = match pbr.metallic_roughness_texture() {
+            Some(info) => Some(MetallicRoughnessTexture {
+                factors,
+                map: Some(self.mapped(
+                    &element,
+                    &info.texture(),
+                    info.extensions(),
+                    info.tex_coord(),
+                    scene,
+                )?),
+            }),
+            None if texture.is_some() && metallic > 0.0 => {
+                Some(MetallicRoughnessTexture { factors, map: None })
+            }
+            None => None,
+        };
         // With a texture the diffuse reflectance is the factor's, which
         // the texture multiplies point by point.
-        let diffuse_base = if texture.is_some() { base_factor } else { base };
-        let diffuse = diffuse_base * (1.0 - metallic) * (1.0 - f0.max_element());
-        let specular = base * metallic + f0 * (1.0 - metallic);
-        if texture.is_some() && metallic > 0.0 {
-            self.warn(
-                &element,
-                "the metal's colour (baseColorTexture × metallicFactor) is the texture's mean",
-            );
-        }
-        let surface = if specular == Rgb::ZERO {
-            Surface::diffuse(diffuse)
-        } else {
-            Surface {
-                diffuse,
-                specular,
-                roughness: roughness * roughness,
-            }
+        let constant_base = match (&texture, &metallic_roughness) {
+            (Some(_), None) => base_factor,
+            _ => base,
         };
+        let surface = MetallicRoughness {
+            base: constant_base,
+            ..factors
+        }
+        .surface();
+        let diffuse = surface.diffuse;
         let cutout = match emits {
             true => None,
             false => self.alpha_cutout(material, &element)?,
@@ -395,12 +432,12 @@ impl GltfLoader<'_> {
             );
         }
         // A surface with no diffuse reflectance has nothing to texture,
-        // unless the texture's alpha cuts it out.
+        // unless the texture's alpha cuts it out or colours its metal.
         let texture = match (texture, cutout) {
             (Some(t), Some(_)) if scene.textures[t.texture as usize].value.has_alpha() => {
                 Some(BaseTexture { cutout, ..t })
             }
-            (t, _) => t.filter(|_| diffuse != Rgb::ZERO),
+            (t, _) => t.filter(|_| diffuse != Rgb::ZERO || metallic_roughness.is_some()),
         };
         let converted = match emits {
             true => Material::Emissive {
@@ -410,7 +447,14 @@ impl GltfLoader<'_> {
             },
             false => Material::Opaque(surface),
         };
-        Ok((converted, texture))
+        Ok((
+            converted,
+            MaterialTextures {
+                base: texture,
+                metallic_roughness,
+                ..MaterialTextures::default()
+            },
+        ))
     }
 
     /// The alpha cut-out of a `MASK` material (`alphaCutoff`, 0.5 by

@@ -9,7 +9,9 @@ use ::gltf::mesh::Mode;
 use ::gltf::{Accessor, Semantic};
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use tyndall::color::Rgb;
-use tyndall::description::{EmissionMap, MeshAttributes, NormalMap, SceneDesc, SurfaceTexture};
+use tyndall::description::{
+    EmissionMap, MeshAttributes, MetallicRoughnessMap, NormalMap, SceneDesc, SurfaceTexture,
+};
 use tyndall::materials::Material;
 use tyndall::shapes::Triangle;
 
@@ -183,9 +185,15 @@ impl GltfLoader<'_> {
                 .emission
                 .map(|m| read_coords(m.tex_coord, m.transform))
                 .transpose()?;
+            let pbr_coords = textures
+                .metallic_roughness
+                .and_then(|m| m.map)
+                .map(|m| read_coords(m.tex_coord, m.transform))
+                .transpose()?;
             let tex_coords = base_coords.as_ref().and_then(|c| c.as_ref().ok());
             let map_coords = normal_coords.as_ref().and_then(|c| c.as_ref().ok());
             let glow_coords = emission_coords.as_ref().and_then(|c| c.as_ref().ok());
+            let pbr_uvs = pbr_coords.as_ref().and_then(|c| c.as_ref().ok());
             // Vertex colours (COLOR_0, linear, glTF §3.7.2.1), which
             // multiply the base colour: of an opaque surface's diffuse
             // reflectance here.
@@ -209,6 +217,8 @@ impl GltfLoader<'_> {
                         return Err(self.err(&element, "COLOR_0 values must be in [0, 1]"));
                     }
                     match scene.materials[material as usize].value {
+                        // A metallic-roughness surface is coloured whole.
+                        _ if textures.metallic_roughness.is_some() => Some(colours),
                         Material::Opaque(surface) | Material::Emissive { surface, .. }
                             if surface.diffuse != Rgb::ZERO =>
                         {
@@ -238,6 +248,7 @@ impl GltfLoader<'_> {
             let mut corner_uvs = Vec::new();
             let mut corner_normal_uvs = Vec::new();
             let mut corner_emission_uvs = Vec::new();
+            let mut corner_pbr_uvs = Vec::new();
             let mut corner_colours = Vec::new();
             let mut corner_normals = Vec::new();
             let indices: Vec<u32> = match primitive.indices() {
@@ -293,6 +304,7 @@ impl GltfLoader<'_> {
                         corner_uvs.extend(tex_coords.map(corners));
                         corner_normal_uvs.extend(map_coords.map(corners));
                         corner_emission_uvs.extend(glow_coords.map(corners));
+                        corner_pbr_uvs.extend(pbr_uvs.map(corners));
                         if let Some(colours) = &colours {
                             corner_colours.push(order.map(|i| colours[i as usize]));
                         }
@@ -327,6 +339,11 @@ impl GltfLoader<'_> {
                     "emissiveTexture",
                     "it is not applied: the surface emits emissiveFactor",
                 ),
+                (
+                    &pbr_coords,
+                    "metallicRoughnessTexture",
+                    "it is not applied: the factors hold everywhere",
+                ),
             ] {
                 if let Some(Err(n)) = coords {
                     self.warn(
@@ -359,12 +376,25 @@ impl GltfLoader<'_> {
                 }),
                 _ => None,
             };
+            let metallic_roughness = textures.metallic_roughness.map(|m| {
+                let texture = m.map.filter(|_| pbr_uvs.is_some()).map(|map| map.texture);
+                MetallicRoughnessMap {
+                    factors: m.factors,
+                    texture,
+                    uvs: if texture.is_some() {
+                        corner_pbr_uvs
+                    } else {
+                        Vec::new()
+                    },
+                }
+            });
             let attributes = MeshAttributes {
                 vertex_normals: corner_normals,
                 vertex_colours: corner_colours,
                 texture,
                 normal_map,
                 emission_map,
+                metallic_roughness,
             };
             scene.add_mesh(triangles, attributes, material, origin);
         }

@@ -22,7 +22,7 @@ use crate::lights::{
     DirectionalLight, EnvironmentLight, Light, LightSampling, PointLight, SpotLight,
 };
 use crate::limits;
-use crate::materials::{Material, MaterialId};
+use crate::materials::{Material, MaterialId, MetallicRoughness};
 use crate::media::Fog;
 use crate::media::emission::Emission;
 use crate::media::volume::Density;
@@ -112,6 +112,9 @@ pub struct ShapeDesc {
     pub normal_map: Option<NormalMap>,
     /// A texture scaling an emissive mesh's radiance, if any.
     pub emission_map: Option<EmissionMap>,
+    /// A glTF metallic-roughness surface evaluated point by point, if
+    /// any.
+    pub metallic_roughness: Option<MetallicRoughnessMap>,
 }
 
 /// What a mesh carries per corner or per point besides its positions,
@@ -124,6 +127,7 @@ pub struct MeshAttributes {
     pub texture: Option<SurfaceTexture>,
     pub normal_map: Option<NormalMap>,
     pub emission_map: Option<EmissionMap>,
+    pub metallic_roughness: Option<MetallicRoughnessMap>,
 }
 
 impl ShapeDesc {
@@ -174,6 +178,23 @@ pub struct NormalMap {
 #[derive(Clone, Debug, PartialEq)]
 pub struct EmissionMap {
     pub texture: TextureId,
+    pub uvs: Vec<[Vec2; 3]>,
+}
+
+/// A glTF metallic-roughness surface over a mesh, evaluated at each point
+/// ([`MetallicRoughness::surface`]) instead of the mesh's material's
+/// constant surface: its base colour is `factors.base` times the mesh's
+/// colour texture and vertex colours there, and where `texture` is given
+/// (glTF's `metallicRoughnessTexture`, read as data: `code/255`, bilinear)
+/// its metalness is `factors.metallic` times the texture's blue channel
+/// and its roughness `factors.roughness` times its green, at the
+/// coordinates interpolated across each triangle from one per corner (in
+/// the order of [`ShapeDesc::vertex_normals`]; empty without a texture).
+/// So a metal's specular colour follows its base colour texture too.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MetallicRoughnessMap {
+    pub factors: MetallicRoughness,
+    pub texture: Option<TextureId>,
     pub uvs: Vec<[Vec2; 3]>,
 }
 
@@ -364,13 +385,14 @@ impl SceneDesc {
             vertex_colours: Vec::new(),
             normal_map: None,
             emission_map: None,
+            metallic_roughness: None,
         });
     }
 
     /// Adds a mesh with its per-corner attributes: unit normals for
     /// smooth shading ([`ShapeDesc::vertex_normals`]; empty for flat
-    /// shading), vertex colours, a colour texture, a normal map and an
-    /// emission texture, if any.
+    /// shading), vertex colours, a colour texture, a normal map, an
+    /// emission texture and a metallic-roughness surface, if any.
     pub fn add_mesh(
         &mut self,
         triangles: Vec<Triangle>,
@@ -384,6 +406,7 @@ impl SceneDesc {
             texture,
             normal_map,
             emission_map,
+            metallic_roughness,
         } = attributes;
         self.shapes.push(ShapeDesc {
             shapes: triangles.into_iter().map(Shape::Triangle).collect(),
@@ -394,6 +417,7 @@ impl SceneDesc {
             vertex_colours,
             normal_map,
             emission_map,
+            metallic_roughness,
         });
     }
 

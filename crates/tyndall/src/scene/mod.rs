@@ -18,7 +18,7 @@ use crate::lights::{
     SphereLight,
 };
 use crate::materials::Material;
-use crate::materials::Surface;
+use crate::materials::{MetallicRoughness, Surface};
 use crate::media::Fog;
 use crate::media::emitters::MediaEmitters;
 use crate::media::volume::{MeshRegion, Volume, VolumeRegion};
@@ -276,6 +276,10 @@ impl Scene {
     /// ([`ShapeDesc::texture`](crate::description::ShapeDesc)), and by its
     /// vertex colours interpolated there, if it has them
     /// ([`ShapeDesc::vertex_colours`](crate::description::ShapeDesc)).
+    /// A triangle with a metallic-roughness surface
+    /// ([`ShapeDesc::metallic_roughness`](crate::description::ShapeDesc))
+    /// has that surface instead, evaluated at `p` with its base colour
+    /// multiplied by the same colours.
     #[inline]
     pub fn surface_at(&self, surface: Surface, primitive: u32, p: Vec3) -> Surface {
         let Shape::Triangle(triangle) = &self.geometry.primitive(primitive).shape else {
@@ -283,6 +287,14 @@ impl Scene {
         };
         let texture = self.textures.at(primitive, triangle, p);
         let vertex = self.vertex_colours.at(primitive, triangle, p);
+        if let Some(parameters) = self.textures.metallic_roughness_at(primitive, triangle, p) {
+            let colour = texture.unwrap_or(Rgb::ONE) * vertex.unwrap_or(Rgb::ONE);
+            return MetallicRoughness {
+                base: parameters.base * colour,
+                ..parameters
+            }
+            .surface();
+        }
         match (texture, vertex) {
             (None, None) => surface,
             (texture, vertex) => Surface {
@@ -350,6 +362,12 @@ impl Scene {
                 for k in 0..item.shapes.len() {
                     let uvs = texture.uvs.get(k).copied();
                     textures.bind(first + k as u32, texture.texture, uvs, texture.cutout);
+                }
+            }
+            if let Some(map) = &item.metallic_roughness {
+                for k in 0..item.shapes.len() {
+                    let texture = map.texture.zip(map.uvs.get(k).copied());
+                    textures.bind_metallic_roughness(first + k as u32, map.factors, texture);
                 }
             }
             if let Some(map) = &item.normal_map {

@@ -1,14 +1,57 @@
 //! Textures bound to mesh triangles: which colour texture multiplies a
 //! primitive's diffuse reflectance, and its texture coordinates at the
 //! triangle's corners, interpolated by barycentric weights; the alpha
-//! cut-outs that make holes in them; and tangent-space normal maps
-//! ([`crate::description::NormalMap`]) that bend the shading normal.
+//! cut-outs that make holes in them; tangent-space normal maps
+//! ([`crate::description::NormalMap`]) that bend the shading normal; and
+//! glTF metallic-roughness surfaces evaluated point by point
+//! ([`crate::description::MetallicRoughnessMap`]).
 
 use crate::color::Rgb;
+use crate::materials::MetallicRoughness;
 use crate::shapes::Triangle;
 use crate::texture::{AlphaCutout, Texture, TextureId};
 use glam::{Vec2, Vec3};
 use std::sync::Arc;
+
+/// Values bound to some primitives, found by primitive index: a slot per
+/// primitive up to the last bound one, so that scenes without bindings
+/// store nothing.
+#[derive(Debug)]
+struct PerPrimitive<T> {
+    /// Per primitive, its index in `values` or [`NONE`].
+    slot: Vec<u32>,
+    values: Vec<T>,
+}
+
+impl<T> Default for PerPrimitive<T> {
+    fn default() -> Self {
+        Self {
+            slot: Vec::new(),
+            values: Vec::new(),
+        }
+    }
+}
+
+impl<T> PerPrimitive<T> {
+    fn insert(&mut self, primitive: u32, value: T) {
+        let index = primitive as usize;
+        if self.slot.len() <= index {
+            self.slot.resize(index + 1, NONE);
+        }
+        self.slot[index] = self.values.len() as u32;
+        self.values.push(value);
+    }
+
+    #[inline]
+    fn get(&self, primitive: u32) -> Option<&T> {
+        let slot = *self.slot.get(primitive as usize)?;
+        (slot != NONE).then(|| &self.values[slot as usize])
+    }
+
+    fn is_empty(&self) -> bool {
+        self.values.is_empty()
+    }
+}
 
 /// A primitive's texture and its corners' texture coordinates (`None`:
 /// the texture's mean colour).
@@ -31,19 +74,23 @@ struct NormalBinding {
     bitangent: Vec3,
 }
 
+/// A primitive's metallic-roughness surface: its factors, and its
+/// texture with the corners' coordinates, if it has one.
+#[derive(Clone, Copy, Debug)]
+struct MetallicRoughnessBinding {
+    factors: MetallicRoughness,
+    texture: Option<(TextureId, [Vec2; 3])>,
+}
+
 /// The textures of a scene and the primitives they are bound to.
 #[derive(Debug, Default)]
 pub(crate) struct SurfaceTextures {
     textures: Vec<Arc<Texture>>,
-    /// Per primitive, its index in `bindings` or [`NONE`]; empty while no
-    /// primitive is textured.
-    slot: Vec<u32>,
-    bindings: Vec<Binding>,
+    colours: PerPrimitive<Binding>,
     /// Whether some binding has a cut-out.
     cutouts: bool,
-    /// Per primitive, its index in `normal_bindings` or [`NONE`].
-    normal_slot: Vec<u32>,
-    normal_bindings: Vec<NormalBinding>,
+    normal_maps: PerPrimitive<NormalBinding>,
+    metallic_roughness: PerPrimitive<MetallicRoughnessBinding>,
 }
 
 const NONE: u32 = u32::MAX;
@@ -65,17 +112,50 @@ impl SurfaceTextures {
         uvs: Option<[Vec2; 3]>,
         cutout: Option<AlphaCutout>,
     ) {
-        let index = primitive as usize;
-        if self.slot.len() <= index {
-            self.slot.resize(index + 1, NONE);
-        }
-        self.slot[index] = self.bindings.len() as u32;
         self.cutouts |= cutout.is_some();
-        self.bindings.push(Binding {
-            texture,
-            uvs,
-            cutout,
-        });
+        self.colours.insert(
+            primitive,
+            Binding {
+                texture,
+                uvs,
+                cutout,
+            },
+        );
+    }
+
+    /// Binds a metallic-roughness surface of `factors` to primitive
+    /// `primitive`, with its texture at the corners' coordinates if given.
+    pub fn bind_metallic_roughness(
+        &mut self,
+        primitive: u32,
+        factors: MetallicRoughness,
+        texture: Option<(TextureId, [Vec2; 3])>,
+    ) {
+        self.metallic_roughness
+            .insert(primitive, MetallicRoughnessBinding { factors, texture });
+    }
+
+    /// The metallic-roughness parameters at the point `p` of `triangle`
+    /// (primitive `primitive`), if it has them: its factors, the metalness
+    /// times the texture's blue channel and the roughness times its green
+    /// there (read as data), where it has a texture. The base colour is
+    /// the factor's alone; the caller multiplies it by the point's colour.
+    #[inline]
+    pub fn metallic_roughness_at(
+        &self,
+        primitive: u32,
+        triangle: &Triangle,
+        p: Vec3,
+    ) -> Option<MetallicRoughness> {
+        let binding = self.metallic_roughness.get(primitive)?;
+        let mut parameters = binding.factors;
+        if let Some((texture, uvs)) = binding.texture
+            && let Some(c) = self.textures[texture as usize].lookup_data(triangle.uv_at(uvs, p))
+        {
+            parameters.roughness *= c.y;
+            parameters.metallic *= c.z;
+        }
+        Some(parameters)
     }
 
     /// Binds a normal map to `triangle` (primitive `primitive`): `texture`
@@ -99,18 +179,16 @@ impl SurfaceTextures {
         if !(det != 0.0 && tangent.is_finite() && along_v.is_finite()) {
             return;
         }
-        let index = primitive as usize;
-        if self.normal_slot.len() <= index {
-            self.normal_slot.resize(index + 1, NONE);
-        }
-        self.normal_slot[index] = self.normal_bindings.len() as u32;
-        self.normal_bindings.push(NormalBinding {
-            texture,
-            uvs,
-            scale,
-            tangent,
-            bitangent: -along_v,
-        });
+        self.normal_maps.insert(
+            primitive,
+            NormalBinding {
+                texture,
+                uvs,
+                scale,
+                tangent,
+                bitangent: -along_v,
+            },
+        );
     }
 
     /// The shading normal at the point `p` of `triangle` (primitive
@@ -120,11 +198,7 @@ impl SurfaceTextures {
     /// tangent along `n`).
     #[inline]
     pub fn normal_at(&self, primitive: u32, triangle: &Triangle, p: Vec3, n: Vec3) -> Option<Vec3> {
-        let slot = *self.normal_slot.get(primitive as usize)?;
-        if slot == NONE {
-            return None;
-        }
-        let binding = &self.normal_bindings[slot as usize];
+        let binding = self.normal_maps.get(primitive)?;
         let texture = &self.textures[binding.texture as usize];
         let c = texture.lookup_data(triangle.uv_at(binding.uvs, p))?;
         let m = (c * 2.0 - Vec3::ONE) * Vec3::new(binding.scale, binding.scale, 1.0);
@@ -164,9 +238,12 @@ impl SurfaceTextures {
         cutout.is_hole(alpha)
     }
 
-    /// Whether any primitive is textured or normal-mapped.
+    /// Whether any primitive is textured, normal-mapped or has a
+    /// metallic-roughness surface.
     pub fn is_used(&self) -> bool {
-        !self.bindings.is_empty() || !self.normal_bindings.is_empty()
+        !(self.colours.is_empty()
+            && self.normal_maps.is_empty()
+            && self.metallic_roughness.is_empty())
     }
 
     /// The texture colour at the point `p` of triangle `triangle`
@@ -184,11 +261,7 @@ impl SurfaceTextures {
     /// Primitive `primitive`'s binding and its texture, if it is textured.
     #[inline]
     fn binding(&self, primitive: u32) -> Option<(Binding, &Texture)> {
-        let slot = *self.slot.get(primitive as usize)?;
-        if slot == NONE {
-            return None;
-        }
-        let binding = self.bindings[slot as usize];
+        let binding = *self.colours.get(primitive)?;
         Some((binding, &self.textures[binding.texture as usize]))
     }
 }

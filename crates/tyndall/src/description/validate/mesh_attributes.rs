@@ -1,9 +1,12 @@
 //! Validation of what a mesh carries per triangle corner: texture
 //! coordinates and their colour texture (with its cut-out), a normal map,
-//! an emission texture, vertex colours and vertex normals.
+//! an emission texture, a metallic-roughness surface, vertex colours and
+//! vertex normals.
 
 use super::Item;
-use crate::description::{DescError, EmissionMap, NormalMap, SceneDesc, ShapeDesc, SurfaceTexture};
+use crate::description::{
+    DescError, EmissionMap, MetallicRoughnessMap, NormalMap, SceneDesc, ShapeDesc, SurfaceTexture,
+};
 use glam::{Vec2, Vec3};
 
 impl SceneDesc {
@@ -22,6 +25,9 @@ impl SceneDesc {
         }
         if let Some(map) = &shape.emission_map {
             self.validate_emission_map(shape, map, item)?;
+        }
+        if let Some(map) = &shape.metallic_roughness {
+            self.validate_metallic_roughness(shape, map, item)?;
         }
         let colour = |c: Vec3| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0;
         validate_corners(
@@ -100,6 +106,55 @@ impl SceneDesc {
             &map.uvs,
             "emission-texture coordinate",
             "emission_map",
+            item,
+        )
+    }
+
+    /// A metallic-roughness surface lies on a mesh, has its factors in
+    /// range, and, with a texture, names a texture of the scene and has
+    /// one finite coordinate triple per triangle.
+    fn validate_metallic_roughness(
+        &self,
+        shape: &ShapeDesc,
+        map: &MetallicRoughnessMap,
+        item: &Item,
+    ) -> Result<(), DescError> {
+        const FIELD: &str = "metallic_roughness";
+        if !shape.is_mesh() {
+            return item.fail(
+                FIELD,
+                "only triangle meshes have metallic-roughness surfaces".into(),
+            );
+        }
+        let f = &map.factors;
+        let unit = |v: f32| (0.0..=1.0).contains(&v);
+        for (name, colour) in [("base colour", f.base), ("f0", f.f0)] {
+            if !(unit(colour.min_element()) && unit(colour.max_element())) {
+                return item.fail(FIELD, format!("the {name} must be in [0, 1], got {colour}"));
+            }
+        }
+        for (name, v) in [("metallic", f.metallic), ("roughness", f.roughness)] {
+            if !unit(v) {
+                return item.fail(
+                    FIELD,
+                    format!("the {name} factor must be in [0, 1], got {v}"),
+                );
+            }
+        }
+        let Some(texture) = map.texture else {
+            return Ok(());
+        };
+        item.exists(
+            FIELD,
+            "metallic-roughness texture",
+            texture,
+            self.textures.len(),
+        )?;
+        corner_uvs(
+            shape,
+            &map.uvs,
+            "metallic-roughness coordinate",
+            FIELD,
             item,
         )
     }
