@@ -154,19 +154,14 @@ impl GltfLoader<'_> {
             None => None,
         };
         textures.emission = match (material.emissive_texture(), converted) {
-            (Some(info), Material::Emissive { .. }) => Some(self.mapped(
-                &element,
-                &info.texture(),
-                info.extensions(),
-                info.tex_coord(),
-                scene,
-            )?),
+            (Some(info), Material::Emissive { .. }) => {
+                Some(self.mapped_info(&element, &info, scene)?)
+            }
             _ => None,
         };
-        let texture = textures;
         // A cut-out without a texture's alpha is wholly there or wholly
         // a hole (coverage: the factor alone).
-        if texture.base.is_none_or(|t| t.cutout.is_none())
+        if textures.base.is_none_or(|t| t.cutout.is_none())
             && self
                 .alpha_cutout(material, &element)?
                 .is_some_and(|c| c.is_hole(1.0))
@@ -174,8 +169,8 @@ impl GltfLoader<'_> {
             self.hidden_materials.insert(material.index());
         }
         let id = scene.add_material(converted, self.origin(element));
-        self.materials.insert(material.index(), (id, texture));
-        Ok((id, texture))
+        self.materials.insert(material.index(), (id, textures));
+        Ok((id, textures))
     }
 
     /// The scene's texture for a material's `texture` and the coordinates
@@ -196,6 +191,23 @@ impl GltfLoader<'_> {
             tex_coord,
             transform,
         })
+    }
+
+    /// [`GltfLoader::mapped`] for a texture reference of the common kind
+    /// (emissive, metallic-roughness).
+    fn mapped_info(
+        &mut self,
+        element: &str,
+        info: &::gltf::texture::Info,
+        scene: &mut SceneDesc,
+    ) -> Result<MappedTexture, SceneError> {
+        self.mapped(
+            element,
+            &info.texture(),
+            info.extensions(),
+            info.tex_coord(),
+            scene,
+        )
     }
 
     /// Tyndall's material for a glTF material, first match wins:
@@ -396,13 +408,7 @@ impl GltfLoader<'_> {
         let metallic_roughness = match pbr.metallic_roughness_texture() {
             Some(info) => Some(MetallicRoughnessTexture {
                 factors,
-                map: Some(self.mapped(
-                    &element,
-                    &info.texture(),
-                    info.extensions(),
-                    info.tex_coord(),
-                    scene,
-                )?),
+                map: Some(self.mapped_info(&element, &info, scene)?),
             }),
             None if texture.is_some() && metallic > 0.0 => {
                 Some(MetallicRoughnessTexture { factors, map: None })
