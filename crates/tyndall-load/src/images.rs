@@ -1,5 +1,6 @@
-//! Image files a scene names directly: a spot's `gobo` (PNG or JPEG,
-//! decoded to 8-bit sRGB texels) and an environment's `map` (OpenEXR or
+//! Image files a scene names directly: a spot's `gobo` and a principled
+//! material's `base_color_texture` (PNG or JPEG, decoded to 8-bit sRGB
+//! texels) and an environment's `map` (OpenEXR or
 //! Radiance HDR, linear radiance), each with its size checked from the
 //! header before any pixel is decoded.
 
@@ -18,8 +19,9 @@ pub const MAX_ENVIRONMENT_TEXELS: u64 = 1 << 27;
 
 /// Reads the PNG or JPEG at `path` as a texture (8-bit sRGB; 16-bit
 /// channels rounded to 8 bits, grey images become grey RGB, alpha is
-/// dropped), coordinates clamped at its edges. Errors name the file.
-pub fn load_texture(path: &Path) -> Result<Texture, String> {
+/// dropped), coordinates beyond its edges treated by `wrap` (u, v).
+/// Errors name the file.
+pub fn load_texture(path: &Path, wrap: [Wrap; 2]) -> Result<Texture, String> {
     let fail = |m: String| format!("{}: {m}", path.display());
     let bytes =
         crate::files::read_capped(path, crate::files::MAX_IMAGE_FILE_BYTES).map_err(fail)?;
@@ -40,7 +42,7 @@ pub fn load_texture(path: &Path) -> Result<Texture, String> {
     .into_rgb8();
     let (width, height) = rgb.dimensions();
     let texels = rgb.pixels().map(|p| p.0).collect();
-    Texture::new(width, height, texels, [Wrap::Clamp, Wrap::Clamp]).map_err(fail)
+    Texture::new(width, height, texels, wrap).map_err(fail)
 }
 
 /// Decodes `bytes` as an image of `format`, its size read from the header

@@ -193,6 +193,29 @@ def test_from_dict_errors_name_the_key_path():
     assert scene.render(width=8, height=8, spp=1).max() > 0
 
 
+def test_a_mesh_in_numpy_arrays_reads_as_the_same_lists():
+    """A `triangles` shape given as flat NumPy arrays (float32 positions,
+    int64 indices: what the Blender add-on passes) is the same scene as
+    the same numbers in Python lists, to the bit."""
+    positions = np.array([-2, 0, -2, 2, 0, -2, 2, 0, 2, -2, 0, 2], dtype=np.float32) + np.float32(0.1)
+    indices = np.array([0, 2, 1, 0, 3, 2], dtype=np.int64)
+
+    def scene(p, i):
+        return tyndall.Scene.from_dict(
+            {
+                "camera": {"position": [0, 3, 4], "look_at": [0, 0, 0], "fov_y_deg": 50.0},
+                "materials": {"floor": {"type": "principled", "base_color": 0.7}},
+                "shapes": [{"type": "triangles", "positions": p, "indices": i, "material": "floor"}],
+                "lights": [{"type": "point", "position": [0, 2, 0], "intensity": 3.0}],
+            }
+        )
+
+    arrays = scene(positions, indices).render(width=16, height=12, spp=2)
+    lists = scene(positions.tolist(), indices.tolist()).render(width=16, height=12, spp=2)
+    assert arrays.max() > 0
+    assert arrays.tobytes() == lists.tobytes()
+
+
 def test_frame_picks_the_file_of_a_sequence(tmp_path):
     """A cache's `####` sequence: `frame=` picks the file (issue 21); a
     missing frame, or the file of a frame that is not there, is a

@@ -17,6 +17,7 @@ use tyndall::description::{LightDesc, SceneDesc};
 use tyndall::lights::gobo::Gobo;
 use tyndall::lights::photometric::Luminaire;
 use tyndall::lights::{DirectionalLight, EnvironmentLight, PointLight, SpotLight, SpotProfile};
+use tyndall::texture::Wrap;
 
 impl Loader<'_> {
     pub(super) fn light(
@@ -285,7 +286,8 @@ impl Loader<'_> {
         let Some((path, rotate)) = self.turned_file(span, "gobo", file, rotate_deg)? else {
             return Ok(None);
         };
-        let image = crate::images::load_texture(&path).map_err(|e| self.err(span, "gobo", e))?;
+        let image = crate::images::load_texture(&path, [Wrap::Clamp; 2])
+            .map_err(|e| self.err(span, "gobo", e))?;
         Gobo::new(Arc::new(image), axis, cutoff_deg, rotate)
             .map(Some)
             .map_err(|e| self.err(span, "cutoff_deg", e))

@@ -32,7 +32,9 @@ use tyndall::shapes::{Bounds, Quad, Shape, Sphere, box_faces};
 
 mod lights;
 mod medium;
+mod principled;
 mod tables;
+mod triangles;
 
 use tables::*;
 
@@ -68,6 +70,7 @@ pub fn parse_frame(source: &SourceText, frame: Option<u32>) -> Result<SceneDesc,
         warnings: Vec::new(),
         frame,
         frame_used: std::cell::Cell::new(false),
+        base_textures: BTreeMap::new(),
     }
     .build(file)?;
     if let Some(e) = source.locate_all(&desc.errors()) {
@@ -87,6 +90,8 @@ struct Loader<'a> {
     frame: Option<u32>,
     /// Whether a file sequence took the frame.
     frame_used: std::cell::Cell<bool>,
+    /// The base colour textures of principled materials, by material.
+    base_textures: BTreeMap<MaterialId, principled::BaseColorTexture>,
 }
 
 impl Loader<'_> {
@@ -196,9 +201,16 @@ impl Loader<'_> {
         }
         let mut material_ids: BTreeMap<&str, MaterialId> = BTreeMap::new();
         for (name, table) in &file.materials {
-            let material = Self::material(table.get_ref());
-            let origin = self.origin(&table.span());
-            material_ids.insert(name.as_str(), desc.add_material(material, origin));
+            let span = table.span();
+            let (material, texture) = match table.get_ref() {
+                MaterialTable::Principled(p) => self.principled(&span, p, &mut desc)?,
+                other => (Self::material(other), None),
+            };
+            let id = desc.add_material(material, self.origin(&span));
+            material_ids.insert(name.as_str(), id);
+            if let Some(texture) = texture {
+                self.base_textures.insert(id, texture);
+            }
         }
         for shape in &file.shapes {
             self.shape(shape, &material_ids, &mut desc)?;
@@ -400,7 +412,8 @@ impl Loader<'_> {
     }
 
     /// The material of a `[materials.NAME]` table (its values checked by
-    /// [`SceneDesc::validate`]).
+    /// [`SceneDesc::validate`]); principled tables are
+    /// [`Loader::principled`]'s.
     fn material(table: &MaterialTable) -> Material {
         match *table {
             MaterialTable::Diffuse(DiffuseTable { reflectance }) => {
@@ -433,6 +446,9 @@ impl Loader<'_> {
                     ior,
                     absorption: absorption.map_or(Rgb::ZERO, |a| Rgb::from_array(a.0)),
                 }
+            }
+            MaterialTable::Principled(PrincipledTable { base_color, .. }) => {
+                Material::Opaque(Surface::diffuse(Rgb::from_array(base_color.0)))
             }
         }
     }
@@ -473,6 +489,28 @@ impl Loader<'_> {
         Quad::from_corners(c, one_sided).map_err(|m| self.err(span, "corners", m))
     }
 
+    /// The material `name` of a shape that cannot carry a texture (it has
+    /// no texture coordinates).
+    fn untextured_material_id(
+        &self,
+        span: &Range<usize>,
+        name: &str,
+        ids: &BTreeMap<&str, MaterialId>,
+    ) -> Result<MaterialId, SceneError> {
+        let id = self.material_id(span, name, ids)?;
+        if self.base_textures.contains_key(&id) {
+            return Err(self.err(
+                span,
+                "material",
+                format!(
+                    "material `{name}` has a `base_color_texture`, which only a \
+                     `triangles` shape with `uvs` can carry"
+                ),
+            ));
+        }
+        Ok(id)
+    }
+
     fn shape(
         &mut self,
         desc: &Spanned<ShapeTable>,
@@ -487,7 +525,7 @@ impl Loader<'_> {
                 radius,
                 material,
             }) => {
-                let m = self.material_id(&span, material, ids)?;
+                let m = self.untextured_material_id(&span, material, ids)?;
                 let sphere = Sphere {
                     center: Vec3::from_array(*center),
                     radius: *radius,
@@ -499,12 +537,12 @@ impl Loader<'_> {
                 material,
                 one_sided,
             }) => {
-                let m = self.material_id(&span, material, ids)?;
+                let m = self.untextured_material_id(&span, material, ids)?;
                 let q = self.quad(&span, corners, *one_sided)?;
                 scene.add_shapes(vec![Shape::Quad(q)], m, origin);
             }
             ShapeTable::Box(BoxShapeTable { min, max, material }) => {
-                let m = self.material_id(&span, material, ids)?;
+                let m = self.untextured_material_id(&span, material, ids)?;
                 let b = self.bounds(&span, "min", *min, *max)?;
                 let faces = box_faces(b).ok_or_else(|| {
                     self.err(&span, "min", "the box is too thin: its faces have no area")
@@ -518,7 +556,7 @@ impl Loader<'_> {
                 scale,
                 rotate_deg,
             }) => {
-                let m = self.material_id(&span, material, ids)?;
+                let m = self.untextured_material_id(&span, material, ids)?;
                 let placement = (*translate, *scale, *rotate_deg);
                 let mesh = self.mesh(&span, "file", file, placement)?;
                 scene.add_mesh(
@@ -530,6 +568,12 @@ impl Loader<'_> {
                     m,
                     origin,
                 );
+            }
+            ShapeTable::Triangles(table) => {
+                let m = self.material_id(&span, &table.material, ids)?;
+                let texture = self.base_textures.get(&m).copied();
+                let (triangles, attributes) = self.triangles(&span, table, texture)?;
+                scene.add_mesh(triangles, attributes, m, origin);
             }
         }
         Ok(())

@@ -132,6 +132,28 @@ pub(super) enum MaterialTable {
     Emissive(EmissiveTable),
     Glass(GlassTable),
     Dielectric(DielectricTable),
+    Principled(PrincipledTable),
+}
+
+/// `type = "principled"`: glTF's metallic-roughness surface
+/// ([`tyndall::materials::MetallicRoughness`]), optionally emitting.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct PrincipledTable {
+    pub(super) base_color: ColorValue,
+    #[serde(default)]
+    pub(super) metallic: f32,
+    #[serde(default = "half")]
+    pub(super) roughness: f32,
+    pub(super) f0: Option<ColorValue>,
+    pub(super) base_color_texture: Option<String>,
+    pub(super) emission: Option<ColorValue>,
+    #[serde(default)]
+    pub(super) two_sided: bool,
+}
+
+pub(super) fn half() -> f32 {
+    0.5
 }
 
 #[derive(Deserialize)]
@@ -190,6 +212,21 @@ pub(super) enum ShapeTable {
     Quad(QuadTable),
     Box(BoxShapeTable),
     Mesh(MeshTable),
+    Triangles(TrianglesTable),
+}
+
+/// `type = "triangles"`: a mesh given in the scene itself, as flat
+/// arrays (three numbers a vertex, three indices a triangle).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct TrianglesTable {
+    pub(super) positions: Vec<f32>,
+    pub(super) indices: Vec<u32>,
+    #[serde(default)]
+    pub(super) normals: Option<Vec<f32>>,
+    #[serde(default)]
+    pub(super) uvs: Option<Vec<f32>>,
+    pub(super) material: String,
 }
 
 #[derive(Deserialize)]
@@ -315,10 +352,12 @@ pub(super) fn variant_error(section: &str, kind: &str, body: &str) -> Option<tom
         ("materials", "emissive") => check::<EmissiveTable>(body),
         ("materials", "glass") => check::<GlassTable>(body),
         ("materials", "dielectric") => check::<DielectricTable>(body),
+        ("materials", "principled") => check::<PrincipledTable>(body),
         ("shapes", "sphere") => check::<SphereTable>(body),
         ("shapes", "quad") => check::<QuadTable>(body),
         ("shapes", "box") => check::<BoxShapeTable>(body),
         ("shapes", "mesh") => check::<MeshTable>(body),
+        ("shapes", "triangles") => check::<TrianglesTable>(body),
         ("lights", "point") => check::<PointTable>(body),
         ("lights", "spot") => check::<SpotTable>(body),
         ("lights", "directional") => check::<DirectionalTable>(body),

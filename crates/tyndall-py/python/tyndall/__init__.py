@@ -353,22 +353,33 @@ def _key(k: Any, path: str) -> str:
     return k if _BARE_KEY.match(k) else json.dumps(k)
 
 
+def _number(v: Union[int, float]) -> str:
+    if isinstance(v, int):
+        return str(v)
+    if math.isnan(v):
+        return "nan"
+    if math.isinf(v):
+        return "inf" if v > 0 else "-inf"
+    return repr(v)
+
+
 def _value(v: Any, path: str) -> str:
     if isinstance(v, bool):
         return "true" if v else "false"
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, float):
-        if math.isnan(v):
-            return "nan"
-        if math.isinf(v):
-            return "inf" if v > 0 else "-inf"
-        return repr(v)
+    if isinstance(v, (int, float)):
+        return _number(v)
     if isinstance(v, str):
         return json.dumps(v)
     if isinstance(v, Mapping):
         items = ", ".join(f"{_key(k, path)} = {_value(x, f'{path}.{k}')}" for k, x in v.items())
         return "{" + items + "}"
+    if isinstance(v, np.ndarray) and v.ndim == 1 and v.dtype.kind in "iuf":
+        # Flat numeric arrays (a mesh's `positions`, `indices`): written
+        # whole, not element by element; float32 with the 9 significant
+        # digits that give back the same float32.
+        if v.dtype == np.float32:
+            return "[" + ", ".join(map("{:.9g}".format, v.tolist())) + "]"
+        return "[" + ", ".join(map(_number, v.tolist())) + "]"
     if isinstance(v, (list, tuple)) or (hasattr(v, "tolist") and hasattr(v, "ndim")):
         seq = v.tolist() if hasattr(v, "tolist") else v
         return "[" + ", ".join(_value(x, f"{path}[{i}]") for i, x in enumerate(seq)) + "]"
