@@ -1,0 +1,192 @@
+"""Scenes and renders for the add-on's tests: each scene is built in the
+running Blender by script, then rendered by the Tyndall engine and (where
+a test compares) by Cycles with the settings of
+scenes/blender/cycles_fog_room.py (unbiased path tracing: no denoising,
+clamping, adaptive sampling, light tree or guiding; box pixel filter)."""
+
+import os
+import sys
+
+import numpy as np
+
+import bpy
+
+REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+sys.path.insert(0, os.path.join(REPO, "blender"))
+sys.path.insert(0, os.path.join(REPO, "scenes", "blender"))
+
+
+def rel_mse(a, b, eps=0.01):
+    """mean((a − b)²/(b² + eps)), as `tyndall compare` and shared/peers/compare.py."""
+    a = a.astype(np.float64)
+    b = b.astype(np.float64)
+    return float(np.mean((a - b) ** 2 / (b * b + eps)))
+
+
+def read_exr(path):
+    """An EXR's RGB, H×W×3 float32, row 0 at the top."""
+    image = bpy.data.images.load(path, check_existing=False)
+    w, h = image.size
+    pixels = np.empty(w * h * 4, np.float32)
+    image.pixels.foreach_get(pixels)
+    bpy.data.images.remove(image)
+    return pixels.reshape(h, w, 4)[::-1, :, :3].copy()
+
+
+def write_float_image(path, rgb, file_format):
+    """Writes H×W×3 linear `rgb` (row 0 at the top) as OPEN_EXR or HDR."""
+    h, w, _ = rgb.shape
+    image = bpy.data.images.new(os.path.basename(path), w, h, alpha=True, float_buffer=True)
+    pixels = np.ones((h, w, 4), np.float32)
+    pixels[:, :, :3] = rgb[::-1]
+    image.pixels.foreach_set(pixels.ravel())
+    image.filepath_raw = path
+    image.file_format = file_format
+    image.save()
+    bpy.data.images.remove(image)
+
+
+def render(out_dir, name, animation=False):
+    """Renders the current scene with its engine to OUT_DIR/NAME.exr
+    (float32 RGB) and returns the image; with `animation`, every frame
+    to NAME-####.exr and a list of the images."""
+    sc = bpy.context.scene
+    ims = sc.render.image_settings
+    ims.file_format = "OPEN_EXR"
+    ims.color_mode = "RGB"
+    ims.color_depth = "32"
+    sc.render.use_compositing = False
+    sc.render.use_sequencer = False
+    if animation:
+        sc.render.filepath = os.path.join(out_dir, f"{name}-####")
+        bpy.ops.render.render(animation=True)
+        return [read_exr(os.path.join(out_dir, f"{name}-{f:04d}.exr")) for f in range(sc.frame_start, sc.frame_end + 1)]
+    sc.render.filepath = os.path.join(out_dir, f"{name}.exr")
+    bpy.ops.render.render(write_still=True)
+    return read_exr(sc.render.filepath)
+
+
+def use_tyndall(spp, seed=0, integrator="volpath"):
+    sc = bpy.context.scene
+    sc.render.engine = "TYNDALL"
+    t = sc.tyndall
+    t.samples = spp
+    t.seed = seed
+    t.integrator = integrator
+    t.denoise = False
+    t.threads = 0
+
+
+def use_cycles(spp, seed=1, bounces=1024):
+    """Cycles, unbiased, as scenes/blender/cycles_fog_room.py sets it."""
+    sc = bpy.context.scene
+    sc.render.engine = "CYCLES"
+    cy = sc.cycles
+    cy.device = "CPU"
+    cy.samples = spp
+    cy.seed = seed
+    cy.use_animated_seed = False
+    cy.use_adaptive_sampling = False
+    cy.use_denoising = False
+    cy.sample_clamp_direct = 0.0
+    cy.sample_clamp_indirect = 0.0
+    cy.light_sampling_threshold = 0.0
+    cy.use_light_tree = False
+    cy.use_guiding = False
+    cy.blur_glossy = 0.0
+    cy.pixel_filter_type = "BOX"
+    for attr in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces"):
+        setattr(cy, attr, bounces)
+    cy.transparent_max_bounces = 1024
+    cy.min_light_bounces = 0
+    cy.min_transparent_bounces = 0
+    sc.view_layers[0].cycles.use_denoising = False
+
+
+def register_addon():
+    """Registers the add-on from the source folder (once per process)."""
+    import tyndall_blender
+
+    if not hasattr(bpy.types.Scene, "tyndall"):
+        tyndall_blender.register()
+
+
+def world_fog(density, albedo, g):
+    """The World of cycles_fog_room.py: black, with Volume Scatter + Volume
+    Absorption fog of σt = density, albedo `albedo`, HG asymmetry g."""
+    sc = bpy.context.scene
+    world = bpy.data.worlds.new("world")
+    sc.world = world
+    world.use_nodes = True
+    nodes, links = world.node_tree.nodes, world.node_tree.links
+    nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
+    nodes["Background"].inputs["Strength"].default_value = 0.0
+    scatter = nodes.new("ShaderNodeVolumeScatter")
+    scatter.inputs["Color"].default_value = (albedo, albedo, albedo, 1.0)
+    scatter.inputs["Density"].default_value = density
+    scatter.inputs["Anisotropy"].default_value = g
+    absorb = nodes.new("ShaderNodeVolumeAbsorption")
+    absorb.inputs["Color"].default_value = (albedo, albedo, albedo, 1.0)
+    absorb.inputs["Density"].default_value = density
+    add = nodes.new("ShaderNodeAddShader")
+    links.new(scatter.outputs[0], add.inputs[0])
+    links.new(absorb.outputs[0], add.inputs[1])
+    links.new(add.outputs[0], nodes["World Output"].inputs["Volume"])
+    return world
+
+
+def thin_glass(obj):
+    """Replaces a Principled transmission material by a Transparent BSDF of
+    its base colour (cycles_fog_room.py --glass thin: Tyndall's pane)."""
+    mat = obj.data.materials[0]
+    nt = mat.node_tree
+    base = nt.nodes["Principled BSDF"].inputs["Base Color"].default_value[:3]
+    tr = nt.nodes.new("ShaderNodeBsdfTransparent")
+    tr.inputs["Color"].default_value = (*base, 1.0)
+    nt.links.new(tr.outputs["BSDF"], nt.nodes["Material Output"].inputs["Surface"])
+
+
+def lamp(scene, kind, name, energy, location, rotation=(0, 0, 0), **props):
+    """A light object of Blender type `kind` and power/strength `energy`."""
+    data = bpy.data.lights.new(name, kind)
+    data.energy = energy
+    if kind != "SUN":
+        data.use_soft_falloff = False
+    for k, v in props.items():
+        setattr(data, k, v)
+    obj = bpy.data.objects.new(name, data)
+    obj.location = location
+    obj.rotation_euler = rotation
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def camera(scene, location, rotation, lens_mm):
+    """A perspective camera (sensor fit AUTO, 36 mm), made the scene's."""
+    data = bpy.data.cameras.new("camera")
+    data.lens = lens_mm
+    data.clip_start = 1e-5
+    data.clip_end = 1e5
+    obj = bpy.data.objects.new("camera", data)
+    obj.location = location
+    obj.rotation_euler = rotation
+    scene.collection.objects.link(obj)
+    scene.camera = obj
+    return obj
+
+
+def write_png_checker(path, size=64):
+    """A size × size PNG (sRGB, 8 bits) of four colours in 2×2 blocks:
+    texels blend only along the blocks' edges (Cycles and Tyndall blend
+    two 8-bit texels differently, see blender/README.md)."""
+    colours = np.array([[0.9, 0.2, 0.2], [0.2, 0.8, 0.3], [0.25, 0.3, 0.9], [0.9, 0.9, 0.85]], np.float32)
+    block = (np.arange(size) * 2) // size
+    rgb = colours[(block[:, None] * 2 + block[None, :])]
+    image = bpy.data.images.new(os.path.basename(path), size, size, alpha=True)
+    pixels = np.ones((size, size, 4), np.float32)
+    pixels[:, :, :3] = rgb[::-1]
+    image.pixels.foreach_set(pixels.ravel())
+    image.filepath_raw = path
+    image.file_format = "PNG"
+    image.save()
+    bpy.data.images.remove(image)

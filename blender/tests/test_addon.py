@@ -1,0 +1,280 @@
+"""The Tyndall add-on in Blender (bpy 4.5.15), against Cycles.
+
+Each scene is built by script in a fresh Blender session, rendered with
+the add-on's engine ("TYNDALL", F12's path: bpy.ops.render.render) and
+compared with Cycles, rendered live (small scenes) or committed
+(scenes/blender/fog-room-cycles.exr, 2048 spp). The tolerance is the
+issue's: image means within 1 % per channel, relMSE within both renders'
+own errors + 5·10⁻³. A renderer's own error is estimated from two
+renders of different seeds: relMSE(a, b)/4 for their mean, the image
+compared."""
+
+import math
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import blender_scenes as bs
+
+bpy = pytest.importorskip("bpy")
+
+from tyndall_blender import convert  # noqa: E402
+
+# The committed Cycles render's own error, relMSE(half0, half1)/4
+# (scenes/blender/README.md: 9.5·10⁻⁴ at 2048 spp).
+FOG_ROOM_CYCLES_ERROR = 9.5e-4
+
+# The issue's allowance over both renders' own errors.
+SLACK = 5e-3
+
+
+def agree(tyndall_pair, cycles, cycles_error, what):
+    """Asserts the mean of two Tyndall renders agrees with `cycles` (whose
+    own error is `cycles_error`), and returns the figures."""
+    a, b = tyndall_pair
+    mean = (a + b) / 2
+    own = bs.rel_mse(a, b) / 4
+    rel = bs.rel_mse(mean, cycles)
+    ratio = mean.reshape(-1, 3).mean(0) / cycles.reshape(-1, 3).mean(0)
+    print(f"{what}: relMSE {rel:.3g} (Tyndall's own {own:.3g}, Cycles' {cycles_error:.3g}), means/Cycles {ratio}")
+    assert np.all(np.abs(ratio - 1) < 0.01), f"{what}: image means / Cycles' = {ratio}"
+    assert rel <= own + cycles_error + SLACK, f"{what}: relMSE {rel} over {own} + {cycles_error} + {SLACK}"
+    return rel, own, ratio
+
+
+def tyndall_pair(out, name, spp, integrator="volpath"):
+    bs.use_tyndall(spp, seed=1, integrator=integrator)
+    a = bs.render(out, f"{name}-1")
+    bs.use_tyndall(spp, seed=2, integrator=integrator)
+    b = bs.render(out, f"{name}-2")
+    return a, b
+
+
+def cycles_pair(out, name, spp, bounces=1024):
+    bs.use_cycles(spp, seed=1, bounces=bounces)
+    a = bs.render(out, f"{name}-cycles-1")
+    bs.use_cycles(spp, seed=2, bounces=bounces)
+    b = bs.render(out, f"{name}-cycles-2")
+    return (a + b) / 2, bs.rel_mse(a, b) / 4
+
+
+@pytest.fixture
+def out(tmp_path):
+    bs.register_addon()
+    return str(tmp_path)
+
+
+def test_the_zip_installs_and_enables_in_a_fresh_profile(tmp_path):
+    """`blender/build_addon.py` makes a zip that Blender's add-on installer
+    takes in a fresh user profile, and enabling it registers the engine."""
+    zip_path = tmp_path / "tyndall_blender.zip"
+    subprocess.run([sys.executable, os.path.join(bs.REPO, "blender", "build_addon.py"), str(zip_path)], check=True)
+    profile = tmp_path / "profile"
+    script = f"""
+import os, bpy
+bpy.ops.preferences.addon_install(filepath={str(zip_path)!r})
+bpy.ops.preferences.addon_enable(module="tyndall_blender")
+import tyndall_blender
+assert os.path.realpath(tyndall_blender.__file__).startswith(os.path.realpath({str(profile)!r})), tyndall_blender.__file__
+bpy.context.scene.render.engine = "TYNDALL"
+assert bpy.context.scene.render.engine == "TYNDALL"
+assert bpy.context.scene.tyndall.integrator == "volpath" and bpy.context.scene.tyndall.denoise
+print("ENABLED", flush=True)
+os._exit(0)
+"""
+    env = dict(os.environ, BLENDER_USER_RESOURCES=str(profile))
+    done = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=300)
+    assert "ENABLED" in done.stdout, done.stdout + done.stderr
+    assert "Traceback" not in done.stderr, done.stderr
+
+
+def test_the_fog_room_renders_like_cycles(out):
+    """make_fog_room.py's room (hard and soft spots, a bulb, a sun, an
+    emissive panel, a metal box, a red pane) in World fog (Volume Scatter
+    + Volume Absorption, σt 0.05, albedo 0.9, g 0.3), F12 with the add-on,
+    against Cycles' committed 2048-spp render of the same scene."""
+    import make_fog_room
+
+    objs = make_fog_room.build_scene()
+    bs.thin_glass(objs["pane"])
+    bs.world_fog(0.05, 0.9, 0.3)
+    sc = bpy.context.scene
+    sc.render.resolution_x, sc.render.resolution_y = 160, 120
+    cycles = bs.read_exr(os.path.join(bs.REPO, "scenes", "blender", "fog-room-cycles.exr"))
+    agree(tyndall_pair(out, "fog-room", 64), cycles, FOG_ROOM_CYCLES_ERROR, "fog room")
+
+
+def lamps_and_materials(texture_path):
+    """A room-less studio: a textured Lambert floor, a diffuse cube, a
+    rectangular area light, a sun, a point light, and an emissive card
+    seen from behind (Cycles' mesh emission is two-sided)."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sc = bpy.context.scene
+    bs.write_png_checker(texture_path)
+    floor_mat = bpy.data.materials.new("floor")
+    floor_mat.use_nodes = True
+    nt = floor_mat.node_tree
+    p = nt.nodes["Principled BSDF"]
+    p.inputs["Specular IOR Level"].default_value = 0.0
+    tex = nt.nodes.new("ShaderNodeTexImage")
+    tex.image = bpy.data.images.load(texture_path)
+    tex.interpolation = "Linear"
+    nt.links.new(tex.outputs["Color"], p.inputs["Base Color"])
+    bpy.ops.mesh.primitive_plane_add(size=6, location=(0, 0, 0))
+    bpy.context.active_object.data.materials.append(floor_mat)
+
+    cube_mat = bpy.data.materials.new("cube")
+    cube_mat.use_nodes = True
+    nt = cube_mat.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    diffuse = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    diffuse.inputs["Color"].default_value = (0.2, 0.5, 0.8, 1)
+    nt.links.new(diffuse.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    bpy.ops.mesh.primitive_cube_add(size=1, location=(0.8, 0.5, 0.5), rotation=(0, 0, 0.4))
+    bpy.context.active_object.data.materials.append(cube_mat)
+
+    card_mat = bpy.data.materials.new("card")
+    card_mat.use_nodes = True
+    nt = card_mat.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    emit = nt.nodes.new("ShaderNodeEmission")
+    emit.inputs["Color"].default_value = (1.0, 0.6, 0.3, 1)
+    emit.inputs["Strength"].default_value = 3.0
+    nt.links.new(emit.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    # Faces +Y, away from the camera at −Y.
+    bpy.ops.mesh.primitive_plane_add(size=0.8, location=(-1.0, 0.0, 1.0), rotation=(math.radians(-90), 0, 0))
+    bpy.context.active_object.data.materials.append(card_mat)
+
+    area = bpy.data.lights.new("area", "AREA")
+    area.shape = "RECTANGLE"
+    area.size, area.size_y = 1.0, 0.5
+    area.energy = 150.0
+    area.color = (1.0, 0.9, 0.8)
+    obj = bpy.data.objects.new("area", area)
+    obj.location = (0.5, -0.5, 2.5)
+    obj.rotation_euler = (math.radians(15), 0, 0)
+    sc.collection.objects.link(obj)
+    bs.lamp(sc, "SUN", "sun", 1.5, (0, 0, 5), rotation=(math.radians(30), math.radians(20), 0), angle=0.0)
+    bs.lamp(sc, "POINT", "bulb", 40.0, (-1.5, -1.0, 2.0), shadow_soft_size=0.0)
+    bs.camera(sc, (0, -5, 3), (math.radians(60), 0, 0), 50.0)
+    sc.world = None
+    sc.render.resolution_x, sc.render.resolution_y = 64, 48
+
+
+def test_lamps_and_materials_render_like_cycles(out):
+    """Area, sun and point lights in Blender's units, an Emission card,
+    a Diffuse BSDF and an image-textured Principled floor, with the add-on
+    and with Cycles (both path tracing, full bounces)."""
+    lamps_and_materials(os.path.join(out, "checker.png"))
+    cycles, cycles_error = cycles_pair(out, "lamps", 256)
+    agree(tyndall_pair(out, "lamps", 256), cycles, cycles_error, "lamps and materials")
+
+
+def test_the_sky_map_is_oriented_as_cycles_reads_it(out):
+    """A World Environment Texture (an equirectangular EXR of eight
+    coloured sectors written here) seen straight by a camera looking
+    along +X and tilted up: the add-on's environment light shows the
+    same sky as Cycles."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sc = bpy.context.scene
+    sky = os.path.join(out, "sky.exr")
+    h, w = 32, 64
+    u = (np.arange(w) + 0.5) / w
+    v = (np.arange(h) + 0.5) / h
+    sector = np.floor(u * 8)[None, :] + 8 * (v[:, None] < 0.5)
+    rgb = np.stack([(sector % 3) / 2 + 0.1, (sector % 4) / 3 + 0.1, (sector % 5) / 4 + 0.1], axis=-1).astype(np.float32)
+    bs.write_float_image(sky, rgb, "OPEN_EXR")
+    world = bpy.data.worlds.new("sky")
+    sc.world = world
+    world.use_nodes = True
+    nodes = world.node_tree.nodes
+    env = nodes.new("ShaderNodeTexEnvironment")
+    env.image = bpy.data.images.load(sky)
+    env.interpolation = "Linear"
+    world.node_tree.links.new(env.outputs["Color"], nodes["Background"].inputs["Color"])
+    for name, rotation in (("east", (math.radians(70), 0, math.radians(-90))), ("north", (math.radians(100), 0, 0))):
+        bs.camera(sc, (0, 0, 0), rotation, 18.0)
+        sc.render.resolution_x, sc.render.resolution_y = 48, 32
+        bs.use_cycles(16, bounces=0)
+        cycles = bs.render(out, f"{name}-cycles")
+        bs.use_tyndall(16, integrator="single")
+        tyndall = bs.render(out, f"{name}-tyndall")
+        rel = bs.rel_mse(tyndall, cycles)
+        print(f"sky looking {name}: relMSE {rel:.3g}")
+        # Both see the same bilinear sky through box-filtered pixels;
+        # a sector off by a turn would be relMSE ~0.3.
+        assert rel < 2e-3, f"looking {name}: relMSE {rel}"
+
+
+def test_an_animated_camera_renders_each_frame(out):
+    """An animation render of three frames of a moving camera: the frames
+    differ as the camera moves, and each equals the F12 render of that
+    frame (Tyndall's renders are deterministic)."""
+    lamps_and_materials(os.path.join(out, "checker.png"))
+    sc = bpy.context.scene
+    sc.render.resolution_x, sc.render.resolution_y = 32, 24
+    cam = sc.camera
+    for frame, x in ((1, -0.5), (3, 0.5)):
+        cam.location.x = x
+        cam.keyframe_insert("location", frame=frame)
+    sc.frame_start, sc.frame_end = 1, 3
+    bs.use_tyndall(4)
+    frames = bs.render(out, "anim", animation=True)
+    assert len(frames) == 3
+    for i in range(3):
+        for j in range(i):
+            assert bs.rel_mse(frames[i], frames[j]) > 1e-3, f"frames {j + 1} and {i + 1} are alike"
+    for frame in (1, 2, 3):
+        sc.frame_set(frame)
+        still = bs.render(out, f"still-{frame}")
+        assert np.array_equal(still, frames[frame - 1]), f"frame {frame} differs from its still"
+
+
+def test_bad_scenes_are_reported_by_name(out):
+    """No camera, a camera that is not perspective, an unsupported node
+    and a missing texture: an error or a warning that names the scene,
+    camera, material or file; nothing raised out of Blender."""
+    settings = convert.Settings()
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sc = bpy.context.scene
+    with pytest.raises(convert.ConversionError, match=f"scene '{sc.name}' has no camera"):
+        convert.describe(bpy.context.evaluated_depsgraph_get(), settings)
+    cam = bs.camera(sc, (0, -5, 1), (math.radians(90), 0, 0), 50.0)
+    cam.data.type = "ORTHO"
+    with pytest.raises(convert.ConversionError, match=f"camera '{cam.name}': only perspective"):
+        convert.describe(bpy.context.evaluated_depsgraph_get(), settings)
+    cam.data.type = "PERSP"
+    mat = bpy.data.materials.new("velvet")
+    mat.use_nodes = True
+    nt = mat.node_tree
+    sheen = nt.nodes.new("ShaderNodeBsdfSheen")
+    nt.links.new(sheen.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    bpy.ops.mesh.primitive_plane_add(size=2)
+    bpy.context.active_object.data.materials.append(mat)
+    described = convert.describe(bpy.context.evaluated_depsgraph_get(), settings)
+    assert any("material 'velvet'" in w and "Sheen BSDF" in w for w in described.warnings), described.warnings
+    # A texture whose file is gone: Tyndall's loader names the file, and
+    # F12 reports it instead of raising.
+    missing = os.path.join(out, "gone.png")
+    bs.write_png_checker(missing)
+    p = nt.nodes["Principled BSDF"]
+    tex = nt.nodes.new("ShaderNodeTexImage")
+    tex.image = bpy.data.images.load(missing)
+    nt.links.new(tex.outputs["Color"], p.inputs["Base Color"])
+    nt.links.new(p.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    os.remove(missing)
+    described = convert.describe(bpy.context.evaluated_depsgraph_get(), settings)
+    import tyndall
+
+    with pytest.raises(ValueError, match="gone.png"):
+        tyndall.Scene.from_dict(described.scene)
+    bs.use_tyndall(1)
+    sc.render.resolution_x, sc.render.resolution_y = 8, 8
+    sc.render.filepath = os.path.join(out, "bad.exr")
+    # Blender raises an engine's error report out of the operator in
+    # background mode; in the interface it is shown in the info area.
+    with pytest.raises(RuntimeError, match="Tyndall: .*gone.png"):
+        bpy.ops.render.render(write_still=True)

@@ -1,0 +1,588 @@
+"""Blender's evaluated scene as a Tyndall scene description.
+
+`describe(depsgraph, settings)` reads what Blender would render at the
+current frame (modifiers applied, instances expanded: the evaluated
+depsgraph) and returns the dict `tyndall.Scene.from_dict` takes — the
+native scene format of docs/scene-format.md as nested dicts — and the
+warnings for what it could not carry, one per material or object.
+
+Units and conventions (each checked against Cycles by tests/):
+
+* Coordinates: Blender's metres, Z up, become Tyndall's with Y up, as
+  Blender's glTF exporter writes them: (x, y, z) → (x, z, −y).
+* Point and spot lights of power P (W) and colour c: radiant intensity
+  c·P/(4π) W/sr (Cycles' convention; the radius is not carried: Tyndall's
+  lights are points). A spot's `spot_size` is the full cone angle; its
+  `spot_blend` b is Cycles' smoothstep from the edge inwards, full
+  intensity at cos θ = cos θc + (1 − cos θc)·b (b = 0: a hard edge).
+* Suns: `energy` is the irradiance (W/m²) on a surface facing them.
+* Area lights (square and rectangle): radiance c·P/(π·A) from their
+  front (−Z) face, a quad light.
+* Principled BSDF: glTF's metallic-roughness mix, as Blender's glTF
+  exporter maps it — base colour (or an image texture on it), metallic,
+  roughness, F0 = ((ior − 1)/(ior + 1))² · 2·(Specular IOR Level) ·
+  Specular Tint, emission colour × strength added over it (both faces,
+  as Cycles' mesh emission); Transmission Weight ≥ ½ is a refracting
+  dielectric of its IOR. Diffuse, Glossy, Emission, Transparent and
+  Glass BSDFs map to Tyndall's materials of those names.
+* The World: its Background colour × strength (or an equirectangular
+  Environment Texture) is the environment light; its volume (Volume
+  Scatter, Volume Absorption, their sum, or Principled Volume) is the
+  homogeneous fog that fills all space.
+* The camera: perspective, its vertical field of view from the lens,
+  sensor and sensor fit.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field
+from typing import Any, Dict, List, Optional, Tuple
+
+import numpy as np
+
+# Blender's Z-up frame to Tyndall's Y-up one: (x, y, z) → (x, z, −y).
+Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
+
+# Object types that evaluate to a mesh (curves, text, metaballs, surfaces).
+MESH_LIKE = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
+
+
+class ConversionError(Exception):
+    """A scene Tyndall cannot render, with a message naming the object."""
+
+
+@dataclass
+class Settings:
+    """The engine's settings for one render (properties.TyndallSettings)."""
+
+    integrator: str = "volpath"
+    spp: int = 64
+    max_depth: int = 0
+    seed: int = 0
+
+
+@dataclass
+class Description:
+    """A scene dict for `tyndall.Scene.from_dict` and the warnings made."""
+
+    scene: Dict[str, Any]
+    warnings: List[str] = field(default_factory=list)
+
+
+def to_y_up(v) -> List[float]:
+    """A Blender position or direction in Tyndall's frame."""
+    return [float(x) for x in Z_UP_TO_Y_UP @ np.asarray(v, dtype=np.float64)]
+
+
+def _matrix(m) -> np.ndarray:
+    return np.array([list(row) for row in m], dtype=np.float64)
+
+
+class _Converter:
+    def __init__(self, depsgraph, settings: Settings):
+        self.depsgraph = depsgraph
+        # The scene as evaluated at the depsgraph's frame (animated
+        # cameras, lights and World values).
+        self.scene = depsgraph.scene_eval
+        self.settings = settings
+        self.warnings: List[str] = []
+        self.materials: Dict[str, Dict[str, Any]] = {}
+        # Blender material name (or None) → Tyndall material key.
+        self.material_keys: Dict[Optional[str], str] = {}
+        self.shapes: List[Dict[str, Any]] = []
+        self.lights: List[Dict[str, Any]] = []
+
+    def warn(self, message: str) -> None:
+        if message not in self.warnings:
+            self.warnings.append(message)
+
+    # -- the whole scene ---------------------------------------------------
+
+    def describe(self) -> Description:
+        camera = self.camera()
+        for instance in self.depsgraph.object_instances:
+            obj = instance.object
+            matrix = _matrix(instance.matrix_world)
+            if obj.type in MESH_LIKE:
+                self.mesh_object(obj, matrix)
+            elif obj.type == "LIGHT":
+                self.light_object(obj, matrix)
+            elif obj.type == "VOLUME":
+                self.warn(f"object '{obj.name}': Volume objects are not converted yet; it is left out")
+        environment, fog = self.world()
+        if environment is not None:
+            self.lights.append(environment)
+        scene: Dict[str, Any] = {"camera": camera, "render": self.render_table()}
+        if fog is not None:
+            scene["fog"] = fog
+        if self.materials:
+            scene["materials"] = self.materials
+        if self.shapes:
+            scene["shapes"] = self.shapes
+        if self.lights:
+            scene["lights"] = self.lights
+        return Description(scene, self.warnings)
+
+    def resolution(self) -> Tuple[int, int]:
+        r = self.scene.render
+        scale = r.resolution_percentage / 100.0
+        return max(1, int(r.resolution_x * scale)), max(1, int(r.resolution_y * scale))
+
+    def render_table(self) -> Dict[str, Any]:
+        width, height = self.resolution()
+        table: Dict[str, Any] = {
+            "width": width,
+            "height": height,
+            "spp": int(self.settings.spp),
+            "seed": int(self.settings.seed),
+            "integrator": self.settings.integrator,
+        }
+        if self.settings.max_depth > 0:
+            table["max_depth"] = int(self.settings.max_depth)
+        return table
+
+    # -- camera ------------------------------------------------------------
+
+    def camera(self) -> Dict[str, Any]:
+        if self.scene.camera is None:
+            raise ConversionError(f"scene '{self.scene.name}' has no camera: add one and make it active")
+        cam = self.scene.camera.evaluated_get(self.depsgraph)
+        data = cam.data
+        if data.type != "PERSP":
+            raise ConversionError(
+                f"camera '{cam.name}': only perspective cameras are rendered (it is {data.type.lower()})"
+            )
+        if data.dof.use_dof:
+            self.warn(f"camera '{cam.name}': depth of field is not rendered yet (a pinhole is)")
+        if data.shift_x != 0.0 or data.shift_y != 0.0:
+            self.warn(f"camera '{cam.name}': lens shift is ignored")
+        r = self.scene.render
+        if r.pixel_aspect_x != r.pixel_aspect_y:
+            self.warn(f"scene '{self.scene.name}': non-square pixels are ignored")
+        width, height = self.resolution()
+        fov_y = vertical_fov(data.sensor_fit, data.lens, data.sensor_width, data.sensor_height, width, height)
+        m = _matrix(cam.matrix_world)
+        position = m[:3, 3]
+        forward = -m[:3, 2]
+        up = m[:3, 1]
+        return {
+            "position": to_y_up(position),
+            "look_at": to_y_up(position + forward),
+            "up": to_y_up(up),
+            "fov_y_deg": math.degrees(fov_y),
+        }
+
+    # -- meshes ------------------------------------------------------------
+
+    def mesh_object(self, obj, matrix: np.ndarray) -> None:
+        try:
+            mesh = obj.to_mesh()
+        except RuntimeError:
+            mesh = None
+        if mesh is None:
+            return
+        try:
+            self.add_mesh(obj, mesh, matrix)
+        finally:
+            obj.to_mesh_clear()
+
+    def add_mesh(self, obj, mesh, matrix: np.ndarray) -> None:
+        mesh.calc_loop_triangles()
+        n = len(mesh.loop_triangles)
+        if n == 0:
+            return
+        loops = np.empty(3 * n, dtype=np.int64)
+        mesh.loop_triangles.foreach_get("loops", loops)
+        vertices = np.empty(3 * n, dtype=np.int64)
+        mesh.loop_triangles.foreach_get("vertices", vertices)
+        slots = np.empty(n, dtype=np.int64)
+        mesh.loop_triangles.foreach_get("material_index", slots)
+        co = np.empty(3 * len(mesh.vertices), dtype=np.float64)
+        mesh.vertices.foreach_get("co", co)
+        normals = np.empty(3 * len(mesh.loops), dtype=np.float64)
+        mesh.corner_normals.foreach_get("vector", normals)
+        linear = matrix[:3, :3]
+        to_world = Z_UP_TO_Y_UP @ linear
+        positions = co.reshape(-1, 3)[vertices] @ to_world.T + Z_UP_TO_Y_UP @ matrix[:3, 3]
+        normal_matrix = Z_UP_TO_Y_UP @ np.linalg.inv(linear).T
+        corner_normals = normals.reshape(-1, 3)[loops] @ normal_matrix.T
+        lengths = np.linalg.norm(corner_normals, axis=1, keepdims=True)
+        corner_normals = corner_normals / np.where(lengths > 0, lengths, 1.0)
+        uv_layer = mesh.uv_layers.active
+        uvs = None
+        if uv_layer is not None:
+            all_uvs = np.empty(2 * len(mesh.loops), dtype=np.float64)
+            uv_layer.uv.foreach_get("vector", all_uvs)
+            uvs = all_uvs.reshape(-1, 2)[loops]
+            # Blender's v runs up its images, Tyndall's (glTF's) down.
+            uvs[:, 1] = 1.0 - uvs[:, 1]
+        corners = np.arange(3 * n).reshape(-1, 3)
+        if np.linalg.det(linear) < 0:
+            # A mirroring transform turns the winding: keep fronts in front.
+            corners = corners[:, [0, 2, 1]]
+        materials = [slot.material for slot in obj.material_slots] or [None]
+        for slot in np.unique(slots):
+            material = materials[min(int(slot), len(materials) - 1)]
+            key, textured = self.material(material, obj)
+            chosen = corners[slots == slot].reshape(-1)
+            shape: Dict[str, Any] = {
+                "type": "triangles",
+                "positions": positions[chosen].astype(np.float32).reshape(-1),
+                "indices": np.arange(len(chosen), dtype=np.int64),
+                "normals": corner_normals[chosen].astype(np.float32).reshape(-1),
+                "material": key,
+            }
+            if uvs is not None:
+                shape["uvs"] = uvs[chosen].astype(np.float32).reshape(-1)
+            elif textured:
+                self.warn(f"object '{obj.name}': it has no UV map, so its material's texture is left out")
+                key = self.untextured(key)
+                shape["material"] = key
+            self.shapes.append(shape)
+
+    def untextured(self, key: str) -> str:
+        """The key of material `key` without its base colour texture."""
+        plain = key + "-untextured"
+        if plain not in self.materials:
+            table = dict(self.materials[key])
+            table.pop("base_color_texture", None)
+            self.materials[plain] = table
+        return plain
+
+    # -- materials ---------------------------------------------------------
+
+    def material(self, material, obj) -> Tuple[str, bool]:
+        """The key of Blender `material`'s Tyndall material (made once)
+        and whether it has a base colour texture."""
+        name = material.name if material is not None else None
+        if name not in self.material_keys:
+            key = f"m{len(self.material_keys)}"
+            self.material_keys[name] = key
+            self.materials[key] = self.material_table(material)
+        key = self.material_keys[name]
+        return key, "base_color_texture" in self.materials[key]
+
+    def material_table(self, material) -> Dict[str, Any]:
+        grey = {"type": "diffuse", "reflectance": 0.8}
+        if material is None:
+            return grey
+        if not material.use_nodes or material.node_tree is None:
+            return {"type": "diffuse", "reflectance": [float(c) for c in material.diffuse_color[:3]]}
+        output = material.node_tree.get_output_node("CYCLES") or material.node_tree.get_output_node("ALL")
+        surface = output.inputs["Surface"] if output is not None else None
+        if surface is None or not surface.is_linked:
+            self.warn(f"material '{material.name}': it has no surface shader; rendered grey")
+            return grey
+        node = surface.links[0].from_node
+        return self.shader(material, node) or grey
+
+    def shader(self, material, node) -> Optional[Dict[str, Any]]:
+        inputs = node.inputs
+        where = f"material '{material.name}'"
+        if node.bl_idname == "ShaderNodeBsdfPrincipled":
+            return self.principled(material, node)
+        if node.bl_idname == "ShaderNodeBsdfDiffuse":
+            return {"type": "diffuse", "reflectance": self.colour(material, inputs["Color"])}
+        if node.bl_idname == "ShaderNodeEmission":
+            strength = self.value(material, inputs["Strength"])
+            radiance = [c * strength for c in self.colour(material, inputs["Color"])]
+            return {"type": "emissive", "radiance": radiance, "two_sided": True}
+        if node.bl_idname == "ShaderNodeBsdfTransparent":
+            return {"type": "glass", "color": self.colour(material, inputs["Color"]), "alpha": 1.0}
+        if node.bl_idname == "ShaderNodeBsdfGlass":
+            return {"type": "dielectric", "ior": self.value(material, inputs["IOR"])}
+        if node.bl_idname in ("ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic"):
+            roughness = self.value(material, inputs["Roughness"])
+            colour = self.colour(material, inputs["Color"])
+            if roughness == 0.0:
+                return {"type": "mirror", "reflectance": colour}
+            return {"type": "glossy", "reflectance": colour, "roughness": roughness * roughness}
+        self.warn(f"{where}: the {node.bl_label} node is not supported; rendered grey")
+        return None
+
+    def principled(self, material, node) -> Dict[str, Any]:
+        inputs = node.inputs
+        where = f"material '{material.name}'"
+        ignored = [
+            name
+            for name, key in (
+                ("coat", "Coat Weight"),
+                ("sheen", "Sheen Weight"),
+                ("subsurface", "Subsurface Weight"),
+            )
+            if key in inputs and (inputs[key].is_linked or inputs[key].default_value > 0.0)
+        ]
+        if inputs["Alpha"].is_linked or inputs["Alpha"].default_value < 1.0:
+            ignored.append("alpha")
+        if inputs["Normal"].is_linked:
+            ignored.append("normal map")
+        if ignored:
+            self.warn(f"{where}: {', '.join(ignored)} not rendered")
+        ior = self.value(material, inputs["IOR"])
+        transmission = self.value(material, inputs["Transmission Weight"])
+        if transmission >= 0.5:
+            if transmission < 1.0:
+                self.warn(f"{where}: transmission {transmission:g} is rendered as 1 (clear glass)")
+            return {"type": "dielectric", "ior": ior}
+        if transmission > 0.0:
+            self.warn(f"{where}: transmission {transmission:g} is rendered as 0 (opaque)")
+        table: Dict[str, Any] = {"type": "principled"}
+        base = inputs["Base Color"]
+        texture = self.image_texture(material, base)
+        if texture is not None:
+            table["base_color"] = 1.0
+            table["base_color_texture"] = texture
+        else:
+            table["base_color"] = self.colour(material, base)
+        table["metallic"] = self.value(material, inputs["Metallic"])
+        table["roughness"] = self.value(material, inputs["Roughness"])
+        level = self.value(material, inputs["Specular IOR Level"])
+        tint = self.colour(material, inputs["Specular Tint"])
+        r0 = ((ior - 1.0) / (ior + 1.0)) ** 2 if ior > 0 else 0.0
+        table["f0"] = [min(1.0, max(0.0, r0 * 2.0 * level * t)) for t in tint]
+        strength = self.value(material, inputs["Emission Strength"])
+        emission = [c * strength for c in self.colour(material, inputs["Emission Color"])]
+        if any(e > 0.0 for e in emission):
+            table["emission"] = emission
+            table["two_sided"] = True
+        return table
+
+    def image_texture(self, material, socket) -> Optional[str]:
+        """The image file of an Image Texture node linked straight into
+        `socket`, if there is one Tyndall can read."""
+        if not socket.is_linked:
+            return None
+        node = socket.links[0].from_node
+        where = f"material '{material.name}'"
+        if node.bl_idname != "ShaderNodeTexImage" or node.image is None:
+            self.warn(f"{where}: the {node.bl_label} node into {socket.name} is not supported; its default is used")
+            return None
+        image = node.image
+        if image.packed_file is not None or image.source != "FILE":
+            self.warn(f"{where}: image '{image.name}' is not a file on disk (unpack it); its texture is left out")
+            return None
+        path = os.path.abspath(image.filepath_from_user())
+        if os.path.splitext(path)[1].lower() not in (".png", ".jpg", ".jpeg"):
+            self.warn(f"{where}: image '{image.name}' is not a PNG or JPEG; its texture is left out")
+            return None
+        if node.inputs["Vector"].is_linked:
+            self.warn(f"{where}: the texture coordinates into '{node.name}' are ignored (the UV map is used)")
+        return path
+
+    def colour(self, material, socket) -> List[float]:
+        if socket.is_linked:
+            self.warn(
+                f"material '{material.name}': the node into {socket.name} is not supported; its default is used"
+            )
+        return [float(c) for c in socket.default_value[:3]]
+
+    def value(self, material, socket) -> float:
+        if socket.is_linked:
+            self.warn(
+                f"material '{material.name}': the node into {socket.name} is not supported; its default is used"
+            )
+        return float(socket.default_value)
+
+    # -- lights ------------------------------------------------------------
+
+    def light_object(self, obj, matrix: np.ndarray) -> None:
+        data = obj.data
+        colour = np.array(data.color[:3], dtype=np.float64)
+        position = to_y_up(matrix[:3, 3])
+        axis = matrix[:3, :3] @ np.array([0.0, 0.0, -1.0])
+        direction = to_y_up(axis / np.linalg.norm(axis))
+        if data.type == "POINT":
+            self.lights.append(
+                {"type": "point", "position": position, "intensity": list(colour * data.energy / (4 * math.pi))}
+            )
+        elif data.type == "SPOT":
+            cutoff = math.degrees(data.spot_size) / 2.0
+            light = {
+                "type": "spot",
+                "position": position,
+                "direction": direction,
+                "cutoff_deg": min(cutoff, 90.0),
+                "intensity": list(colour * data.energy / (4 * math.pi)),
+            }
+            if cutoff > 90.0:
+                self.warn(f"light '{obj.name}': a spot wider than 180° is cut at 180°")
+            blend = float(data.spot_blend)
+            if blend > 0.0:
+                cos_outer = math.cos(math.radians(light["cutoff_deg"]))
+                cos_inner = cos_outer + (1.0 - cos_outer) * blend
+                light["profile"] = "smooth"
+                light["inner_deg"] = math.degrees(math.acos(min(1.0, cos_inner)))
+                if light["inner_deg"] <= 0.0:
+                    light["inner_deg"] = 0.0
+            else:
+                light["profile"] = "hard"
+            self.lights.append(light)
+        elif data.type == "SUN":
+            self.lights.append({"type": "directional", "direction": direction, "irradiance": list(colour * data.energy)})
+        elif data.type == "AREA":
+            self.area_light(obj, data, matrix, colour)
+
+    def area_light(self, obj, data, matrix: np.ndarray, colour: np.ndarray) -> None:
+        if data.shape not in ("SQUARE", "RECTANGLE"):
+            self.warn(f"light '{obj.name}': {data.shape.lower()} area lights are not supported; it is left out")
+            return
+        sx = data.size
+        sy = data.size if data.shape == "SQUARE" else data.size_y
+        # Corners counter-clockwise seen from below (−Z, the lit side):
+        # the quad's normal (c1 − c0) × (c3 − c0) is then −Z.
+        local = [(-sx / 2, -sy / 2), (-sx / 2, sy / 2), (sx / 2, sy / 2), (sx / 2, -sy / 2)]
+        corners = [matrix @ np.array([x, y, 0.0, 1.0]) for x, y in local]
+        corners = [c[:3] for c in corners]
+        area = float(np.linalg.norm(np.cross(corners[1] - corners[0], corners[3] - corners[0])))
+        if area <= 0.0:
+            self.warn(f"light '{obj.name}': it has no area; it is left out")
+            return
+        self.lights.append(
+            {
+                "type": "quad",
+                "corners": [to_y_up(c) for c in corners],
+                "radiance": list(colour * data.energy / (math.pi * area)),
+            }
+        )
+
+    # -- the World ---------------------------------------------------------
+
+    def world(self) -> Tuple[Optional[Dict[str, Any]], Optional[Dict[str, Any]]]:
+        world = self.scene.world
+        if world is None:
+            return None, None
+        if not world.use_nodes or world.node_tree is None:
+            radiance = [float(c) for c in world.color[:3]]
+            return (self.environment(radiance, None) if any(radiance) else None), None
+        output = world.node_tree.get_output_node("CYCLES") or world.node_tree.get_output_node("ALL")
+        if output is None:
+            return None, None
+        environment = None
+        surface = output.inputs["Surface"]
+        if surface.is_linked:
+            node = surface.links[0].from_node
+            if node.bl_idname == "ShaderNodeBackground":
+                strength = float(node.inputs["Strength"].default_value)
+                colour_socket = node.inputs["Color"]
+                map_file = None
+                if colour_socket.is_linked:
+                    source = colour_socket.links[0].from_node
+                    map_file = self.environment_map(world, source)
+                    radiance = [strength] * 3
+                else:
+                    radiance = [float(c) * strength for c in colour_socket.default_value[:3]]
+                if map_file is not None or any(radiance):
+                    environment = self.environment(radiance, map_file)
+            else:
+                self.warn(f"world '{world.name}': the {node.bl_label} node is not supported; the sky is black")
+        fog = None
+        volume = output.inputs["Volume"]
+        if volume.is_linked:
+            fog = self.world_fog(world, volume.links[0].from_node)
+        return environment, fog
+
+    def environment(self, radiance: List[float], map_file: Optional[str]) -> Dict[str, Any]:
+        light: Dict[str, Any] = {"type": "environment", "radiance": radiance}
+        if map_file is not None:
+            light["map"] = map_file
+            # Blender's equirectangular map, read in the Y-up frame, is
+            # Tyndall's (Mitsuba's orientation) turned a quarter turn
+            # about +y; tests/test_addon.py checks it against Cycles.
+            light["map_rotate_deg"] = 90.0
+        return light
+
+    def environment_map(self, world, node) -> Optional[str]:
+        where = f"world '{world.name}'"
+        if node.bl_idname != "ShaderNodeTexEnvironment" or node.image is None:
+            self.warn(f"{where}: the {node.bl_label} node into the Background is not supported; the sky is white")
+            return None
+        image = node.image
+        path = os.path.abspath(image.filepath_from_user())
+        if image.packed_file is not None or os.path.splitext(path)[1].lower() not in (".exr", ".hdr"):
+            self.warn(f"{where}: image '{image.name}' is not an OpenEXR or HDR file on disk; the sky is white")
+            return None
+        if node.projection != "EQUIRECTANGULAR":
+            self.warn(f"{where}: only equirectangular environment maps are supported")
+        if node.inputs["Vector"].is_linked:
+            self.warn(f"{where}: the mapping into '{node.name}' is ignored")
+        return path
+
+    def world_fog(self, world, node) -> Optional[Dict[str, Any]]:
+        """The homogeneous fog of the World's volume shader."""
+        coefficients = self.volume_coefficients(world, node)
+        if coefficients is None:
+            return None
+        sigma_s, sigma_a, g = coefficients
+        sigma_t = sigma_s + sigma_a
+        if float(sigma_t.max()) <= 0.0:
+            return None
+        grey = float(sigma_t.max())
+        if float(sigma_t.max() - sigma_t.min()) > 1e-6 * grey:
+            self.warn(
+                f"world '{world.name}': its volume's extinction differs by colour; fog is grey, "
+                f"so the largest ({grey:g}) is used"
+            )
+        albedo = [float(x) for x in np.clip(sigma_s / grey, 0.0, 1.0)]
+        return {"sigma_t": grey, "albedo": albedo, "g": g}
+
+    def volume_coefficients(self, world, node):
+        """(σs, σa, g) of a volume shader node tree, per unit length."""
+        where = f"world '{world.name}'"
+        inputs = node.inputs
+        zero = np.zeros(3)
+
+        def colour(name):
+            return np.array(inputs[name].default_value[:3], dtype=np.float64)
+
+        if node.bl_idname == "ShaderNodeVolumeScatter":
+            density = float(inputs["Density"].default_value)
+            return colour("Color") * density, zero, float(inputs["Anisotropy"].default_value)
+        if node.bl_idname == "ShaderNodeVolumeAbsorption":
+            density = float(inputs["Density"].default_value)
+            return zero, (1.0 - colour("Color")) * density, 0.0
+        if node.bl_idname == "ShaderNodeVolumePrincipled":
+            density = float(inputs["Density"].default_value)
+            c = colour("Color")
+            a = colour("Absorption Color")
+            if float(inputs["Emission Strength"].default_value) > 0 or float(inputs["Blackbody Intensity"].default_value) > 0:
+                self.warn(f"{where}: the World volume's emission is not rendered")
+            sigma_a = density * np.maximum(1.0 - c, 0.0) * np.maximum(1.0 - a, 0.0)
+            return c * density, sigma_a, float(inputs["Anisotropy"].default_value)
+        if node.bl_idname == "ShaderNodeAddShader":
+            parts = [s.links[0].from_node for s in inputs if s.is_linked]
+            total_s, total_a, weighted_g = zero.copy(), zero.copy(), 0.0
+            for part in parts:
+                c = self.volume_coefficients(world, part)
+                if c is None:
+                    return None
+                total_s = total_s + c[0]
+                total_a = total_a + c[1]
+                weighted_g += c[2] * float(c[0].mean())
+            g = weighted_g / float(total_s.mean()) if total_s.mean() > 0 else 0.0
+            return total_s, total_a, g
+        self.warn(f"{where}: the {node.bl_label} volume node is not supported; no fog")
+        return None
+
+
+def vertical_fov(sensor_fit: str, lens: float, sensor_width: float, sensor_height: float, width: int, height: int) -> float:
+    """The full vertical field of view (radians) of a Blender camera with
+    focal length `lens` (mm) on a sensor `sensor_width` × `sensor_height`
+    (mm) fitted as `sensor_fit` to an image `width` × `height` pixels:
+    with "AUTO" the sensor's width spans the image's larger side."""
+    aspect = height / width
+    if sensor_fit == "VERTICAL":
+        return 2.0 * math.atan(sensor_height / (2.0 * lens))
+    half_width = sensor_width / (2.0 * lens)
+    if sensor_fit == "HORIZONTAL" or width >= height:
+        return 2.0 * math.atan(half_width * aspect)
+    return 2.0 * math.atan(half_width)
+
+
+def describe(depsgraph, settings: Settings) -> Description:
+    """The Tyndall scene of Blender's evaluated `depsgraph` at its frame.
+
+    Raises ConversionError for a scene that cannot be rendered (no
+    camera, a camera that is not perspective)."""
+    return _Converter(depsgraph, settings).describe()
