@@ -15,12 +15,10 @@ REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 sys.path.insert(0, os.path.join(REPO, "blender"))
 sys.path.insert(0, os.path.join(REPO, "scenes", "blender"))
 
-
-def rel_mse(a, b, eps=0.01):
-    """mean((a − b)²/(b² + eps)), as `tyndall compare` and shared/peers/compare.py."""
-    a = a.astype(np.float64)
-    b = b.astype(np.float64)
-    return float(np.mean((a - b) ** 2 / (b * b + eps)))
+# relMSE as `tyndall compare` computes it, and a light object of Blender's
+# units, as the fog room's scripts make them.
+from cycles_fog_room import rel_mse  # noqa: E402,F401
+from make_fog_room import light as lamp  # noqa: E402,F401
 
 
 def read_exr(path):
@@ -144,21 +142,6 @@ def thin_glass(obj):
     tr = nt.nodes.new("ShaderNodeBsdfTransparent")
     tr.inputs["Color"].default_value = (*base, 1.0)
     nt.links.new(tr.outputs["BSDF"], nt.nodes["Material Output"].inputs["Surface"])
-
-
-def lamp(scene, kind, name, energy, location, rotation=(0, 0, 0), **props):
-    """A light object of Blender type `kind` and power/strength `energy`."""
-    data = bpy.data.lights.new(name, kind)
-    data.energy = energy
-    if kind != "SUN":
-        data.use_soft_falloff = False
-    for k, v in props.items():
-        setattr(data, k, v)
-    obj = bpy.data.objects.new(name, data)
-    obj.location = location
-    obj.rotation_euler = rotation
-    scene.collection.objects.link(obj)
-    return obj
 
 
 def camera(scene, location, rotation, lens_mm):

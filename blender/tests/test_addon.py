@@ -107,6 +107,20 @@ def test_the_fog_room_renders_like_cycles(out):
     agree(tyndall_pair(out, "fog-room", 64), cycles, FOG_ROOM_CYCLES_ERROR, "fog room")
 
 
+def shader_material(name, node_type, **inputs):
+    """A material whose surface is one shader node of `node_type` with
+    these input values."""
+    material = bpy.data.materials.new(name)
+    material.use_nodes = True
+    nt = material.node_tree
+    nt.nodes.remove(nt.nodes["Principled BSDF"])
+    node = nt.nodes.new(node_type)
+    for key, value in inputs.items():
+        node.inputs[key].default_value = value
+    nt.links.new(node.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    return material
+
+
 def lamps_and_materials(texture_path):
     """A room-less studio: a textured Lambert floor, a diffuse cube, a
     rectangular area light, a sun, a point light, and an emissive card
@@ -126,27 +140,15 @@ def lamps_and_materials(texture_path):
     bpy.ops.mesh.primitive_plane_add(size=6, location=(0, 0, 0))
     bpy.context.active_object.data.materials.append(floor_mat)
 
-    cube_mat = bpy.data.materials.new("cube")
-    cube_mat.use_nodes = True
-    nt = cube_mat.node_tree
-    nt.nodes.remove(nt.nodes["Principled BSDF"])
-    diffuse = nt.nodes.new("ShaderNodeBsdfDiffuse")
-    diffuse.inputs["Color"].default_value = (0.2, 0.5, 0.8, 1)
-    nt.links.new(diffuse.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
     bpy.ops.mesh.primitive_cube_add(size=1, location=(0.8, 0.5, 0.5), rotation=(0, 0, 0.4))
-    bpy.context.active_object.data.materials.append(cube_mat)
-
-    card_mat = bpy.data.materials.new("card")
-    card_mat.use_nodes = True
-    nt = card_mat.node_tree
-    nt.nodes.remove(nt.nodes["Principled BSDF"])
-    emit = nt.nodes.new("ShaderNodeEmission")
-    emit.inputs["Color"].default_value = (1.0, 0.6, 0.3, 1)
-    emit.inputs["Strength"].default_value = 3.0
-    nt.links.new(emit.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    bpy.context.active_object.data.materials.append(
+        shader_material("cube", "ShaderNodeBsdfDiffuse", Color=(0.2, 0.5, 0.8, 1))
+    )
     # Faces +Y, away from the camera at −Y.
     bpy.ops.mesh.primitive_plane_add(size=0.8, location=(-1.0, 0.0, 1.0), rotation=(math.radians(-90), 0, 0))
-    bpy.context.active_object.data.materials.append(card_mat)
+    bpy.context.active_object.data.materials.append(
+        shader_material("card", "ShaderNodeEmission", Color=(1.0, 0.6, 0.3, 1), Strength=3.0)
+    )
 
     area = bpy.data.lights.new("area", "AREA")
     area.shape = "RECTANGLE"

@@ -398,24 +398,20 @@ class _Converter:
                 {"type": "point", "position": position, "intensity": list(colour * data.energy / (4 * math.pi))}
             )
         elif data.type == "SPOT":
-            cutoff = math.degrees(data.spot_size) / 2.0
+            # Blender's spot_size is at most 180°: a half-angle ≤ 90°.
             light = {
                 "type": "spot",
                 "position": position,
                 "direction": direction,
-                "cutoff_deg": min(cutoff, 90.0),
+                "cutoff_deg": math.degrees(data.spot_size) / 2.0,
                 "intensity": list(colour * data.energy / (4 * math.pi)),
             }
-            if cutoff > 90.0:
-                self.warn(f"light '{obj.name}': a spot wider than 180° is cut at 180°")
             blend = float(data.spot_blend)
             if blend > 0.0:
-                cos_outer = math.cos(math.radians(light["cutoff_deg"]))
+                cos_outer = math.cos(data.spot_size / 2.0)
                 cos_inner = cos_outer + (1.0 - cos_outer) * blend
                 light["profile"] = "smooth"
                 light["inner_deg"] = math.degrees(math.acos(min(1.0, cos_inner)))
-                if light["inner_deg"] <= 0.0:
-                    light["inner_deg"] = 0.0
             else:
                 light["profile"] = "hard"
             self.lights.append(light)

@@ -21,12 +21,17 @@ const CHECKER: [Rgb; 4] = [
     Rgb::new(1.0, 1.0, 1.0),
 ];
 
-/// A scene in `dir` with a sun straight down (E = 1 W/m²) over a 4 × 4
-/// floor at height 0 given as a `triangles` shape of material `floor`
-/// (its `uvs` spread an image over it, u along x, v along z), with the
-/// material table `material`.
-fn sunlit_floor(dir: &std::path::Path, material: &str) -> common::Loaded {
-    let text = format!(
+/// The text of a scene whose 4 × 4 floor at height 0 is a `triangles`
+/// shape of material `floor` (its `uvs` spread an image over it, u along
+/// x, v along z; with `normals` if `smooth`), the material table
+/// `material`, and lights `lights`.
+fn floor_scene(material: &str, smooth: bool, lights: &str) -> String {
+    let normals = if smooth {
+        "normals = [0, 1, 0,  0, 1, 0,  0, 1, 0,  0, 1, 0]\n"
+    } else {
+        ""
+    };
+    format!(
         r#"[camera]
 position = [0, 5, 5]
 look_at = [0, 0, 0]
@@ -39,16 +44,16 @@ fov_y_deg = 40
 type = "triangles"
 positions = [-2, 0, -2,  2, 0, -2,  2, 0, 2,  -2, 0, 2]
 indices = [0, 2, 1,  0, 3, 2]
-normals = [0, 1, 0,  0, 1, 0,  0, 1, 0,  0, 1, 0]
-uvs = [0, 0,  1, 0,  1, 1,  0, 1]
+{normals}uvs = [0, 0,  1, 0,  1, 1,  0, 1]
 material = "floor"
+{lights}"#
+    )
+}
 
-[[lights]]
-type = "directional"
-direction = [0, -1, 0]
-irradiance = 1
-"#
-    );
+/// [`floor_scene`] in `dir`, smooth, under a sun straight down (E = 1 W/m²).
+fn sunlit_floor(dir: &std::path::Path, material: &str) -> common::Loaded {
+    let sun = "\n[[lights]]\ntype = \"directional\"\ndirection = [0, -1, 0]\nirradiance = 1\n";
+    let text = floor_scene(material, true, sun);
     common::parse_native(&SourceText::new(dir.join("scene.toml"), text))
         .unwrap_or_else(|e| panic!("{e}"))
 }
@@ -147,25 +152,7 @@ fn a_principled_emitter_adds_emission_to_reflection() {
 fn bad_inline_meshes_are_errors_at_their_key() {
     let dir = test_dir("bad");
     let good = "type = \"principled\"\nbase_color = 0.5";
-    let text = |material: &str| {
-        format!(
-            r#"[camera]
-position = [0, 5, 5]
-look_at = [0, 0, 0]
-fov_y_deg = 40
-
-[materials.floor]
-{material}
-
-[[shapes]]
-type = "triangles"
-positions = [-2, 0, -2,  2, 0, -2,  2, 0, 2,  -2, 0, 2]
-indices = [0, 2, 1,  0, 3, 2]
-uvs = [0, 0,  1, 0,  1, 1,  0, 1]
-material = "floor"
-"#
-        )
-    };
+    let text = |material: &str| floor_scene(material, false, "");
     // The error's place is the line of `key` (its last occurrence: the
     // shape's own `material`, not the material's).
     let at = |text: String, key: &str, words: &str| {
