@@ -202,10 +202,7 @@ impl Loader<'_> {
         let mut material_ids: BTreeMap<&str, MaterialId> = BTreeMap::new();
         for (name, table) in &file.materials {
             let span = table.span();
-            let (material, texture) = match table.get_ref() {
-                MaterialTable::Principled(p) => self.principled(&span, p, &mut desc)?,
-                other => (Self::material(other), None),
-            };
+            let (material, texture) = self.material(&span, table.get_ref(), &mut desc)?;
             let id = desc.add_material(material, self.origin(&span));
             material_ids.insert(name.as_str(), id);
             if let Some(texture) = texture {
@@ -411,11 +408,16 @@ impl Loader<'_> {
         }
     }
 
-    /// The material of a `[materials.NAME]` table (its values checked by
-    /// [`SceneDesc::validate`]); principled tables are
-    /// [`Loader::principled`]'s.
-    fn material(table: &MaterialTable) -> Material {
-        match *table {
+    /// The material of a `[materials.NAME]` table spanning `span` (its
+    /// values checked by [`SceneDesc::validate`]), and a principled
+    /// material's base colour texture ([`Loader::principled`]).
+    fn material(
+        &self,
+        span: &Range<usize>,
+        table: &MaterialTable,
+        scene: &mut SceneDesc,
+    ) -> Result<(Material, Option<principled::BaseColorTexture>), SceneError> {
+        let material = match *table {
             MaterialTable::Diffuse(DiffuseTable { reflectance }) => {
                 Material::Opaque(Surface::diffuse(Rgb::from_array(reflectance.0)))
             }
@@ -447,10 +449,11 @@ impl Loader<'_> {
                     absorption: absorption.map_or(Rgb::ZERO, |a| Rgb::from_array(a.0)),
                 }
             }
-            MaterialTable::Principled(PrincipledTable { base_color, .. }) => {
-                Material::Opaque(Surface::diffuse(Rgb::from_array(base_color.0)))
+            MaterialTable::Principled(ref principled) => {
+                return self.principled(span, principled, scene);
             }
-        }
+        };
+        Ok((material, None))
     }
 
     fn material_id(
