@@ -389,7 +389,8 @@ class _Converter:
 
     def light_object(self, obj, matrix: np.ndarray) -> None:
         data = obj.data
-        colour = np.array(data.color[:3], dtype=np.float64)
+        # Blender's light exposure (stops) scales its power, as in Cycles.
+        colour = np.array(data.color[:3], dtype=np.float64) * 2.0 ** float(getattr(data, "exposure", 0.0))
         position = to_y_up(matrix[:3, 3])
         axis = matrix[:3, :3] @ np.array([0.0, 0.0, -1.0])
         direction = to_y_up(axis / np.linalg.norm(axis))
@@ -421,6 +422,8 @@ class _Converter:
             self.area_light(obj, data, matrix, colour)
 
     def area_light(self, obj, data, matrix: np.ndarray, colour: np.ndarray) -> None:
+        if getattr(data, "spread", math.pi) < math.pi:
+            self.warn(f"light '{obj.name}': its spread is ignored (Tyndall's area lights emit over 180°)")
         if data.shape not in ("SQUARE", "RECTANGLE"):
             self.warn(f"light '{obj.name}': {data.shape.lower()} area lights are not supported; it is left out")
             return
