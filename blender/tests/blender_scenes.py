@@ -1,7 +1,7 @@
 """Scenes and renders for the add-on's tests: each scene is built in the
 running Blender by script, then rendered by the Tyndall engine and (where
-a test compares) by Cycles with the settings of
-scenes/blender/cycles_fog_room.py (unbiased path tracing: no denoising,
+a test compares) by Cycles with the references' settings,
+scenes/blender/cycles_settings.py (unbiased path tracing: no denoising,
 clamping, adaptive sampling, light tree or guiding; box pixel filter)."""
 
 import os
@@ -15,20 +15,14 @@ REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 sys.path.insert(0, os.path.join(REPO, "blender"))
 sys.path.insert(0, os.path.join(REPO, "scenes", "blender"))
 
-# relMSE as `tyndall compare` computes it, and a light object of Blender's
-# units, as the fog room's scripts make them.
+# relMSE as `tyndall compare` computes it, a light object in Blender's
+# units, Cycles' settings and the World's fog, and EXRs read as the fog
+# room's scripts do them.
+import cycles_settings  # noqa: E402
 from cycles_fog_room import rel_mse  # noqa: E402,F401
+from cycles_settings import world_fog  # noqa: E402,F401
 from make_fog_room import light as lamp  # noqa: E402,F401
-
-
-def read_exr(path):
-    """An EXR's RGB, H×W×3 float32, row 0 at the top."""
-    image = bpy.data.images.load(path, check_existing=False)
-    w, h = image.size
-    pixels = np.empty(w * h * 4, np.float32)
-    image.pixels.foreach_get(pixels)
-    bpy.data.images.remove(image)
-    return pixels.reshape(h, w, 4)[::-1, :, :3].copy()
+from side_by_side import read_exr  # noqa: E402,F401
 
 
 def write_float_image(path, rgb, file_format):
@@ -76,29 +70,9 @@ def use_tyndall(spp, seed=0, integrator="volpath"):
 
 
 def use_cycles(spp, seed=1, bounces=1024):
-    """Cycles, unbiased, as scenes/blender/cycles_fog_room.py sets it."""
-    sc = bpy.context.scene
-    sc.render.engine = "CYCLES"
-    cy = sc.cycles
-    cy.device = "CPU"
-    cy.samples = spp
-    cy.seed = seed
-    cy.use_animated_seed = False
-    cy.use_adaptive_sampling = False
-    cy.use_denoising = False
-    cy.sample_clamp_direct = 0.0
-    cy.sample_clamp_indirect = 0.0
-    cy.light_sampling_threshold = 0.0
-    cy.use_light_tree = False
-    cy.use_guiding = False
-    cy.blur_glossy = 0.0
-    cy.pixel_filter_type = "BOX"
-    for attr in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces", "volume_bounces"):
-        setattr(cy, attr, bounces)
-    cy.transparent_max_bounces = 1024
-    cy.min_light_bounces = 0
-    cy.min_transparent_bounces = 0
-    sc.view_layers[0].cycles.use_denoising = False
+    """Cycles, unbiased, as the references here were rendered."""
+    cycles_settings.unbiased(bpy.context.scene, spp, bounces, os.cpu_count() or 2)
+    bpy.context.scene.cycles.seed = seed
 
 
 def register_addon():
@@ -107,30 +81,6 @@ def register_addon():
 
     if not hasattr(bpy.types.Scene, "tyndall"):
         tyndall_blender.register()
-
-
-def world_fog(density, albedo, g):
-    """The World of cycles_fog_room.py: black, with Volume Scatter + Volume
-    Absorption fog of σt = density, albedo `albedo`, HG asymmetry g."""
-    sc = bpy.context.scene
-    world = bpy.data.worlds.new("world")
-    sc.world = world
-    world.use_nodes = True
-    nodes, links = world.node_tree.nodes, world.node_tree.links
-    nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
-    nodes["Background"].inputs["Strength"].default_value = 0.0
-    scatter = nodes.new("ShaderNodeVolumeScatter")
-    scatter.inputs["Color"].default_value = (albedo, albedo, albedo, 1.0)
-    scatter.inputs["Density"].default_value = density
-    scatter.inputs["Anisotropy"].default_value = g
-    absorb = nodes.new("ShaderNodeVolumeAbsorption")
-    absorb.inputs["Color"].default_value = (albedo, albedo, albedo, 1.0)
-    absorb.inputs["Density"].default_value = density
-    add = nodes.new("ShaderNodeAddShader")
-    links.new(scatter.outputs[0], add.inputs[0])
-    links.new(absorb.outputs[0], add.inputs[1])
-    links.new(add.outputs[0], nodes["World Output"].inputs["Volume"])
-    return world
 
 
 def thin_glass(obj):

@@ -100,7 +100,7 @@ def test_the_fog_room_renders_like_cycles(out):
 
     objs = make_fog_room.build_scene()
     bs.thin_glass(objs["pane"])
-    bs.world_fog(0.05, 0.9, 0.3)
+    bs.world_fog(bpy.context.scene, 0.05, 0.9, 0.3)
     sc = bpy.context.scene
     sc.render.resolution_x, sc.render.resolution_y = 160, 120
     cycles = bs.read_exr(os.path.join(bs.REPO, "scenes", "blender", "fog-room-cycles.exr"))

@@ -103,6 +103,7 @@ def main():
         raise SystemExit("--passes must be even and at least 2 (two halves)")
 
     import bpy
+    import cycles_settings
     import make_fog_room
 
     objs = make_fog_room.build_scene(without=args.without)
@@ -135,69 +136,12 @@ def main():
     cam.clip_start = 1e-5
     cam.clip_end = 1e5
 
-    world = bpy.data.worlds.new("world")
-    sc.world = world
-    world.use_nodes = True
-    nodes, links = world.node_tree.nodes, world.node_tree.links
-    nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
-    nodes["Background"].inputs["Strength"].default_value = 0.0
-    world.cycles.sampling_method = "NONE"
-    if args.density > 0:
-        a, d = args.albedo, args.density
-        scatter = nodes.new("ShaderNodeVolumeScatter")
-        scatter.inputs["Color"].default_value = (a, a, a, 1.0)
-        scatter.inputs["Density"].default_value = d
-        scatter.inputs["Anisotropy"].default_value = args.g
-        if "phase" in scatter.bl_rna.properties:
-            scatter.phase = "HENYEY_GREENSTEIN"
-        absorb = nodes.new("ShaderNodeVolumeAbsorption")
-        absorb.inputs["Color"].default_value = (a, a, a, 1.0)
-        absorb.inputs["Density"].default_value = d
-        add = nodes.new("ShaderNodeAddShader")
-        links.new(scatter.outputs[0], add.inputs[0])
-        links.new(absorb.outputs[0], add.inputs[1])
-        links.new(add.outputs[0], nodes["World Output"].inputs["Volume"])
-        world.cycles.volume_sampling = "MULTIPLE_IMPORTANCE"
-        world.cycles.homogeneous_volume = True
-
-    sc.render.engine = "CYCLES"
+    cycles_settings.world_fog(sc, args.density, args.albedo, args.g)
+    cycles_settings.unbiased(sc, args.spp_per_pass, args.bounces, args.threads)
     cy = sc.cycles
-    cy.device = "CPU"
-    cy.feature_set = "SUPPORTED"
-    cy.shading_system = False
-    cy.samples = args.spp_per_pass
-    cy.use_animated_seed = False
-    cy.use_adaptive_sampling = False
-    cy.use_denoising = False
-    cy.time_limit = 0.0
-    cy.sample_clamp_direct = 0.0
-    cy.sample_clamp_indirect = 0.0
-    cy.light_sampling_threshold = 0.0
-    cy.use_light_tree = False
-    cy.use_guiding = False
-    cy.caustics_reflective = True
-    cy.caustics_refractive = True
-    cy.blur_glossy = 0.0
-    cy.pixel_filter_type = "BOX"
-    cy.film_exposure = 1.0
-    for attr in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces",
-                 "volume_bounces"):
-        setattr(cy, attr, args.bounces)
-    cy.transparent_max_bounces = 1024
-    cy.min_light_bounces = 0
-    cy.min_transparent_bounces = 0
-    cy.use_auto_tile = False
-    sc.render.threads_mode = "FIXED"
-    sc.render.threads = args.threads
     sc.render.resolution_x = args.width
     sc.render.resolution_y = args.height
     sc.render.resolution_percentage = 100
-    sc.render.film_transparent = False
-    sc.render.use_compositing = False
-    sc.render.use_sequencer = False
-    sc.view_settings.view_transform = "Standard"
-    sc.view_settings.look = "None"
-    sc.view_layers[0].cycles.use_denoising = False
     ims = sc.render.image_settings
     ims.file_format = "OPEN_EXR"
     ims.color_mode = "RGB"

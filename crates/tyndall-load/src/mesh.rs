@@ -23,6 +23,10 @@ impl MeshTransform {
     }
 }
 
+/// Most triangles a mesh may have: a glTF scene over all its mesh
+/// instances, a native `triangles` shape.
+pub const MAX_TRIANGLES: u64 = 1 << 24;
+
 /// The triangles of a mesh file, placed in the scene.
 pub struct MeshTriangles {
     pub triangles: Vec<Triangle>,

@@ -288,6 +288,14 @@ pub struct MetallicRoughness {
 }
 
 impl MetallicRoughness {
+    /// A dielectric's reflectance at normal incidence from its index of
+    /// refraction `ior`: `((ior − 1)/(ior + 1))²` (0.04 for 1.5, glTF's
+    /// default).
+    #[inline]
+    pub fn dielectric_f0(ior: f32) -> f32 {
+        ((ior - 1.0) / (ior + 1.0)).powi(2)
+    }
+
     /// The surface these parameters make (purely diffuse where nothing
     /// is specular).
     #[inline]

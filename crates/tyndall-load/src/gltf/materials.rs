@@ -390,7 +390,7 @@ impl GltfLoader<'_> {
             }
             None => (1.0, Rgb::ONE),
         };
-        let r0 = ((ior - 1.0) / (ior + 1.0)).powi(2);
+        let r0 = MetallicRoughness::dielectric_f0(ior);
         let f0 = (Rgb::splat(r0) * specular_color * specular_factor).clamp(Rgb::ZERO, Rgb::ONE);
         if !f0.is_finite() {
             return Err(self.err(&element, "KHR_materials_specular factors must be finite"));

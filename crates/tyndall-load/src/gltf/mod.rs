@@ -69,8 +69,8 @@ pub const MAX_NODE_INSTANCES: u64 = 1 << 20;
 
 /// Most triangles the node walk may make, over all mesh instances
 /// (each primitive's index count, or vertex count, over 3, times the
-/// mesh's instances), checked before any is made.
-pub const MAX_TRIANGLES: u64 = 1 << 24;
+/// mesh's instances), checked before any is made: the meshes' limit.
+pub use crate::mesh::MAX_TRIANGLES;
 
 /// Most vertices the node walk may read, over all mesh instances (each
 /// primitive's `POSITION` count times the mesh's instances).

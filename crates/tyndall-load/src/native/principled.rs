@@ -12,9 +12,8 @@ use tyndall::description::SceneDesc;
 use tyndall::materials::{Material, MetallicRoughness};
 use tyndall::texture::{TextureId, Wrap};
 
-/// The dielectric reflectance at normal incidence of index 1.5, glTF's
-/// default F0: `((1.5 − 1)/(1.5 + 1))²`.
-const DEFAULT_F0: f32 = 0.04;
+/// The index of refraction whose F0 is the default (glTF's).
+const DEFAULT_IOR: f32 = 1.5;
 
 /// A principled material's base colour texture, bound to each mesh that
 /// uses the material at the mesh's own `uvs`.
@@ -45,7 +44,7 @@ impl Loader<'_> {
             roughness: unit("roughness", table.roughness)?,
             f0: match table.f0 {
                 Some(f0) => self.color(span, "f0", f0, true)?,
-                None => Rgb::splat(DEFAULT_F0),
+                None => Rgb::splat(MetallicRoughness::dielectric_f0(DEFAULT_IOR)),
             },
         };
         let emission = match table.emission {

@@ -5,7 +5,7 @@
 use super::Loader;
 use super::principled::BaseColorTexture;
 use super::tables::TrianglesTable;
-use crate::gltf::MAX_TRIANGLES;
+use crate::mesh::MAX_TRIANGLES;
 use crate::source::SceneError;
 use glam::{Vec2, Vec3};
 use std::ops::Range;
