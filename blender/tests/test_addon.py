@@ -280,3 +280,60 @@ def test_bad_scenes_are_reported_by_name(out):
     # background mode; in the interface it is shown in the info area.
     with pytest.raises(RuntimeError, match="Tyndall: .*gone.png"):
         bpy.ops.render.render(write_still=True)
+
+
+def light_group_passes(out, engine, groups):
+    """Renders the current scene with the compositor writing each light
+    group's pass (Cycles' names, Combined_<group>) to an EXR; returns the
+    combined image and the passes."""
+    sc = bpy.context.scene
+    sc.use_nodes = True
+    tree = sc.node_tree
+    for node in list(tree.nodes):
+        tree.nodes.remove(node)
+    layers = tree.nodes.new("CompositorNodeRLayers")
+    files = tree.nodes.new("CompositorNodeOutputFile")
+    files.base_path = os.path.join(out, engine)
+    files.format.file_format = "OPEN_EXR"
+    files.file_slots.clear()
+    for group in groups:
+        files.file_slots.new(f"Combined_{group}")
+        tree.links.new(layers.outputs[f"Combined_{group}"], files.inputs[f"Combined_{group}"])
+    composite = tree.nodes.new("CompositorNodeComposite")
+    tree.links.new(layers.outputs["Image"], composite.inputs["Image"])
+    sc.render.use_compositing = True
+    sc.render.image_settings.file_format = "OPEN_EXR"
+    sc.render.filepath = os.path.join(out, f"{engine}.exr")
+    bpy.ops.render.render(write_still=True)
+    passes = {
+        g: bs.read_exr(os.path.join(out, engine, f"Combined_{g}{sc.frame_current:04d}.exr")) for g in groups
+    }
+    return bs.read_exr(sc.render.filepath), passes
+
+
+def test_light_groups_are_passes_as_cycles_writes_them(out):
+    """Two lamps in the view layer's light groups `key` and `fill`: the
+    engine writes Cycles' Combined_<group> passes, which sum to the image
+    and whose means agree with Cycles' own light-group passes within 1 %."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sc = bpy.context.scene
+    bpy.ops.mesh.primitive_plane_add(size=6)
+    bs.lamp(sc, "POINT", "key", 60.0, (-1.0, -1.0, 2.0), shadow_soft_size=0.0)
+    bs.lamp(sc, "POINT", "fill", 30.0, (1.5, 0.5, 1.5), shadow_soft_size=0.0)
+    groups = ("key", "fill")
+    for group in groups:
+        sc.view_layers[0].lightgroups.add(name=group)
+        bpy.data.objects[group].lightgroup = group
+    bs.camera(sc, (0, -5, 3), (math.radians(60), 0, 0), 50.0)
+    sc.world = None
+    sc.render.resolution_x, sc.render.resolution_y = 32, 24
+    bs.use_tyndall(16)
+    beauty, tyndall = light_group_passes(out, "tyndall", groups)
+    total = sum(tyndall.values())
+    assert np.abs(total - beauty).max() <= 1e-5 * beauty.max(), "the groups do not sum to the image"
+    bs.use_cycles(64)
+    _, cycles = light_group_passes(out, "cycles", groups)
+    for group in groups:
+        ratio = tyndall[group].reshape(-1, 3).mean(0) / cycles[group].reshape(-1, 3).mean(0)
+        print(f"light group {group}: means/Cycles {ratio}")
+        assert np.all(np.abs(ratio - 1) < 0.01), f"{group}: pass means / Cycles' = {ratio}"

@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional, Tuple
 
@@ -93,10 +94,24 @@ class _Converter:
         self.material_keys: Dict[Optional[str], str] = {}
         self.shapes: List[Dict[str, Any]] = []
         self.lights: List[Dict[str, Any]] = []
+        # The view layer's light groups: Cycles renders only these.
+        view_layer = getattr(depsgraph, "view_layer", None)
+        self.light_groups = {g.name for g in getattr(view_layer, "lightgroups", ())}
 
     def warn(self, message: str) -> None:
         if message not in self.warnings:
             self.warnings.append(message)
+
+    def light_group(self, owner, what: str) -> Optional[str]:
+        """The light group of `owner` (an object or the World) if the view
+        layer renders it, as Cycles does; `what` names it in warnings."""
+        name = getattr(owner, "lightgroup", "")
+        if not name or name not in self.light_groups:
+            return None
+        if not LIGHT_GROUP_NAME.fullmatch(name):
+            self.warn(f"{what}: light group '{name}' is not a Tyndall group name (letters, digits, _ and -); its light is in no group")
+            return None
+        return name
 
     # -- the whole scene ---------------------------------------------------
 
@@ -113,6 +128,9 @@ class _Converter:
                 self.warn(f"object '{obj.name}': Volume objects are not converted yet; it is left out")
         environment, fog = self.world()
         if environment is not None:
+            group = self.light_group(self.scene.world, f"world '{self.scene.world.name}'")
+            if group is not None:
+                environment["light_group"] = group
             self.lights.append(environment)
         scene: Dict[str, Any] = {"camera": camera, "render": self.render_table()}
         if fog is not None:
@@ -234,6 +252,9 @@ class _Converter:
                 "normals": corner_normals[chosen].astype(np.float32).reshape(-1),
                 "material": key,
             }
+            group = self.light_group(obj, f"object '{obj.name}'")
+            if group is not None and emits(self.materials[key]):
+                shape["light_group"] = group
             if uvs is not None:
                 shape["uvs"] = uvs[chosen].astype(np.float32).reshape(-1)
             elif textured:
@@ -394,6 +415,7 @@ class _Converter:
         position = to_y_up(matrix[:3, 3])
         axis = matrix[:3, :3] @ np.array([0.0, 0.0, -1.0])
         direction = to_y_up(axis / np.linalg.norm(axis))
+        count = len(self.lights)
         if data.type == "POINT":
             self.lights.append(
                 {"type": "point", "position": position, "intensity": list(colour * data.energy / (4 * math.pi))}
@@ -420,6 +442,10 @@ class _Converter:
             self.lights.append({"type": "directional", "direction": direction, "irradiance": list(colour * data.energy)})
         elif data.type == "AREA":
             self.area_light(obj, data, matrix, colour)
+        group = self.light_group(obj, f"light '{obj.name}'")
+        if group is not None:
+            for light in self.lights[count:]:
+                light["light_group"] = group
 
     def area_light(self, obj, data, matrix: np.ndarray, colour: np.ndarray) -> None:
         if getattr(data, "spread", math.pi) < math.pi:
@@ -563,6 +589,15 @@ class _Converter:
             return total_s, total_a, g
         self.warn(f"{where}: the {node.bl_label} volume node is not supported; no fog")
         return None
+
+
+# The names a Tyndall light group may take (docs/scene-format.md).
+LIGHT_GROUP_NAME = re.compile(r"[A-Za-z0-9_-]{1,64}")
+
+
+def emits(material: Dict[str, Any]) -> bool:
+    """Whether a Tyndall material table emits light."""
+    return material.get("type") == "emissive" or (material.get("type") == "principled" and "emission" in material)
 
 
 def vertical_fov(sensor_fit: str, lens: float, sensor_width: float, sensor_height: float, width: int, height: int) -> float:

@@ -29,6 +29,16 @@ GEOMETRIC = {"normal", "position"}
 BACKGROUND_DEPTH = 1e10
 
 
+def light_groups(view_layer) -> List[str]:
+    """The names of a view layer's light groups."""
+    return [g.name for g in getattr(view_layer, "lightgroups", ())]
+
+
+def group_pass(group: str) -> str:
+    """The pass of light group `group`, named as Cycles names it."""
+    return f"Combined_{group}"
+
+
 class Cancelled(Exception):
     """The user cancelled the render (Esc)."""
 
@@ -63,6 +73,10 @@ class TyndallRenderEngine(bpy.types.RenderEngine):
         if scene is not None and scene.tyndall.passes:
             for _, name, channels, ids, kind in PASSES:
                 self.register_pass(scene, renderlayer, name, channels, ids, kind)
+        # A light group's pass, as Cycles names it, whenever the view
+        # layer has light groups.
+        for group in light_groups(renderlayer):
+            self.register_pass(scene, renderlayer, group_pass(group), 3, "RGB", "COLOR")
 
     def render(self, depsgraph):
         try:
@@ -99,7 +113,10 @@ class TyndallRenderEngine(bpy.types.RenderEngine):
         except ValueError as e:
             self.fail(str(e))
             return
-        aovs = [aov for aov, *_ in PASSES] if options.passes else None
+        aovs = [aov for aov, *_ in PASSES] if options.passes else []
+        groups = light_groups(depsgraph.view_layer)
+        if groups:
+            aovs.append("light_groups")
 
         def progress(done: int, total: int) -> None:
             self.update_progress(done / max(total, 1))
@@ -109,15 +126,15 @@ class TyndallRenderEngine(bpy.types.RenderEngine):
 
         try:
             rendered = native.render(
-                threads=options.threads or None, progress=progress, aovs=aovs, denoise=options.denoise
+                threads=options.threads or None, progress=progress, aovs=aovs or None, denoise=options.denoise
             )
         except (ValueError, OSError) as e:
             self.fail(str(e))
             return
         outputs: Dict[str, np.ndarray] = rendered if isinstance(rendered, dict) else {"beauty": rendered}
-        self.write_result(outputs, native.width, native.height)
+        self.write_result(outputs, native.width, native.height, groups)
 
-    def write_result(self, outputs: Dict[str, np.ndarray], width: int, height: int) -> None:
+    def write_result(self, outputs: Dict[str, np.ndarray], width: int, height: int, groups: List[str]) -> None:
         result = self.begin_result(0, 0, width, height)
         layer = result.layers[0]
         layer.passes["Combined"].rect = blender_pixels(outputs["beauty"], 4)
@@ -132,6 +149,13 @@ class TyndallRenderEngine(bpy.types.RenderEngine):
             render_pass = layer.passes.find_by_name(name, "")
             if render_pass is not None:
                 render_pass.rect = blender_pixels(values, channels)
+        for group in groups:
+            # A group no converted emitter is in (or one convert warned
+            # about) has no image: its pass stays black.
+            values = outputs.get(f"light_group.{group}")
+            render_pass = layer.passes.find_by_name(group_pass(group), "")
+            if values is not None and render_pass is not None:
+                render_pass.rect = blender_pixels(values, 3)
         self.end_result(result)
 
 

@@ -18,9 +18,11 @@ pub struct Finishing {
     /// Also write these AOVs, comma-separated, as layers of the .exr output:
     /// `albedo` and `normal` of the first non-specular surface (the
     /// denoiser's guides), `depth` (distance along the camera ray) and
-    /// `position` of the first surface, and the radiance's components
-    /// `emission`, `direct`, `indirect` and `volume`, which sum to it
-    /// (docs/scene-format.md, "AOVs and denoising"). They are not denoised.
+    /// `position` of the first surface, the radiance's components
+    /// `emission`, `direct`, `indirect` and `volume`, which sum to it, and
+    /// `light_groups`, one layer `light_group.<name>` per light group of
+    /// the scene, which sum to it too (docs/scene-format.md, "AOVs and
+    /// denoising"). They are not denoised.
     #[arg(long, value_parser = parse_aovs)]
     pub aov: Option<AovList>,
     /// Denoise the image with Intel Open Image Denoise, guided by the
@@ -75,7 +77,12 @@ impl Finisher {
 
     /// Whether the render must keep the radiance's components.
     pub fn needs_components(&self) -> bool {
-        self.aovs.iter().any(|a| !a.is_guide())
+        self.aovs.iter().any(|a| a.is_component())
+    }
+
+    /// Whether the render must keep the light groups' radiance.
+    pub fn needs_light_groups(&self) -> bool {
+        self.aovs.contains(&Aov::LightGroups)
     }
 
     /// Whether anything but the raw image is written.
@@ -94,6 +101,13 @@ impl Finisher {
         let image = accumulation.resolve();
         let guides = accumulation.resolve_guides();
         let components = accumulation.resolve_components();
+        let group_images = accumulation.resolve_light_groups();
+        let group_layers: Vec<String> = accumulation
+            .light_groups
+            .iter()
+            .flat_map(|g| g.names())
+            .map(|name| Aov::light_group_layer(name))
+            .collect();
         let needed = |what: &str| -> Result<&Guides> {
             guides.as_ref().with_context(|| {
                 format!("{what} needs the first-surface guides, which these sums do not hold")
@@ -119,6 +133,15 @@ impl Finisher {
                 Aov::Component(c) => components.as_ref().map(|k| k.get(c)).with_context(|| {
                     format!("--aov {}: these sums do not hold the radiance's components (parts of renders with light paths do not)", aov.name())
                 })?,
+                Aov::LightGroups => {
+                    let images = group_images.as_ref().with_context(|| {
+                        "--aov light_groups: these sums do not hold the light groups' radiance (parts of scenes without named light groups, and of renders with light paths, do not)"
+                    })?;
+                    for (name, image) in group_layers.iter().zip(images) {
+                        layers.push(AovLayer::radiance(name, image));
+                    }
+                    continue;
+                }
                 guide => needed("--aov")?.get(guide).expect("a guide"),
             };
             layers.push(AovLayer::new(aov, image));

@@ -445,12 +445,16 @@ fn render(args: RenderArgs) -> Result<()> {
     let (settings, loader_warnings) = (desc.settings, std::mem::take(&mut desc.warnings));
     // The description moves into the scene: its grids are not held twice.
     let scene = Scene::from_desc(desc).map_err(SceneError::from)?;
-    // Renders with light paths cannot split their components: asking for
-    // them is an error (from the render), keeping them for a part is not
-    // attempted.
+    // Renders with light paths cannot split their components or light
+    // groups: asking for them is an error (from the render), keeping them
+    // for a part is not attempted.
+    // Parts and checkpoints keep the light groups of a scene that names
+    // any, for the same reasons.
+    let splits = !tyndall::render::traces_light_paths(&scene, &settings);
     let settings = tyndall::RenderSettings {
-        components: finisher.needs_components()
-            || (keeps_all && !tyndall::render::traces_light_paths(&scene, &settings)),
+        components: finisher.needs_components() || (keeps_all && splits),
+        light_groups: finisher.needs_light_groups()
+            || (keeps_all && splits && scene.light_groups().len() > 1),
         ..settings
     };
     settings.validate(&scene)?;

@@ -120,6 +120,73 @@ fn merged_tiles_carry_the_aovs() {
     assert_eq!(channels(&merged), channels(&whole));
 }
 
+/// fog-spot-sphere with its spot in the group `key` and a second spot in
+/// `rim-2`, written where the test can read it.
+fn grouped_scene() -> std::path::PathBuf {
+    let text = std::fs::read_to_string(repo().join("scenes/reference/fog-spot-sphere.toml"))
+        .expect("scene");
+    let text = format!(
+        "{text}light_group = \"key\"\n\n[[lights]]\ntype = \"spot\"\nposition = [1.5, 2.5, 1.0]\nlook_at = [0.0, 0.5, 0.0]\ncutoff_deg = 15.0\nintensity = 30.0\nlight_group = \"rim-2\"\n"
+    );
+    let path = temp("grouped.toml");
+    std::fs::write(&path, text).expect("write");
+    path
+}
+
+/// `--aov light_groups` writes one layer per group, which sum to the
+/// radiance; tiles keep the groups' sums unasked, and merged they give
+/// the whole render's layers bit for bit.
+#[test]
+fn light_groups_are_layers_that_sum_to_the_radiance_and_merge() {
+    let scene = grouped_scene();
+    let run = |extra: &[&str], output: &Path| {
+        let mut args = vec!["render", scene.to_str().expect("path"), "-q", "-o"];
+        args.push(output.to_str().expect("path"));
+        args.extend(SIZE);
+        args.extend(extra);
+        tyndall(&args)
+    };
+    let whole = temp("groups.exr");
+    let out = run(&["--aov", "light_groups"], &whole);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let layers = channels(&whole);
+    let channel = |name: &str| &layers.iter().find(|(n, _)| n == name).expect(name).1;
+    for c in ["R", "G", "B"] {
+        for (i, b) in channel(c).iter().enumerate() {
+            let sum: f32 = ["other", "key", "rim-2"]
+                .iter()
+                .map(|g| channel(&format!("light_group.{g}.{c}"))[i])
+                .sum();
+            assert!(
+                (sum - b).abs() <= 64.0 * f32::EPSILON * b.abs() + 1e-12,
+                "{c} {i}: {sum} vs {b}"
+            );
+        }
+    }
+    // Only the two spots light the scene: the rest is black.
+    assert!(channel("light_group.other.R").iter().all(|&v| v == 0.0));
+    for group in ["key", "rim-2"] {
+        let lit = channel(&format!("light_group.{group}.G"));
+        assert!(lit.iter().any(|&v| v > 0.0), "{group} has no light");
+    }
+    let (a, b, merged) = (temp("g0.exr"), temp("g1.exr"), temp("gmerged.exr"));
+    for (tile, path) in [("0/2", &a), ("1/2", &b)] {
+        let out = run(&["--tile", tile], path);
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    let out = tyndall(&[
+        "merge",
+        a.to_str().expect("path"),
+        b.to_str().expect("path"),
+        "-o",
+        merged.to_str().expect("path"),
+        "--aov",
+        "light_groups",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(channels(&merged), layers);
+}
+
 #[test]
 fn bad_requests_fail_before_rendering_and_write_nothing() {
     let cases: [(&[&str], &str, &str); 5] = [

@@ -88,16 +88,29 @@ pub struct AovLayer<'a> {
 impl<'a> AovLayer<'a> {
     /// The layer of `aov`, whose image is `image`: `albedo.{R,G,B}`,
     /// `normal.{X,Y,Z}`, `depth.Z`, `position.{X,Y,Z}` and, for a
-    /// radiance component, `{name}.{R,G,B}` (`direct.R`, ...).
+    /// radiance component, `{name}.{R,G,B}` (`direct.R`, ...). A light
+    /// group's layer is [`AovLayer::radiance`]'s.
     pub fn new(aov: Aov, image: &'a Image) -> Self {
         let channels: &[&str] = match aov {
-            Aov::Albedo | Aov::Component(_) => &["R", "G", "B"],
+            Aov::Albedo | Aov::Component(_) | Aov::LightGroups => &["R", "G", "B"],
             Aov::Normal | Aov::Position => &["X", "Y", "Z"],
             Aov::Depth => &["Z"],
         };
         AovLayer {
             name: aov.name(),
             channels,
+            image,
+        }
+    }
+}
+
+impl<'a> AovLayer<'a> {
+    /// A radiance layer `{name}.{R,G,B}`: a light group's
+    /// (`light_group.key.R`, ...).
+    pub fn radiance(name: &'a str, image: &'a Image) -> Self {
+        AovLayer {
+            name,
+            channels: &["R", "G", "B"],
             image,
         }
     }

@@ -15,7 +15,11 @@
 //!   and `sum.guide.depth` (each `.hi`/`.lo`), and `sum.guide.hits`
 //!   (u32), and its header says `guides 1`. One that keeps the radiance's
 //!   components has `sum.{emission,direct,indirect,volume}.{R,G,B}`
-//!   (`.hi`/`.lo`) and says `components 1`.
+//!   (`.hi`/`.lo`) and says `components 1`. One that keeps the
+//!   radiance of its N light groups has `sum.group.{k}.{R,G,B}`
+//!   (`.hi`/`.lo`, k = 0 … N − 1, the scene's group numbers, which its
+//!   hash fixes) and says `light-groups N` and, for each group,
+//!   `light-group-k NAME`.
 //!   Its text attribute `tyndall` records what the part holds, one
 //!   `key value` per line: `tyndall-part 1` (the format), `scene-hash`
 //!   (see [`tyndall::parts::scene_hash`]), `image W H`, `rect x0 y0 x1 y1`
@@ -43,6 +47,7 @@ use std::path::{Path, PathBuf};
 use tyndall::aov::{Component, ComponentSum};
 use tyndall::exact_sum::ExactRgb;
 use tyndall::guides::GuideSum;
+use tyndall::light_groups::{LightGroupSums, MAX_LIGHT_GROUPS, is_group_name};
 use tyndall::parts::{Fnv1a, Part, PartIdentity};
 use tyndall::region::{PixelRect, RenderRegion};
 use tyndall::render::Accumulation;
@@ -126,6 +131,18 @@ pub fn write_part(
                     &mut channels,
                     &format!("sum.{}.{name}", component.name()),
                     components.iter().map(|s| s[component.index()][c]),
+                );
+            }
+        }
+    }
+    if let Some(groups) = &a.light_groups {
+        let n = groups.groups();
+        for k in 0..n {
+            for (c, name) in ["R", "G", "B"].iter().enumerate() {
+                push_f64(
+                    &mut channels,
+                    &format!("sum.group.{k}.{name}"),
+                    groups.sums().iter().skip(k).step_by(n).map(|s| s[c]),
                 );
             }
         }
@@ -232,6 +249,12 @@ fn describe(part: &Part) -> String {
     if a.components.is_some() {
         text.push_str("components 1\n");
     }
+    if let Some(groups) = &a.light_groups {
+        text.push_str(&format!("light-groups {}\n", groups.groups()));
+        for (k, name) in groups.names().iter().enumerate() {
+            text.push_str(&format!("light-group-{k} {name}\n"));
+        }
+    }
     text
 }
 
@@ -266,6 +289,11 @@ fn checksum(description: &str, a: &Accumulation) -> u64 {
             for c in 0..3 {
                 h.update(&v[c].to_bits().to_le_bytes());
             }
+        }
+    }
+    for v in a.light_groups.iter().flat_map(|g| g.sums()) {
+        for c in 0..3 {
+            h.update(&v[c].to_bits().to_le_bytes());
         }
     }
     h.finish()
@@ -379,6 +407,24 @@ pub fn read_part(path: &Path) -> std::result::Result<Part, PartFileError> {
     } else {
         None
     };
+    let light_groups = match header.light_groups.len() {
+        0 => None,
+        n => {
+            let mut sums = vec![DVec3::ZERO; rect.area() * n];
+            for k in 0..n {
+                for (c, name) in ["R", "G", "B"].iter().enumerate() {
+                    let values = f64_channel(&format!("sum.group.{k}.{name}"))?;
+                    for (s, v) in sums.iter_mut().skip(k).step_by(n).zip(values) {
+                        s[c] = v;
+                    }
+                }
+            }
+            Some(
+                LightGroupSums::from_sums(header.light_groups.clone(), sums)
+                    .ok_or_else(|| format(format!("`light-groups {n}` is out of range")))?,
+            )
+        }
+    };
     let light = if header.light {
         let full = header.width as usize * header.height as usize;
         let layer = layer_named(LIGHT_LAYER)
@@ -408,6 +454,7 @@ pub fn read_part(path: &Path) -> std::result::Result<Part, PartFileError> {
         light,
         guides,
         components,
+        light_groups,
     };
     // The checksum covers the header as stored, up to its own line.
     let described = text
@@ -442,6 +489,9 @@ struct Description {
     guides: bool,
     /// Whether the part holds the components' sums (absent: it does not).
     components: bool,
+    /// The names of the light groups whose sums the part holds (absent:
+    /// none).
+    light_groups: Vec<String>,
     checksum: u64,
 }
 
@@ -500,6 +550,26 @@ fn parse_description(text: &str) -> Result<Description, String> {
         }
     };
     let (guides, components) = (flag("guides")?, flag("components")?);
+    let groups = match fields.contains_key("light-groups") {
+        true => numbers::<usize>(&fields, "light-groups", 1, false)?[0],
+        false => 0,
+    };
+    if groups > MAX_LIGHT_GROUPS {
+        return Err(format!(
+            "`light-groups {groups}`: a render keeps at most {MAX_LIGHT_GROUPS}"
+        ));
+    }
+    let light_groups = (0..groups)
+        .map(|k| {
+            let key = format!("light-group-{k}");
+            match fields.get(key.as_str()).map(Vec::as_slice) {
+                Some([name]) if is_group_name(name) => Ok(name.to_string()),
+                _ => Err(format!(
+                    "the header needs `{key}` with the group's name (ASCII letters, digits, `_`, `-`)"
+                )),
+            }
+        })
+        .collect::<Result<Vec<String>, String>>()?;
     Ok(Description {
         scene_hash: hash[0],
         width: image[0],
@@ -515,6 +585,7 @@ fn parse_description(text: &str) -> Result<Description, String> {
         light: light[0] != 0,
         guides,
         components,
+        light_groups,
         checksum: checksum[0],
     })
 }

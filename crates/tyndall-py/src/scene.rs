@@ -210,11 +210,13 @@ impl NativeScene {
             (true, None) => Some(Denoiser::find().map_err(os_error)?),
         };
         settings.guides = denoiser.is_some() || aovs.iter().any(|a| a.is_guide());
-        settings.components = aovs.iter().any(|a| !a.is_guide());
+        settings.components = aovs.iter().any(|a| a.is_component());
+        settings.light_groups = aovs.contains(&Aov::LightGroups);
         let accumulation = self.accumulate(py, &settings, &region, progress)?;
         let mut image = accumulation.resolve();
         let guides = accumulation.resolve_guides();
         let components = accumulation.resolve_components();
+        let group_images = accumulation.resolve_light_groups();
         if let (Some(denoiser), Some(g)) = (&denoiser, &guides) {
             let guides = DenoiseGuides {
                 albedo: &g.albedo,
@@ -227,6 +229,19 @@ impl NativeScene {
         }
         let mut layers = Vec::with_capacity(aovs.len());
         for aov in aovs {
+            if aov == Aov::LightGroups {
+                // Kept by the settings above when asked for.
+                let (sums, images) = accumulation
+                    .light_groups
+                    .as_ref()
+                    .zip(group_images.as_ref())
+                    .expect("the render kept what was asked for");
+                for (name, image) in sums.names().iter().zip(images) {
+                    let bytes = crate::image_bytes(image);
+                    layers.push((Aov::light_group_layer(name), PyBytes::new(py, &bytes), 3));
+                }
+                continue;
+            }
             let image = match aov {
                 Aov::Component(c) => components.as_ref().map(|k| k.get(c)),
                 guide => guides.as_ref().and_then(|g| g.get(guide)),
@@ -272,6 +287,7 @@ impl NativeScene {
         // with any other and denoised.
         settings.guides = true;
         settings.components = !tyndall::render::traces_light_paths(&self.scene, &settings);
+        settings.light_groups = settings.components && self.scene.light_groups().len() > 1;
         let accumulation = self.accumulate(py, &settings, &region, progress)?;
         let part = Part {
             identity: PartIdentity::new(&self.scene, &settings),

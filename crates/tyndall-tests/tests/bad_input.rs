@@ -282,3 +282,39 @@ fn every_value_error_is_reported_at_its_key() {
         "{text}"
     );
 }
+
+/// Light groups (docs/scene-format.md, "AOVs and denoising"): a name that
+/// cannot name an EXR layer, the reserved `other`, a group on what does
+/// not emit, and more groups than a render keeps are errors at the key.
+#[test]
+fn bad_light_groups_are_errors_at_their_key() {
+    let spot = "intensity = 10\n";
+    let on_spot = |value: &str| GOOD.replace(spot, &format!("{spot}light_group = {value}\n"));
+    let e = native_error(&on_spot("\"key light\""));
+    assert_error(&e, 26, "ASCII letters, digits");
+    let e = native_error(&on_spot("\"other\""));
+    assert_error(
+        &e,
+        26,
+        "`other` is the group of the light in no named group",
+    );
+    let e = native_error(&on_spot("3"));
+    assert_error(&e, 26, "expected a string");
+    let sphere = "material = \"grey\"\n";
+    let e = native_error(&GOOD.replace(sphere, &format!("{sphere}light_group = \"ball\"\n")));
+    assert_error(&e, 19, "only lights and emissive shapes");
+    // Sixteen named groups: one more than the per-sample split holds.
+    let mut text = GOOD.to_owned();
+    for k in 0..16 {
+        text.push_str(&format!(
+            "\n[[lights]]\ntype = \"point\"\nposition = [0, 2, {k}]\nintensity = 1\nlight_group = \"g{k}\"\n"
+        ));
+    }
+    let e = native_error(&text);
+    let line = text
+        .lines()
+        .position(|l| l == "light_group = \"g15\"")
+        .expect("line")
+        + 1;
+    assert_error(&e, line, "at most 15 light groups");
+}

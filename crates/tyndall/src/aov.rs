@@ -1,6 +1,7 @@
 //! The outputs a render can write beside the radiance, arbitrary output
-//! variables (AOVs): the first-surface guides (module [`crate::guides`])
-//! and the radiance's components ([`Component`]), which sum to it.
+//! variables (AOVs): the first-surface guides (module [`crate::guides`]),
+//! the radiance's components ([`Component`]), which sum to it, and its
+//! light groups (module [`crate::light_groups`]), which sum to it too.
 
 use crate::color::Rgb;
 use crate::film::Image;
@@ -85,10 +86,13 @@ pub enum Aov {
     Position,
     /// A component of the radiance (RGB, W·sr⁻¹·m⁻²).
     Component(Component),
+    /// The radiance of each light group (RGB, W·sr⁻¹·m⁻²): one image
+    /// per group, written as layers `light_group.<name>`.
+    LightGroups,
 }
 
 impl Aov {
-    pub const ALL: [Aov; 8] = [
+    pub const ALL: [Aov; 9] = [
         Aov::Albedo,
         Aov::Normal,
         Aov::Depth,
@@ -97,6 +101,7 @@ impl Aov {
         Aov::Component(Component::Direct),
         Aov::Component(Component::Indirect),
         Aov::Component(Component::Volume),
+        Aov::LightGroups,
     ];
 
     /// Its name in flags, files and the Python API.
@@ -107,6 +112,7 @@ impl Aov {
             Aov::Depth => "depth",
             Aov::Position => "position",
             Aov::Component(c) => c.name(),
+            Aov::LightGroups => "light_groups",
         }
     }
 
@@ -115,10 +121,21 @@ impl Aov {
     }
 
     /// Whether it is a first-surface guide (kept by
-    /// `RenderSettings::guides`) rather than a radiance component (kept
-    /// by `RenderSettings::components`).
+    /// `RenderSettings::guides`) rather than a part of the radiance (a
+    /// component, kept by `RenderSettings::components`, or the light
+    /// groups, kept by `RenderSettings::light_groups`).
     pub fn is_guide(self) -> bool {
-        !matches!(self, Aov::Component(_))
+        !matches!(self, Aov::Component(_) | Aov::LightGroups)
+    }
+
+    /// Whether it is a radiance component.
+    pub fn is_component(self) -> bool {
+        matches!(self, Aov::Component(_))
+    }
+
+    /// The name of the layer of light group `group`'s image.
+    pub fn light_group_layer(group: &str) -> String {
+        format!("light_group.{group}")
     }
 
     /// Parses a comma-separated list of names (`albedo,normal`), each once.

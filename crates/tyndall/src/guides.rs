@@ -233,7 +233,7 @@ impl Guides {
             Aov::Normal => Some(&self.normal),
             Aov::Depth => Some(&self.depth),
             Aov::Position => Some(&self.position),
-            Aov::Component(_) => None,
+            Aov::Component(_) | Aov::LightGroups => None,
         }
     }
 }

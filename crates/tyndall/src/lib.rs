@@ -31,6 +31,7 @@ pub mod film;
 pub mod glass;
 pub mod guides;
 pub(crate) mod integrators;
+pub mod light_groups;
 pub mod lights;
 pub mod limits;
 pub mod materials;

@@ -62,11 +62,12 @@ pub fn scene_hash(scene: &Scene, settings: &RenderSettings) -> u64 {
     // Writing into a hasher cannot fail.
     let _ = write!(
         h,
-        "{}|{camera:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|",
+        "{}|{camera:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|",
         env!("CARGO_PKG_VERSION"),
         scene.geometry.primitives(),
         scene.materials,
         scene.lights,
+        scene.light_groups,
         scene.fog,
         scene.volumes,
         scene.background,
@@ -162,7 +163,7 @@ pub fn merge(parts: Vec<(PathBuf, Part)>) -> Result<Part, MergeError> {
             || a.kept() != kept
         {
             return Err(mismatch(format!(
-                "{} and {} differ in seed, image size, light paths, guides or radiance components (AOVs)",
+                "{} and {} differ in seed, image size, light paths, guides, radiance components or light groups (AOVs)",
                 first_path.display(),
                 path.display()
             )));
@@ -278,6 +279,11 @@ pub fn merge(parts: Vec<(PathBuf, Part)>) -> Result<Part, MergeError> {
             }
             if let (Some(w), Some(p)) = (&mut whole.components, &piece.components) {
                 w[to..to + n].copy_from_slice(&p[from..from + n]);
+            }
+            if let (Some(w), Some(p)) = (&mut whole.light_groups, &piece.light_groups) {
+                let g = w.groups();
+                w.sums_mut()[to * g..(to + n) * g]
+                    .copy_from_slice(&p.sums()[from * g..(from + n) * g]);
             }
         }
         // The bands' light-path shares partition each pass's paths.

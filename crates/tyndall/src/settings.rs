@@ -60,6 +60,10 @@ pub struct RenderSettings {
     /// volume: `crate::aov::Component`) beside it. They change no sample.
     /// Not for renders that trace light paths (caustics).
     pub components: bool,
+    /// Also sum the radiance of each light group (the scene's
+    /// `crate::light_groups::LightGroups`) beside it. They change no
+    /// sample. Not for renders that trace light paths (caustics).
+    pub light_groups: bool,
 }
 
 impl Default for RenderSettings {
@@ -81,6 +85,7 @@ impl Default for RenderSettings {
             strategies: Strategies::ALL,
             guides: false,
             components: false,
+            light_groups: false,
         }
     }
 }

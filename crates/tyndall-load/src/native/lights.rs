@@ -36,6 +36,7 @@ impl Loader<'_> {
                 temperature_k,
                 ies,
                 ies_rotate_deg,
+                light_group: _,
             }) => {
                 let nadir = match direction {
                     Some(d) => self.direction(&span, "direction", *d)?,
@@ -89,6 +90,7 @@ impl Loader<'_> {
                 ies_rotate_deg,
                 gobo,
                 gobo_rotate_deg,
+                light_group: _,
             }) => {
                 let position = self.vec3(&span, "position", *position)?;
                 let direction = match (direction, look_at) {
@@ -168,6 +170,7 @@ impl Loader<'_> {
                 direction,
                 irradiance,
                 temperature_k,
+                light_group: _,
             }) => {
                 let tint = self.temperature(&span, *temperature_k)?;
                 scene.add_light(
@@ -183,6 +186,7 @@ impl Loader<'_> {
                 radiance,
                 two_sided,
                 temperature_k,
+                light_group: _,
             }) => {
                 let quad = self.quad(&span, corners, false)?;
                 let radiance =
@@ -194,6 +198,7 @@ impl Loader<'_> {
                 map,
                 map_rotate_deg,
                 temperature_k,
+                light_group: _,
             }) => {
                 let tint = self.temperature(&span, *temperature_k)?;
                 let scale = match radiance {

@@ -18,7 +18,9 @@ use std::path::Path;
 use std::sync::Arc;
 use tyndall::camera::{CameraSpec, FieldOfView};
 use tyndall::color::Rgb;
-use tyndall::description::{GlassSettings, MeshAttributes, Origin, SceneDesc, Sourced};
+use tyndall::description::{
+    GlassSettings, GroupMember, MeshAttributes, Origin, SceneDesc, Sourced,
+};
 use tyndall::glass::{Glass, GlassModel};
 use tyndall::lights::LightSampling;
 use tyndall::limits;
@@ -210,10 +212,16 @@ impl Loader<'_> {
             }
         }
         for shape in &file.shapes {
+            let before = Emitters::of(&desc);
             self.shape(shape, &material_ids, &mut desc)?;
+            let group = shape.get_ref().light_group();
+            self.light_group(&shape.span(), group, before, &mut desc);
         }
         for light in &file.lights {
+            let before = Emitters::of(&desc);
             self.light(light, &mut desc)?;
+            let group = light.get_ref().light_group();
+            self.light_group(&light.span(), group, before, &mut desc);
         }
         for include in &file.include {
             self.include(include, &mut desc)?;
@@ -234,6 +242,28 @@ impl Loader<'_> {
         }
         desc.warnings = self.warnings;
         Ok(desc)
+    }
+
+    /// Puts what one table added to `scene` since `before` (its shapes
+    /// and lights) in the light group `group`, if it names one; the
+    /// description's validation refuses a group on what does not emit.
+    fn light_group(
+        &self,
+        span: &std::ops::Range<usize>,
+        group: Option<&str>,
+        before: Emitters,
+        scene: &mut SceneDesc,
+    ) {
+        let Some(group) = group else {
+            return;
+        };
+        let after = Emitters::of(scene);
+        let members = (before.shapes..after.shapes)
+            .map(GroupMember::Shape)
+            .chain((before.lights..after.lights).map(GroupMember::Light));
+        for member in members.collect::<Vec<_>>() {
+            scene.add_to_light_group(member, group.to_owned(), self.origin(span));
+        }
     }
 
     fn camera(&self, desc: &Spanned<CameraTable>) -> Result<CameraSpec, SceneError> {
@@ -527,6 +557,7 @@ impl Loader<'_> {
                 center,
                 radius,
                 material,
+                light_group: _,
             }) => {
                 let m = self.untextured_material_id(&span, material, ids)?;
                 let sphere = Sphere {
@@ -539,12 +570,18 @@ impl Loader<'_> {
                 corners,
                 material,
                 one_sided,
+                light_group: _,
             }) => {
                 let m = self.untextured_material_id(&span, material, ids)?;
                 let q = self.quad(&span, corners, *one_sided)?;
                 scene.add_shapes(vec![Shape::Quad(q)], m, origin);
             }
-            ShapeTable::Box(BoxShapeTable { min, max, material }) => {
+            ShapeTable::Box(BoxShapeTable {
+                min,
+                max,
+                material,
+                light_group: _,
+            }) => {
                 let m = self.untextured_material_id(&span, material, ids)?;
                 let b = self.bounds(&span, "min", *min, *max)?;
                 let faces = box_faces(b).ok_or_else(|| {
@@ -558,6 +595,7 @@ impl Loader<'_> {
                 translate,
                 scale,
                 rotate_deg,
+                light_group: _,
             }) => {
                 let m = self.untextured_material_id(&span, material, ids)?;
                 let placement = (*translate, *scale, *rotate_deg);
@@ -645,5 +683,22 @@ impl Loader<'_> {
             .map_err(|e| self.err(&span, "file", format!("cannot include: {e}")))?;
         self.warnings.extend(warnings);
         Ok(())
+    }
+}
+
+/// How many shape items and lights a description holds: what a table
+/// added is the difference.
+#[derive(Clone, Copy)]
+struct Emitters {
+    shapes: usize,
+    lights: usize,
+}
+
+impl Emitters {
+    fn of(scene: &SceneDesc) -> Self {
+        Emitters {
+            shapes: scene.shapes.len(),
+            lights: scene.lights.len(),
+        }
     }
 }

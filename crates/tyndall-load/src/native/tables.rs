@@ -227,6 +227,9 @@ pub(super) struct TrianglesTable {
     #[serde(default)]
     pub(super) uvs: Option<Vec<f32>>,
     pub(super) material: String,
+    /// The light group the emitter is in (AOV `light_groups`).
+    #[serde(default)]
+    pub(super) light_group: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -235,6 +238,9 @@ pub(super) struct SphereTable {
     pub(super) center: V3,
     pub(super) radius: f32,
     pub(super) material: String,
+    /// The light group the emitter is in (AOV `light_groups`).
+    #[serde(default)]
+    pub(super) light_group: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -244,6 +250,9 @@ pub(super) struct QuadTable {
     pub(super) material: String,
     #[serde(default)]
     pub(super) one_sided: bool,
+    /// The light group the emitter is in (AOV `light_groups`).
+    #[serde(default)]
+    pub(super) light_group: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -252,6 +261,9 @@ pub(super) struct BoxShapeTable {
     pub(super) min: V3,
     pub(super) max: V3,
     pub(super) material: String,
+    /// The light group the emitter is in (AOV `light_groups`).
+    #[serde(default)]
+    pub(super) light_group: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -265,6 +277,9 @@ pub(super) struct MeshTable {
     pub(super) scale: Option<ColorValue>,
     #[serde(default)]
     pub(super) rotate_deg: Option<V3>,
+    /// The light group the emitter is in (AOV `light_groups`).
+    #[serde(default)]
+    pub(super) light_group: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -288,6 +303,9 @@ pub(super) struct PointTable {
     pub(super) temperature_k: Option<f32>,
     pub(super) ies: Option<String>,
     pub(super) ies_rotate_deg: Option<f32>,
+    /// The light group the emitter is in (AOV `light_groups`).
+    #[serde(default)]
+    pub(super) light_group: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -306,6 +324,9 @@ pub(super) struct SpotTable {
     pub(super) ies_rotate_deg: Option<f32>,
     pub(super) gobo: Option<String>,
     pub(super) gobo_rotate_deg: Option<f32>,
+    /// The light group the emitter is in (AOV `light_groups`).
+    #[serde(default)]
+    pub(super) light_group: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -314,6 +335,9 @@ pub(super) struct DirectionalTable {
     pub(super) direction: V3,
     pub(super) irradiance: ColorValue,
     pub(super) temperature_k: Option<f32>,
+    /// The light group the emitter is in (AOV `light_groups`).
+    #[serde(default)]
+    pub(super) light_group: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -326,6 +350,9 @@ pub(super) struct EnvironmentTable {
     /// The map's turn about +y (degrees).
     pub(super) map_rotate_deg: Option<f32>,
     pub(super) temperature_k: Option<f32>,
+    /// The light group the emitter is in (AOV `light_groups`).
+    #[serde(default)]
+    pub(super) light_group: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -336,6 +363,35 @@ pub(super) struct QuadLightTable {
     #[serde(default)]
     pub(super) two_sided: bool,
     pub(super) temperature_k: Option<f32>,
+    /// The light group the emitter is in (AOV `light_groups`).
+    #[serde(default)]
+    pub(super) light_group: Option<String>,
+}
+
+impl ShapeTable {
+    /// The light group the shape's emitters are in, if named.
+    pub(super) fn light_group(&self) -> Option<&str> {
+        match self {
+            ShapeTable::Sphere(t) => t.light_group.as_deref(),
+            ShapeTable::Quad(t) => t.light_group.as_deref(),
+            ShapeTable::Box(t) => t.light_group.as_deref(),
+            ShapeTable::Mesh(t) => t.light_group.as_deref(),
+            ShapeTable::Triangles(t) => t.light_group.as_deref(),
+        }
+    }
+}
+
+impl LightTable {
+    /// The light group the light is in, if named.
+    pub(super) fn light_group(&self) -> Option<&str> {
+        match self {
+            LightTable::Point(t) => t.light_group.as_deref(),
+            LightTable::Spot(t) => t.light_group.as_deref(),
+            LightTable::Directional(t) => t.light_group.as_deref(),
+            LightTable::Quad(t) => t.light_group.as_deref(),
+            LightTable::Environment(t) => t.light_group.as_deref(),
+        }
+    }
 }
 
 /// Re-parses the body of a `type`-tagged table as its variant's struct.

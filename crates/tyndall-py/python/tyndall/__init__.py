@@ -142,14 +142,18 @@ class Scene:
         """Render the scene; returns linear radiance, ``float32``, shape H×W×3.
 
         ``aovs`` (names from ``AOVS``: the first-surface ``albedo``,
-        ``normal``, ``depth``, ``position``, and the radiance's components
-        ``emission``, ``direct``, ``indirect``, ``volume``, which sum to it)
-        asks for these outputs too: the result is then a dict of arrays,
-        ``"beauty"`` the radiance and one entry per AOV (H×W×3; ``depth``
-        H×W, ``inf`` where the ray meets nothing; see docs/scene-format.md,
-        "AOVs and denoising"). The AOVs are never denoised; the components
-        cannot be split for renders that trace light paths (caustics:
-        ``ValueError``). ``denoise=True`` denoises the radiance
+        ``normal``, ``depth``, ``position``, the radiance's components
+        ``emission``, ``direct``, ``indirect``, ``volume``, which sum to it,
+        and ``light_groups``) asks for these outputs too: the result is then
+        a dict of arrays, ``"beauty"`` the radiance and one entry per AOV
+        (H×W×3; ``depth`` H×W, ``inf`` where the ray meets nothing); for
+        ``light_groups``, one entry ``"light_group.<name>"`` per light group
+        of the scene (``light_group = "..."`` on lights and emissive shapes;
+        ``"light_group.other"`` holds the light of every other emitter),
+        which sum to the beauty too (see docs/scene-format.md, "AOVs and
+        denoising"). The AOVs are never denoised; the components and light
+        groups cannot be split for renders that trace light paths
+        (caustics: ``ValueError``). ``denoise=True`` denoises the radiance
         with Intel Open Image Denoise guided by the albedo and normal; the
         library is the one ``TYNDALL_OIDN`` names, else the ``pyoidn``
         package's (``pip install pyoidn``), else a system install, and
@@ -227,7 +231,17 @@ class Scene:
 
 
 #: The AOVs ``Scene.render(aovs=...)`` can return.
-AOVS = ("albedo", "normal", "depth", "position", "emission", "direct", "indirect", "volume")
+AOVS = (
+    "albedo",
+    "normal",
+    "depth",
+    "position",
+    "emission",
+    "direct",
+    "indirect",
+    "volume",
+    "light_groups",
+)
 
 
 def _aov_names(aovs: Optional[Sequence[str]]) -> List[str]:

@@ -220,6 +220,23 @@ impl From<LightDesc> for Light {
     }
 }
 
+/// An emitter of a description: a light of [`SceneDesc::lights`] or an
+/// emissive shape item of [`SceneDesc::shapes`] (all its quads, spheres
+/// and its mesh light), by index.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum GroupMember {
+    Light(usize),
+    Shape(usize),
+}
+
+/// An emitter's membership of a named light group.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightGroupMember {
+    pub member: GroupMember,
+    pub group: String,
+    pub origin: Origin,
+}
+
 /// Where a medium is.
 #[derive(Clone, Debug, PartialEq)]
 pub enum RegionDesc {
@@ -290,6 +307,10 @@ pub struct SceneDesc {
     /// General media (RGB, non-uniform, mesh-bounded); only `volpath`
     /// renders them.
     pub media: Vec<MediumDesc>,
+    /// Which emitters are in named light groups (the AOV
+    /// `light_groups`, module [`crate::light_groups`]); the others are in
+    /// [`crate::light_groups::OTHER_NAME`].
+    pub light_groups: Vec<LightGroupMember>,
     /// Radiance of rays that leave the scene (linear RGB), seen but
     /// lighting nothing in the single-scattering integrators; an
     /// environment light ([`LightDesc::Environment`]) replaces it.
@@ -352,6 +373,7 @@ impl SceneDesc {
             lights: Vec::new(),
             fog: None,
             media: Vec::new(),
+            light_groups: Vec::new(),
             background: Rgb::ZERO,
             glass: GlassSettings::default(),
             light_sampling: LightSampling::default(),
@@ -438,6 +460,26 @@ impl SceneDesc {
         self.lights.push(Sourced::new(light, origin));
     }
 
+    /// Puts `member` in the light group named `group` (validated with
+    /// the description: a name, not [`crate::light_groups::OTHER_NAME`],
+    /// an emitter, in one group only).
+    pub fn add_to_light_group(&mut self, member: GroupMember, group: String, origin: Origin) {
+        self.light_groups.push(LightGroupMember {
+            member,
+            group,
+            origin,
+        });
+    }
+
+    /// The light group named for light `index` of [`SceneDesc::lights`]
+    /// or for shape item `index` of [`SceneDesc::shapes`], if any.
+    pub fn light_group_of(&self, member: GroupMember) -> Option<&str> {
+        self.light_groups
+            .iter()
+            .find(|m| m.member == member)
+            .map(|m| m.group.as_str())
+    }
+
     pub(crate) fn is_emissive(&self, material: MaterialId) -> bool {
         matches!(
             self.materials.get(material as usize).map(|m| &m.value),
@@ -497,8 +539,20 @@ impl SceneDesc {
     /// line's `--environment`), in place of any it had and of its
     /// `background`: the environment is what rays leaving the scene see.
     pub fn set_environment(&mut self, environment: EnvironmentLight, origin: Origin) {
+        let removed: Vec<usize> = (0..self.lights.len())
+            .filter(|&i| matches!(self.lights[i].value, LightDesc::Environment(_)))
+            .collect();
         self.lights
             .retain(|l| !matches!(l.value, LightDesc::Environment(_)));
+        // The lights after a removed one move down: so do their groups.
+        self.light_groups.retain_mut(|m| match &mut m.member {
+            GroupMember::Light(i) if removed.contains(i) => false,
+            GroupMember::Light(i) => {
+                *i -= removed.iter().filter(|&&r| r < *i).count();
+                true
+            }
+            GroupMember::Shape(_) => true,
+        });
         self.background = Rgb::ZERO;
         self.add_light(LightDesc::Environment(environment), origin);
     }

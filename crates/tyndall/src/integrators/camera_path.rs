@@ -5,7 +5,7 @@
 
 use super::lighting::{MediumQuery, TRACKING_STREAM, lambert_direct_lighting};
 use super::march;
-use super::path_radiance::{Keep, PathRadiance, ScatteringHistory};
+use super::path_radiance::{Gathered, Keep, PathRadiance, ScatteringHistory};
 use super::single;
 use super::surfaces::{
     MAX_GLASS_CROSSINGS, SolidDepth, SurfaceHit, SurfaceNormals, refract_or_reflect,
@@ -49,13 +49,13 @@ impl InScattering {
     // and without the components), as into its one before: measured, the
     // calls instead cost 4 % of a `single` sample.
     #[inline(always)]
-    fn estimate(
+    fn estimate<K: Keep>(
         self,
         medium: &MediumQuery,
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
         tracker: &mut VolumeTracker,
-    ) -> Rgb {
+    ) -> Gathered<K> {
         match self {
             InScattering::March { step, stratum } => {
                 march::in_scattered(medium, step, stratum, sampler, counts, tracker)
@@ -102,18 +102,19 @@ impl CameraPath<'_> {
                     ray,
                     t_hit,
                 };
-                radiance.add(
+                radiance.add_gathered(
                     history.then(Scattering::Medium).component(),
-                    throughput
-                        * self
-                            .in_scattering
-                            .estimate(&medium, sampler, counts, &mut tracker),
+                    throughput,
+                    &self
+                        .in_scattering
+                        .estimate(&medium, sampler, counts, &mut tracker),
                 );
                 throughput *= fog.transmittance(&ray, 0.0, t_hit);
             }
             let Some(hit) = hit else {
                 radiance.add(
                     history.component(),
+                    scene.escaped_group(),
                     throughput * scene.escaped_radiance(ray.direction),
                 );
                 return radiance;
@@ -138,7 +139,11 @@ impl CameraPath<'_> {
                 } => {
                     if let Some(le) = emitted {
                         let le = scene.emitted_at(le, hit.primitive, p);
-                        radiance.add(history.component(), throughput * le);
+                        radiance.add(
+                            history.component(),
+                            scene.light_group_at(hit.primitive),
+                            throughput * le,
+                        );
                     }
                     // An emitter that also reflects is lit as a surface.
                     match reflects {
@@ -177,18 +182,10 @@ impl CameraPath<'_> {
                 // Glass drawn opaque is a diffuse surface of its colour.
                 SurfaceEvent::Reflector(surface) => scene.surface_at(surface, hit.primitive, p),
             };
-            radiance.add(
+            radiance.add_gathered(
                 history.then(Scattering::Surface).component(),
-                throughput
-                    * self.direct_lighting(
-                        scene,
-                        &surface,
-                        p,
-                        normals,
-                        sampler,
-                        counts,
-                        &mut tracker,
-                    ),
+                throughput,
+                &self.direct_lighting(scene, &surface, p, normals, sampler, counts, &mut tracker),
             );
             if !surface.has_specular() || bounces >= self.max_bounces {
                 return radiance;
@@ -221,7 +218,7 @@ impl CameraPath<'_> {
     // and without the components), as into its one before: measured, the
     // calls instead cost 4 % of a `single` sample.
     #[inline(always)]
-    fn direct_lighting(
+    fn direct_lighting<K: Keep>(
         &self,
         scene: &Scene,
         surface: &Surface,
@@ -230,7 +227,7 @@ impl CameraPath<'_> {
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
         tracker: &mut VolumeTracker,
-    ) -> Rgb {
+    ) -> Gathered<K> {
         lambert_direct_lighting(
             scene,
             self.visibility,

@@ -15,6 +15,7 @@
 
 use super::PixelPosition;
 use super::lighting::{MediumQuery, light_point, scattered_radiance};
+use super::path_radiance::{Gathered, Keep};
 use crate::color::Rgb;
 use crate::media::tracking::VolumeTracker;
 use crate::media::transmittance;
@@ -70,14 +71,14 @@ pub fn interleaved_stratum(pixel: PixelPosition, n: u32) -> (u32, u32) {
 // Inlined into both instantiations of the camera path (with and without
 // the components; see `camera_path::InScattering::estimate`).
 #[inline(always)]
-pub(crate) fn in_scattered(
+pub(crate) fn in_scattered<K: Keep>(
     medium: &MediumQuery,
     step: f32,
     (k, count): (u32, u32),
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
     tracker: &mut VolumeTracker,
-) -> Rgb {
+) -> Gathered<K> {
     let jitter = (k as f32 + sampler.next_1d()) / count as f32;
     lattice_sum(medium, step, jitter, sampler, counts, tracker)
 }
@@ -86,20 +87,21 @@ pub(crate) fn in_scattered(
 /// lattice `t_k = a + (jitter + k)·step` in the fog part `[a, b)` of the
 /// query's ray (the paper's eq. 1 per step), `sampler` drawing only area
 /// lights' points.
-fn lattice_sum(
+fn lattice_sum<K: Keep>(
     medium: &MediumQuery,
     step: f32,
     jitter: f32,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
     tracker: &mut VolumeTracker,
-) -> Rgb {
+) -> Gathered<K> {
     let (scene, fog, ray) = (medium.scene, medium.fog, &medium.ray);
+    let mut sum = Gathered::new();
     let Some((a, b)) = fog.interval(ray, 0.0, medium.t_hit) else {
-        return Rgb::ZERO;
+        return sum;
     };
     if fog.sigma_s() == Rgb::ZERO {
-        return Rgb::ZERO;
+        return sum;
     }
     let b = b.min(a + MAX_OPTICAL_DEPTH / fog.sigma_t);
     // Only the lattice points inside some light's reach need visiting.
@@ -109,7 +111,7 @@ fn lattice_sum(
         .filter_map(|l| l.reach(ray, a, b))
         .reduce(|(l0, h0), (l1, h1)| (l0.min(l1), h0.max(h1)))
     else {
-        return Rgb::ZERO;
+        return sum;
     };
     // Lattice indices k with lo ≤ t_k < hi, counted in integers (an f32
     // counter stops at 2²⁴, issue 11) and in f64 so the division cannot
@@ -118,7 +120,6 @@ fn lattice_sum(
     let (first, end) = lattice_range(a, lo, hi, step, jitter);
     let budget = MAX_MARCH_STEPS / scene.lights.len().max(1) as u64;
     let end = end.min(first.saturating_add(budget));
-    let mut sum = Rgb::ZERO;
     for index in first..end {
         let t = a + (jitter + index as f32) * step;
         if t >= hi {
@@ -128,11 +129,13 @@ fn lattice_sum(
         let camera_t = transmittance(fog.sigma_t, t - a);
         for (light_index, light) in scene.lights.iter().enumerate() {
             let y = light_point(light, sampler);
-            sum +=
-                camera_t * scattered_radiance(medium, light_index, y, x, sampler, counts, tracker);
+            sum.add(
+                scene.light_group(light_index),
+                camera_t * scattered_radiance(medium, light_index, y, x, sampler, counts, tracker),
+            );
         }
     }
-    sum * step
+    sum.scaled(Rgb::splat(step))
 }
 
 /// The range `first..end` of lattice indices `k ≥ 0` whose points
@@ -153,6 +156,7 @@ pub mod twins {
     use super::super::lighting::twins::{fog_query, tracker};
     use super::*;
     use crate::Scene;
+    use crate::integrators::path_radiance::Whole;
     use crate::ray::Ray;
 
     /// The march's in-scattered radiance along `ray` over `(0, t_hit)` in
@@ -174,7 +178,7 @@ pub mod twins {
         let mut sampler = PixelSampler::new(0, 0, 0);
         let mut tracker = tracker();
         let mut counts = RayCounts::default();
-        lattice_sum(
+        lattice_sum::<Whole>(
             &medium,
             step,
             jitter,
@@ -182,6 +186,7 @@ pub mod twins {
             &mut counts,
             &mut tracker,
         )
+        .total()
     }
 }
 

@@ -23,6 +23,7 @@
 //! shadow ray each but no new camera ray.
 
 use super::lighting::{MediumQuery, light_point, lights_along, scattered_radiance};
+use super::path_radiance::{Gathered, Keep};
 use crate::color::Rgb;
 use crate::media::tracking::VolumeTracker;
 use crate::media::transmittance;
@@ -56,30 +57,31 @@ pub fn single_sample(f: Rgb, camera_transmittance: f32, n: f32, pdf_e: f32, pdf_
 // Inlined into both instantiations of the camera path (with and without
 // the components; see `camera_path::InScattering::estimate`).
 #[inline(always)]
-pub(crate) fn in_scattered(
+pub(crate) fn in_scattered<K: Keep>(
     medium: &MediumQuery,
     samples_per_light: u32,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
     tracker: &mut VolumeTracker,
-) -> Rgb {
+) -> Gathered<K> {
     let (scene, fog, ray) = (medium.scene, medium.fog, &medium.ray);
+    let mut sum = Gathered::new();
     let u_distance = sampler.next_1d();
     let Some((a, b)) = fog.interval(ray, 0.0, medium.t_hit) else {
-        return Rgb::ZERO;
+        return sum;
     };
     if fog.sigma_s() == Rgb::ZERO {
-        return Rgb::ZERO;
+        return sum;
     }
     let Some(distance) = ExponentialSampler::new(fog.sigma_t, a, b) else {
-        return Rgb::ZERO;
+        return sum;
     };
     let (t_d, pdf_d) = distance.sample(u_distance);
     let x_d = ray.at(t_d);
     let camera_t = |t: f32| transmittance(fog.sigma_t, t - a);
-    let mut sum = Rgb::ZERO;
     for (index, chosen) in lights_along(scene, ray, a, b, sampler) {
         let light = &scene.lights[index];
+        let group = scene.light_group(index);
         let y = light_point(light, sampler);
         let u_equiangular = sampler.next_1d();
         let equiangular = y.and_then(|y| {
@@ -92,14 +94,20 @@ pub(crate) fn in_scattered(
                 let (t, pdf_e) = eq.sample((k as f32 + u_equiangular) / n);
                 let f = scattered_radiance(medium, index, y, ray.at(t), sampler, counts, tracker);
                 if f != Rgb::ZERO {
-                    sum += single_sample(f, camera_t(t), n, pdf_e, distance.pdf(t)) * chosen;
+                    sum.add(
+                        group,
+                        single_sample(f, camera_t(t), n, pdf_e, distance.pdf(t)) * chosen,
+                    );
                 }
             }
         }
         let pdf_e = equiangular.map_or(0.0, |eq| eq.pdf(t_d));
         let f = scattered_radiance(medium, index, y, x_d, sampler, counts, tracker);
         if f != Rgb::ZERO {
-            sum += single_sample(f, camera_t(t_d), n, pdf_e, pdf_d) * chosen;
+            sum.add(
+                group,
+                single_sample(f, camera_t(t_d), n, pdf_e, pdf_d) * chosen,
+            );
         }
     }
     sum

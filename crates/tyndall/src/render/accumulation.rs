@@ -7,6 +7,7 @@ use crate::color::Rgb;
 use crate::exact_sum::ExactRgb;
 use crate::film::Image;
 use crate::guides::{GuideSum, Guides};
+use crate::light_groups::LightGroupSums;
 use crate::region::{PixelRect, RenderRegion};
 use glam::DVec3;
 
@@ -43,11 +44,19 @@ pub struct Accumulation {
     ///
     /// [`RenderSettings::components`]: crate::settings::RenderSettings::components
     pub components: Option<Vec<ComponentSum>>,
+    /// Per pixel of `region.rect`, the sums of each light group's
+    /// radiance of samples `region.samples`, for renders that keep them
+    /// ([`RenderSettings::light_groups`]); `None` otherwise. They add up
+    /// to `camera` to rounding.
+    ///
+    /// [`RenderSettings::light_groups`]: crate::settings::RenderSettings::light_groups
+    pub light_groups: Option<LightGroupSums>,
 }
 
 impl Accumulation {
     /// No samples yet of `rect`, starting at sample index `first_sample`.
-    /// With `kept.guides` and `kept.components`, their sums are kept too.
+    /// With `kept.guides`, `kept.components` and `kept.light_groups`,
+    /// their sums are kept too.
     pub fn new(
         (width, height): (u32, u32),
         rect: PixelRect,
@@ -68,6 +77,8 @@ impl Accumulation {
             components: kept
                 .components
                 .then(|| vec![ComponentSum::default(); rect.area()]),
+            light_groups: (!kept.light_groups.is_empty())
+                .then(|| LightGroupSums::new(rect.area(), &kept.light_groups)),
         }
     }
 
@@ -137,11 +148,24 @@ impl Accumulation {
         ))
     }
 
+    /// The light groups' images of the rectangle (the means of its
+    /// samples, by [`crate::light_groups::LightGroup::index`]), if this
+    /// part holds their sums.
+    pub fn resolve_light_groups(&self) -> Option<Vec<Image>> {
+        let rect = self.region.rect;
+        let sums = self.light_groups.as_ref()?;
+        Some(sums.resolve(rect.width(), rect.height(), self.passes()))
+    }
+
     /// What this part keeps beside the radiance.
     pub fn kept(&self) -> Kept {
         Kept {
             guides: self.guides.is_some(),
             components: self.components.is_some(),
+            light_groups: self
+                .light_groups
+                .as_ref()
+                .map_or_else(Vec::new, |g| g.names().to_vec()),
         }
     }
 
@@ -181,26 +205,41 @@ impl Accumulation {
                 }
             }
         }
+        if let (Some(a), Some(b)) = (&mut self.light_groups, &next.light_groups) {
+            a.append(b);
+        }
         self.region.samples.end = next.region.samples.end;
         Ok(())
     }
 }
 
-/// What a part keeps beside the radiance: the first-surface guides and
-/// the radiance's components.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// What a part keeps beside the radiance: the first-surface guides, the
+/// radiance's components, and its light groups (their names; none: not
+/// kept).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Kept {
     pub guides: bool,
     pub components: bool,
+    pub light_groups: Vec<String>,
 }
 
 impl Kept {
-    /// What a render with `settings` keeps.
-    pub fn by(settings: &crate::settings::RenderSettings) -> Kept {
+    /// What a render of `scene` with `settings` keeps.
+    pub fn by(settings: &crate::settings::RenderSettings, scene: &crate::Scene) -> Kept {
         Kept {
             guides: settings.guides,
             components: settings.components,
+            light_groups: if settings.light_groups {
+                scene.light_groups().names().to_vec()
+            } else {
+                Vec::new()
+            },
         }
+    }
+
+    /// Whether a sample's radiance is split (components or groups).
+    pub fn splits(&self) -> bool {
+        self.components || !self.light_groups.is_empty()
     }
 }
 

@@ -169,6 +169,12 @@ impl RenderSettings {
                 describe_bytes(components)
             ));
         }
+        if self.light_groups {
+            let groups = scene.light_groups().len();
+            let sums = aov_bytes(groups * std::mem::size_of::<glam::DVec3>(), groups as u64);
+            total = total.saturating_add(sums);
+            parts.push(format!("{groups} light groups: {}", describe_bytes(sums)));
+        }
         if traces_light_paths(scene, self) {
             // The light paths' exact fixed-point sums, for the full image.
             let film = pixels.saturating_mul(std::mem::size_of::<ExactRgb>() as u64);
@@ -279,6 +285,9 @@ pub(super) fn check_resume(
         && a.components
             .as_ref()
             .is_none_or(|c| c.len() == region.rect.area())
+        && a.light_groups
+            .as_ref()
+            .is_none_or(|g| g.sums().len() == region.rect.area() * g.groups())
         && a.light
             .as_ref()
             .is_none_or(|l| l.len() == size.0 as usize * size.1 as usize);
@@ -290,13 +299,13 @@ pub(super) fn check_resume(
             a.width,
             a.height,
             with_light_paths(a.light.is_some()),
-            with_kept(a.kept()),
+            with_kept(&a.kept()),
             region.samples,
             region.rect,
             size.0,
             size.1,
             with_light_paths(light),
-            with_kept(kept),
+            with_kept(&kept),
         )));
     }
     Ok(a)
@@ -306,11 +315,19 @@ fn with_light_paths(light: bool) -> &'static str {
     if light { " with light paths" } else { "" }
 }
 
-fn with_kept(kept: Kept) -> &'static str {
-    match (kept.guides, kept.components) {
-        (false, false) => "",
-        (true, false) => " with guides (AOVs)",
-        (false, true) => " with radiance components (AOVs)",
-        (true, true) => " with guides and radiance components (AOVs)",
+fn with_kept(kept: &Kept) -> String {
+    let mut what = Vec::new();
+    if kept.guides {
+        what.push("guides".to_owned());
+    }
+    if kept.components {
+        what.push("radiance components".to_owned());
+    }
+    if !kept.light_groups.is_empty() {
+        what.push(format!("light groups {}", kept.light_groups.join(", ")));
+    }
+    match what.len() {
+        0 => String::new(),
+        _ => format!(" with {} (AOVs)", what.join(" and ")),
     }
 }

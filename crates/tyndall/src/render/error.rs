@@ -48,7 +48,7 @@ pub enum RenderError {
     #[error("cannot resume: {0}")]
     Resume(String),
     #[error(
-        "the radiance's components (the emission, direct, indirect and volume AOVs) are not split for renders that trace light paths (`volpath` with a dielectric and a point or spot light: the caustics); the other AOVs are"
+        "the radiance's components and light groups (the emission, direct, indirect, volume and light_groups AOVs) are not split for renders that trace light paths (`volpath` with a dielectric and a point or spot light: the caustics); the other AOVs are"
     )]
     ComponentsWithLightPaths,
     #[error(

@@ -39,6 +39,7 @@ use crate::guides::{GuideSum, first_surface};
 use crate::integrators::light_tracer::{self, LightPaths};
 use crate::integrators::path_radiance::{Keep, Split, Whole};
 use crate::integrators::{Integrator, LightSubpaths, PixelPosition};
+use crate::light_groups::LightGroupSums;
 use crate::region::{PixelRect, RegionError, RenderRegion};
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
@@ -125,10 +126,10 @@ pub fn render_region(
     if light && (region.rect.x0, region.rect.x1) != (0, settings.width) {
         return Err(RenderError::Region(RegionError::NotBand(region.rect)));
     }
-    if light && settings.components {
+    if light && (settings.components || settings.light_groups) {
         return Err(RenderError::ComponentsWithLightPaths);
     }
-    let kept = Kept::by(settings);
+    let kept = Kept::by(settings, scene);
     let mut accumulation = match resume {
         None => Accumulation::new(size, region.rect, region.samples.start, light, kept),
         Some(saved) => checks::check_resume(saved, size, region, light, kept)?,
@@ -172,6 +173,7 @@ pub fn render_region(
                     radiance: &mut accumulation.camera,
                     guides: accumulation.guides.as_deref_mut(),
                     components: accumulation.components.as_deref_mut(),
+                    light_groups: accumulation.light_groups.as_mut(),
                 },
                 &counters,
                 progress,
@@ -221,12 +223,13 @@ impl PassCounters {
 }
 
 /// The per-pixel sums a camera pass adds to (row-major over its
-/// rectangle): the radiance, and the guides and the components if the
-/// render keeps them.
+/// rectangle): the radiance, and the guides, the components and the light
+/// groups if the render keeps them.
 struct PixelSums<'a> {
     radiance: &'a mut [DVec3],
     guides: Option<&'a mut [GuideSum]>,
     components: Option<&'a mut [ComponentSum]>,
+    light_groups: Option<&'a mut LightGroupSums>,
 }
 
 /// `sums` (if kept) cut into rows of `width`, or a `None` per row.
@@ -256,7 +259,14 @@ fn camera_pass(
     let width = rect.width() as usize;
     let mut guide_rows = rows_of(sums.guides, width, rect.height());
     let mut component_rows = rows_of(sums.components, width, rect.height());
-    let split = component_rows.first().is_some_and(Option::is_some);
+    let groups = sums.light_groups.as_ref().map_or(0, |g| g.groups());
+    let mut group_rows = rows_of(
+        sums.light_groups.map(LightGroupSums::sums_mut),
+        width * groups.max(1),
+        rect.height(),
+    );
+    let split = component_rows.first().is_some_and(Option::is_some)
+        || group_rows.first().is_some_and(Option::is_some);
     let pass = CameraPass {
         scene,
         settings,
@@ -269,13 +279,15 @@ fn camera_pass(
         .par_chunks_mut(width)
         .zip(guide_rows.par_iter_mut())
         .zip(component_rows.par_iter_mut())
+        .zip(group_rows.par_iter_mut())
         .enumerate()
-        .for_each(|(row, ((radiance, guides), components))| {
+        .for_each(|(row, (((radiance, guides), components), light_groups))| {
             let row = RowSums {
                 y: rect.y0 + row as u32,
                 radiance,
                 guides: guides.as_deref_mut(),
                 components: components.as_deref_mut(),
+                light_groups: light_groups.as_deref_mut().map(|g| (groups, g)),
             };
             // Each integrator is compiled with and without the split.
             let (counts, bad) = match split {
@@ -304,6 +316,8 @@ struct RowSums<'a> {
     radiance: &'a mut [DVec3],
     guides: Option<&'a mut [GuideSum]>,
     components: Option<&'a mut [ComponentSum]>,
+    /// The number of groups and the row's sums, `groups` per pixel.
+    light_groups: Option<(usize, &'a mut [DVec3])>,
 }
 
 impl CameraPass<'_> {
@@ -330,6 +344,12 @@ impl CameraPass<'_> {
                 if let (Some(sums), Some(parts)) = (sums.components.as_deref_mut(), l.components())
                 {
                     for (s, c) in sums[i].iter_mut().zip(parts) {
+                        *s += c.as_dvec3();
+                    }
+                }
+                if let (Some((groups, sums)), Some(parts)) = (&mut sums.light_groups, l.groups()) {
+                    let pixel = &mut sums[i * *groups..(i + 1) * *groups];
+                    for (s, c) in pixel.iter_mut().zip(parts) {
                         *s += c.as_dvec3();
                     }
                 }

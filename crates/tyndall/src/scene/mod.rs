@@ -12,7 +12,8 @@ mod surface_textures;
 use crate::accel::{Geometry, Hit, Primitive};
 use crate::camera::CameraSpec;
 use crate::color::Rgb;
-use crate::description::{DescError, MediumDesc, RegionDesc, SceneDesc};
+use crate::description::{DescError, GroupMember, MediumDesc, RegionDesc, SceneDesc};
+use crate::light_groups::{LightGroup, LightGroups};
 use crate::lights::{
     EmissionTexture, EnvironmentLight, Light, LightSampler, LightSampling, MeshLight, QuadLight,
     SphereLight,
@@ -47,6 +48,8 @@ pub struct Scene {
     pub(crate) lights: Vec<Light>,
     /// Which lights each estimate connects to.
     pub(crate) light_sampler: LightSampler,
+    /// The light group of each light.
+    pub(crate) light_groups: LightGroups,
     pub(crate) fog: Option<Fog>,
     /// General media (RGB, non-uniform, mesh-bounded); only `volpath`
     /// renders them.
@@ -104,6 +107,33 @@ impl Scene {
     /// Which lights each estimate connects to.
     pub fn light_sampler(&self) -> &LightSampler {
         &self.light_sampler
+    }
+
+    /// The light groups and each light's.
+    pub fn light_groups(&self) -> &LightGroups {
+        &self.light_groups
+    }
+
+    /// The light group of light number `light`.
+    #[inline]
+    pub fn light_group(&self, light: usize) -> LightGroup {
+        self.light_groups.of(light)
+    }
+
+    /// The light group of the light whose geometry `primitive` is (an
+    /// emissive surface that is no light's: [`LightGroup::OTHER`]).
+    #[inline]
+    pub fn light_group_at(&self, primitive: u32) -> LightGroup {
+        self.area_light_at(primitive)
+            .map_or(LightGroup::OTHER, |light| self.light_group(light))
+    }
+
+    /// The light group of rays that leave the scene: the environment
+    /// light's, or [`LightGroup::OTHER`] for the background.
+    #[inline]
+    pub fn escaped_group(&self) -> LightGroup {
+        self.environment
+            .map_or(LightGroup::OTHER, |light| self.light_group(light))
     }
 
     /// The homogeneous fog, if any.
@@ -350,7 +380,9 @@ impl Scene {
         let mut vertex_colours = CornerValues::default();
         let mut textures =
             SurfaceTextures::new(desc.textures.iter().map(|t| t.value.clone()).collect());
-        for item in &desc.shapes {
+        // The group named for each light, by light (emissive shapes first).
+        let mut group_names: Vec<Option<&str>> = Vec::new();
+        for (item_index, item) in desc.shapes.iter().enumerate() {
             let first = primitives.len() as u32;
             for (k, &corners) in item.vertex_normals.iter().enumerate() {
                 shading_normals.insert(first + k as u32, corners);
@@ -453,11 +485,15 @@ impl Scene {
                 }));
                 lights.push(Light::Mesh(light));
             }
+            let group = desc.light_group_of(GroupMember::Shape(item_index));
+            group_names.resize(lights.len(), group);
         }
         // By primitive, for `area_light_at`'s binary search (an item's
         // mesh light is numbered after its quads and spheres).
         area_lights.sort_unstable_by_key(|e| e.primitive);
         lights.extend(desc.lights.iter().map(|l| Light::from(l.value.clone())));
+        group_names
+            .extend((0..desc.lights.len()).map(|i| desc.light_group_of(GroupMember::Light(i))));
         let flat_emitters = lights.iter().filter(|l| l.is_flat_emitter()).count();
         let environment = lights
             .iter()
@@ -470,6 +506,7 @@ impl Scene {
         }
         Scene {
             light_sampler: LightSampler::new(&lights, desc.light_sampling),
+            light_groups: LightGroups::new(group_names),
             light_primitives,
             camera: desc.camera.value,
             geometry: Geometry::new(primitives),

@@ -20,6 +20,7 @@ use crate::phase::PhaseFunction;
 use crate::shapes::{Bounds, Shape};
 use glam::Vec3;
 
+mod light_groups;
 mod mesh_attributes;
 
 /// Largest |g| of a Henyey–Greenstein phase function.
@@ -203,6 +204,7 @@ impl SceneDesc {
             check(validate_light(&light.value, &light.origin));
         }
         check(counted);
+        check(self.validate_light_groups());
         check(self.validate_environment());
         if let Some(fog) = &self.fog {
             check(validate_fog(&fog.value, &fog.origin));

@@ -4,11 +4,13 @@
 //! vertex ([`connect_light_vertex`]).
 
 use super::Volpath;
+use super::light_subpaths::LightSubpath;
 use super::mis::FogEventDensities;
 use super::segment::{Connections, FogSegment};
 use super::segment_weights::segment_term;
 use crate::color::Rgb;
 use crate::integrators::Scatterer;
+use crate::light_groups::LightGroup;
 use crate::media::Fog;
 use crate::ray::Ray;
 use crate::sampler::PixelSampler;
@@ -21,9 +23,9 @@ use glam::Vec3;
 /// from the pass's pool ([`LightSubpaths`](super::LightSubpaths)), its
 /// first fog event y1 is connected to x, and, if `at.twice`, its second
 /// y2 as well.
-/// Returns the MIS-weighted radiance both bring to the path (to be
-/// multiplied by the path's throughput at x, which holds a fog event's
-/// albedo but not a surface's BRDF).
+/// Returns the subpath's light group and the MIS-weighted radiance both
+/// bring to the path (to be multiplied by the path's throughput at x,
+/// which holds a fog event's albedo but not a surface's BRDF).
 ///
 /// Why: fog right next to an area light is lit by a large solid angle of
 /// it and glows brightly. Camera paths reach that glow only when a random
@@ -47,11 +49,26 @@ pub(super) fn connect_light_vertex<'a>(
     at: &LightVertexOrigin,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
+) -> (LightGroup, Rgb) {
+    let Some(subpath) = integrator.light_subpaths.choose(sampler.next_1d()) else {
+        return (LightGroup::OTHER, Rgb::ZERO);
+    };
+    (
+        subpath.group,
+        subpath_light(integrator, scene, fog, at, subpath, counts),
+    )
+}
+
+/// [`connect_light_vertex`]'s light from the chosen `subpath`.
+fn subpath_light(
+    integrator: &Volpath,
+    scene: &Scene,
+    fog: &Fog,
+    at: &LightVertexOrigin,
+    subpath: &LightSubpath,
+    counts: &mut RayCounts,
 ) -> Rgb {
     let strategies = integrator.strategies;
-    let Some(subpath) = integrator.light_subpaths.choose(sampler.next_1d()) else {
-        return Rgb::ZERO;
-    };
     let (light, y0, y1) = (subpath.light, subpath.y0, subpath.y1);
     let to_light = -subpath.direction;
     let samples = strategies.later_equiangular();

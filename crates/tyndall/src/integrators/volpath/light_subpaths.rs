@@ -19,6 +19,7 @@
 use super::mis::LightVertexDensity;
 use crate::color::Rgb;
 use crate::integrators::MAX_GLASS_CROSSINGS;
+use crate::light_groups::LightGroup;
 use crate::lights::{Light, LightPoint};
 use crate::materials::SurfaceEvent;
 use crate::media::Fog;
@@ -50,6 +51,8 @@ pub const POOL_SIZE: u64 = 1024;
 #[derive(Clone, Copy)]
 pub(super) struct LightSubpath<'a> {
     pub(super) light: &'a Light,
+    /// The light's group.
+    pub(super) group: LightGroup,
     pub(super) y0: LightPoint,
     /// The light's direction y0 → y1.
     pub(super) direction: Vec3,
@@ -161,10 +164,11 @@ impl<'a> LightSubpath<'a> {
         let (u_point, u_direction, u_flight) =
             (sampler.next_2d(), sampler.next_2d(), sampler.next_1d());
         let (u_turn, u_flight2) = (sampler.next_2d(), sampler.next_1d());
-        let light = scene
+        let (index, light) = scene
             .lights
             .iter()
-            .filter(|l| l.is_flat_emitter())
+            .enumerate()
+            .filter(|(_, l)| l.is_flat_emitter())
             .nth((choice as usize).min(lights.checked_sub(1)?))?;
         // A two-sided light picks its side with the choice's fraction.
         let emission = light.sample_le(u_point, u_direction, choice.fract())?;
@@ -180,6 +184,7 @@ impl<'a> LightSubpath<'a> {
             light_flight(scene, fog, turned, u_flight2, false, counts).map(|(y2, _)| (y2, turn));
         Some(Self {
             light,
+            group: scene.light_group(index),
             y0,
             direction,
             y1,

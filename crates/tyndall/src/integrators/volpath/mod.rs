@@ -85,6 +85,7 @@ use super::{
 };
 use crate::aov::Scattering;
 use crate::color::Rgb;
+use crate::light_groups::LightGroup;
 use crate::materials::{Lobe, SurfaceEvent};
 use crate::media::emitters::HitWeighting;
 use crate::media::tracking::{Collision, VolumeTracker};
@@ -201,9 +202,10 @@ pub(crate) fn radiance<K: Keep>(
             };
             equiangular.prepare(&segment, samples, sampler);
             if depth < max_events {
-                radiance.add(
+                radiance.add_gathered(
                     history.then(Scattering::Medium).component(),
-                    throughput * equiangular.estimate(&segment, strategies, counts, &mut tracker),
+                    throughput,
+                    &equiangular.estimate(&segment, strategies, counts, &mut tracker),
                 );
             }
             fog_event = segment.free_flight(u_flight).map(|t| (segment, t, samples));
@@ -235,7 +237,8 @@ pub(crate) fn radiance<K: Keep>(
                 &mut throughput,
                 emissive.then_some((&mut emitted, weighting)),
             );
-            radiance.add(history.component(), emitted);
+            // Emitting media are in no light group.
+            radiance.add(history.component(), LightGroup::OTHER, emitted);
             match collision {
                 Collision::Escaped => {}
                 Collision::Absorbed => return radiance,
@@ -254,13 +257,15 @@ pub(crate) fn radiance<K: Keep>(
                         direction: ray.direction,
                         phase,
                     };
-                    radiance.add(
+                    radiance.add_gathered(
                         history.component(),
-                        throughput * medium.nee(strategies, sampler, counts, &mut tracker),
+                        throughput,
+                        &medium.nee(strategies, sampler, counts, &mut tracker),
                     );
                     if emissive {
                         radiance.add(
                             history.component(),
+                            LightGroup::OTHER,
                             throughput
                                 * media_emission_nee(
                                     scene,
@@ -314,7 +319,7 @@ pub(crate) fn radiance<K: Keep>(
                 counts,
                 &mut tracker,
             );
-            radiance.add(history.component(), throughput * nee);
+            radiance.add_gathered(history.component(), throughput, &nee);
             let connects = connections && depth < max_events;
             let twice = connects && depth + 1 < max_events;
             // The density with which the camera path reached x from a
@@ -332,9 +337,12 @@ pub(crate) fn radiance<K: Keep>(
                     twice,
                 };
                 // The light vertex is a scattering in the fog.
+                let (group, light) =
+                    connect_light_vertex(integrator, scene, fog, &at, sampler, counts);
                 radiance.add(
                     history.then(Scattering::Medium).component(),
-                    throughput * connect_light_vertex(integrator, scene, fog, &at, sampler, counts),
+                    group,
+                    throughput * light,
                 );
             }
             let (direction, pdf) = fog.phase.sample(ray.direction, sampler.next_2d());
@@ -364,6 +372,7 @@ pub(crate) fn radiance<K: Keep>(
             let weight = escape_weight(scene, strategies, arrival, ray.direction);
             radiance.add(
                 history.component(),
+                scene.escaped_group(),
                 throughput * scene.escaped_radiance(ray.direction) * weight,
             );
             return radiance;
@@ -389,7 +398,11 @@ pub(crate) fn radiance<K: Keep>(
                     // light already has the spot by NEE.
                     Some(le) if lamp => {
                         if matches!(arrival, Arrival::Unweighted) {
-                            radiance.add(history.component(), throughput * le);
+                            radiance.add(
+                                history.component(),
+                                scene.light_group_at(hit.primitive),
+                                throughput * le,
+                            );
                         }
                     }
                     Some(le) => {
@@ -402,7 +415,11 @@ pub(crate) fn radiance<K: Keep>(
                             p,
                             ray.direction,
                         );
-                        radiance.add(history.component(), throughput * le * weight);
+                        radiance.add(
+                            history.component(),
+                            scene.light_group_at(hit.primitive),
+                            throughput * le * weight,
+                        );
                     }
                     None => {}
                 }
@@ -462,20 +479,20 @@ pub(crate) fn radiance<K: Keep>(
         };
         let visibility = integrator.visibility;
         if strategies.surface_nee {
-            radiance.add(
+            radiance.add_gathered(
                 here.component(),
-                throughput
-                    * lambert_direct_lighting(
-                        scene,
-                        visibility,
-                        &surface,
-                        p,
-                        normals,
-                        sampler,
-                        counts,
-                        &mut tracker,
-                        mis,
-                    ),
+                throughput,
+                &lambert_direct_lighting(
+                    scene,
+                    visibility,
+                    &surface,
+                    p,
+                    normals,
+                    sampler,
+                    counts,
+                    &mut tracker,
+                    mis,
+                ),
             );
         }
         // NEE towards emitting media, for the Lambertian lobe, MIS
@@ -483,6 +500,7 @@ pub(crate) fn radiance<K: Keep>(
         if emissive && surface.diffuse != Rgb::ZERO {
             radiance.add(
                 here.component(),
+                LightGroup::OTHER,
                 throughput
                     * media_emission_nee(
                         scene,
@@ -516,9 +534,11 @@ pub(crate) fn radiance<K: Keep>(
                 reached: None,
                 twice,
             };
+            let (group, light) = connect_light_vertex(integrator, scene, fog, &at, sampler, counts);
             radiance.add(
                 here.then(Scattering::Medium).component(),
-                throughput * connect_light_vertex(integrator, scene, fog, &at, sampler, counts),
+                group,
+                throughput * light,
             );
         }
         let choice = sampler.next_1d();

@@ -8,6 +8,7 @@ use super::segment::{EquiangularNee, FogSegment};
 use super::segment_weights::segment_term;
 use crate::color::Rgb;
 use crate::integrators::media_transmittance;
+use crate::integrators::path_radiance::{Gathered, Keep};
 use crate::integrators::{light_arriving, lights_at, sample_light, scattered_light};
 use crate::media::emitters::hit_density;
 use crate::media::tracking::VolumeTracker;
@@ -31,7 +32,7 @@ use glam::Vec3;
 // without the components), as it was into its one before: measured,
 // the call instead cost 2 % of a volpath sample.
 #[inline(always)]
-pub(super) fn medium_nee(
+pub(super) fn medium_nee<K: Keep>(
     segment: &FogSegment,
     t: f32,
     equiangular: &EquiangularNee,
@@ -39,13 +40,13 @@ pub(super) fn medium_nee(
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
     tracker: &mut VolumeTracker,
-) -> Rgb {
+) -> Gathered<K> {
+    let mut sum = Gathered::new();
     if !strategies.medium_nee {
-        return Rgb::ZERO;
+        return sum;
     }
     let medium = &segment.medium;
     let x = medium.ray.at(t);
-    let mut sum = Rgb::ZERO;
     for (index, chosen) in lights_at(medium.scene, x, sampler) {
         let light = &medium.scene.lights[index];
         let Some((incident, p_light)) = sample_light(light, x, sampler) else {
@@ -75,7 +76,10 @@ pub(super) fn medium_nee(
                 }
             }
         };
-        sum += scattered_light(medium, index, x, &incident, counts, tracker) * (weight * chosen);
+        sum.add(
+            medium.scene.light_group(index),
+            scattered_light(medium, index, x, &incident, counts, tracker) * (weight * chosen),
+        );
     }
     sum
 }
@@ -160,14 +164,14 @@ impl PathVertex<'_> {
     /// `Σ c·p(θ)·E·V·Tr·w`, where `w` is the balance heuristic against
     /// phase sampling for area lights (delta lights have only this
     /// strategy). The path's throughput holds σs.
-    pub(super) fn nee(
+    pub(super) fn nee<K: Keep>(
         &self,
         strategies: Strategies,
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
         tracker: &mut VolumeTracker,
-    ) -> Rgb {
-        let mut sum = Rgb::ZERO;
+    ) -> Gathered<K> {
+        let mut sum = Gathered::new();
         if !strategies.medium_nee {
             return sum;
         }
@@ -190,7 +194,10 @@ impl PathVertex<'_> {
                 counts,
                 tracker,
             );
-            sum += arriving * (chosen * phase * weight);
+            sum.add(
+                self.scene.light_group(index),
+                arriving * (chosen * phase * weight),
+            );
         }
         sum
     }

@@ -6,6 +6,7 @@
 use super::Volpath;
 use super::mis::{EquiangularCounts, FogEventDensities, on};
 use crate::color::Rgb;
+use crate::integrators::path_radiance::{Gathered, Keep};
 use crate::integrators::{MediumQuery, lights_along, media_transmittance, scattered_light};
 use crate::lights::{Light, LightPoint};
 use crate::media::tracking::VolumeTracker;
@@ -250,16 +251,16 @@ impl EquiangularNee {
     // without the components), as it was into its one before: measured,
     // the call instead cost 2 % of a volpath sample.
     #[inline(always)]
-    pub(super) fn estimate(
+    pub(super) fn estimate<K: Keep>(
         &self,
         segment: &FogSegment,
         strategies: Strategies,
         counts: &mut RayCounts,
         tracker: &mut VolumeTracker,
-    ) -> Rgb {
+    ) -> Gathered<K> {
         let medium = &segment.medium;
         let fog = medium.fog;
-        let mut sum = Rgb::ZERO;
+        let mut sum = Gathered::new();
         for chosen in &self.chosen {
             let Some(entry) = &chosen.samples else {
                 continue;
@@ -309,7 +310,10 @@ impl EquiangularNee {
                     ray.direction,
                     t,
                 );
-                sum += fog.sigma_s() * light_in * camera_t / denominator * chosen.weight;
+                sum.add(
+                    medium.scene.light_group(index),
+                    fog.sigma_s() * light_in * camera_t / denominator * chosen.weight,
+                );
             }
         }
         sum
