@@ -28,12 +28,41 @@ fn channels(path: &Path) -> Vec<(String, Vec<f32>)> {
 const SIZE: [&str; 6] = ["--width", "24", "--height", "16", "--spp", "2"];
 
 fn render(extra: &[&str], output: &Path) -> std::process::Output {
-    let scene = repo().join("scenes/reference/fog-spot-sphere.toml");
+    render_scene(
+        &repo().join("scenes/reference/fog-spot-sphere.toml"),
+        extra,
+        output,
+    )
+}
+
+fn render_scene(scene: &Path, extra: &[&str], output: &Path) -> std::process::Output {
     let mut args = vec!["render", scene.to_str().expect("path"), "-q", "-o"];
     args.push(output.to_str().expect("path"));
     args.extend(SIZE);
     args.extend(extra);
     tyndall(&args)
+}
+
+/// Renders `scene` as two tiles (`tag` names their files) and merges
+/// them with `--aov aovs`; the merged file.
+fn merged_tiles(scene: &Path, tag: &str, aovs: &str) -> std::path::PathBuf {
+    let (a, b) = (temp(&format!("{tag}0.exr")), temp(&format!("{tag}1.exr")));
+    let merged = temp(&format!("{tag}-merged.exr"));
+    for (tile, path) in [("0/2", &a), ("1/2", &b)] {
+        let out = render_scene(scene, &["--tile", tile], path);
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    let out = tyndall(&[
+        "merge",
+        a.to_str().expect("path"),
+        b.to_str().expect("path"),
+        "-o",
+        merged.to_str().expect("path"),
+        "--aov",
+        aovs,
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    merged
 }
 
 #[test]
@@ -100,21 +129,8 @@ fn aovs_are_exr_layers_beside_the_same_radiance() {
 
 #[test]
 fn merged_tiles_carry_the_aovs() {
-    let (a, b, merged) = (temp("t0.exr"), temp("t1.exr"), temp("merged.exr"));
-    for (tile, path) in [("0/2", &a), ("1/2", &b)] {
-        let out = render(&["--tile", tile], path);
-        assert!(out.status.success(), "{}", stderr(&out));
-    }
-    let out = tyndall(&[
-        "merge",
-        a.to_str().expect("path"),
-        b.to_str().expect("path"),
-        "-o",
-        merged.to_str().expect("path"),
-        "--aov",
-        "depth",
-    ]);
-    assert!(out.status.success(), "{}", stderr(&out));
+    let scene = repo().join("scenes/reference/fog-spot-sphere.toml");
+    let merged = merged_tiles(&scene, "t", "depth");
     let whole = temp("whole.exr");
     assert!(render(&["--aov", "depth"], &whole).status.success());
     assert_eq!(channels(&merged), channels(&whole));
@@ -139,15 +155,8 @@ fn grouped_scene() -> std::path::PathBuf {
 #[test]
 fn light_groups_are_layers_that_sum_to_the_radiance_and_merge() {
     let scene = grouped_scene();
-    let run = |extra: &[&str], output: &Path| {
-        let mut args = vec!["render", scene.to_str().expect("path"), "-q", "-o"];
-        args.push(output.to_str().expect("path"));
-        args.extend(SIZE);
-        args.extend(extra);
-        tyndall(&args)
-    };
     let whole = temp("groups.exr");
-    let out = run(&["--aov", "light_groups"], &whole);
+    let out = render_scene(&scene, &["--aov", "light_groups"], &whole);
     assert!(out.status.success(), "{}", stderr(&out));
     let layers = channels(&whole);
     let channel = |name: &str| &layers.iter().find(|(n, _)| n == name).expect(name).1;
@@ -169,21 +178,7 @@ fn light_groups_are_layers_that_sum_to_the_radiance_and_merge() {
         let lit = channel(&format!("light_group.{group}.G"));
         assert!(lit.iter().any(|&v| v > 0.0), "{group} has no light");
     }
-    let (a, b, merged) = (temp("g0.exr"), temp("g1.exr"), temp("gmerged.exr"));
-    for (tile, path) in [("0/2", &a), ("1/2", &b)] {
-        let out = run(&["--tile", tile], path);
-        assert!(out.status.success(), "{}", stderr(&out));
-    }
-    let out = tyndall(&[
-        "merge",
-        a.to_str().expect("path"),
-        b.to_str().expect("path"),
-        "-o",
-        merged.to_str().expect("path"),
-        "--aov",
-        "light_groups",
-    ]);
-    assert!(out.status.success(), "{}", stderr(&out));
+    let merged = merged_tiles(&scene, "g", "light_groups");
     assert_eq!(channels(&merged), layers);
 }
 

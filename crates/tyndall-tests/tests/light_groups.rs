@@ -173,8 +173,8 @@ fn split(desc: &Loaded, settings: RenderSettings) -> (Image, Vec<(String, Image)
 }
 
 /// Per pixel and channel the groups add up to the beauty, to the f32
-/// rounding of a sample's sums (at most 64 contributions, each rounding
-/// by ε relative: 64·ε of the pixel), and every group is lit somewhere.
+/// rounding of a sample's sums (`common::assert_parts_sum_to`), and every
+/// group is lit somewhere.
 #[test]
 fn the_light_groups_sum_to_the_beauty() {
     let desc = everything(LightSampling::All);
@@ -198,19 +198,8 @@ fn the_light_groups_sum_to_the_beauty() {
             ..desc.settings
         };
         let (beauty, groups) = split(&desc, settings);
-        for (i, b) in beauty.pixels().iter().enumerate() {
-            let mut sum = tyndall::Rgb::ZERO;
-            for (name, image) in &groups {
-                let p = image.pixels()[i];
-                assert!(p.min_element() >= 0.0, "{kind:?}: negative {name}");
-                sum += p;
-            }
-            let bound = 64.0 * f32::EPSILON * b.max_element() + 1e-12;
-            assert!(
-                (sum - *b).abs().max_element() <= bound,
-                "{kind:?} pixel {i}: groups sum to {sum}, beauty {b}"
-            );
-        }
+        let named: Vec<(String, &Image)> = groups.iter().map(|(n, im)| (n.clone(), im)).collect();
+        common::assert_parts_sum_to(&beauty, &named, &format!("{kind:?}"));
         for (name, image) in &groups {
             let lit = image.pixels().iter().any(|p| p.max_element() > 0.0);
             assert!(lit, "{kind:?}: group {name} has no light");

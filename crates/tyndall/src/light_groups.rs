@@ -157,11 +157,6 @@ impl LightGroupSums {
         &mut self.sums
     }
 
-    /// The sums, one chunk of [`LightGroupSums::groups`] per pixel.
-    pub fn pixels_mut(&mut self) -> std::slice::ChunksExactMut<'_, DVec3> {
-        self.sums.chunks_exact_mut(self.names.len())
-    }
-
     /// Adds `next`'s sums (the same pixels and groups) to these.
     pub fn append(&mut self, next: &LightGroupSums) {
         for (a, b) in self.sums.iter_mut().zip(&next.sums) {
@@ -202,7 +197,7 @@ mod tests {
     #[test]
     fn sums_resolve_to_means_per_group() {
         let mut sums = LightGroupSums::new(2, &["other".into(), "key".into()]);
-        for (k, pixel) in sums.pixels_mut().enumerate() {
+        for (k, pixel) in sums.sums_mut().chunks_exact_mut(2).enumerate() {
             pixel[0] = DVec3::splat(k as f64);
             pixel[1] = DVec3::splat(4.0);
         }

@@ -171,6 +171,26 @@ pub fn region_means(a: &Image, b: &Image, regions: (u32, u32)) -> Vec<(f64, f64)
     out
 }
 
+/// Asserts that no part is negative and that per pixel and channel the
+/// `parts` (name, image) add up to `beauty` to the f32 rounding of a
+/// sample's sums: at most 64 contributions, each rounding by ε relative,
+/// a bound of 64·ε of the pixel. `what` names the render in failures.
+pub fn assert_parts_sum_to(beauty: &Image, parts: &[(String, &Image)], what: &str) {
+    for (i, b) in beauty.pixels().iter().enumerate() {
+        let mut sum = Rgb::ZERO;
+        for (name, image) in parts {
+            let p = image.pixels()[i];
+            assert!(p.min_element() >= 0.0, "{what}: negative {name}");
+            sum += p;
+        }
+        let bound = 64.0 * f32::EPSILON * b.max_element() + 1e-12;
+        assert!(
+            (sum - *b).abs().max_element() <= bound,
+            "{what} pixel {i}: the parts sum to {sum}, beauty {b}"
+        );
+    }
+}
+
 /// Mean and standard error of the mean of `n` one-sample estimates of the
 /// radiance along one fixed ray.
 pub fn estimate_ray(

@@ -236,11 +236,6 @@ impl Kept {
             },
         }
     }
-
-    /// Whether a sample's radiance is split (components or groups).
-    pub fn splits(&self) -> bool {
-        self.components || !self.light_groups.is_empty()
-    }
 }
 
 /// The in-pass indices of the light paths that a band of whole rows
