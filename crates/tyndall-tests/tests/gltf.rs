@@ -24,6 +24,7 @@ fn triangle(material: usize) -> MeshData {
         normals: None,
         uvs: None,
         colors: None,
+        tangents: None,
     }
 }
 
@@ -245,6 +246,7 @@ fn gltf_and_toml_render_the_same_image() {
         normals: None,
         uvs: None,
         colors: None,
+        tangents: None,
     };
     let gltf_path = write_gltf(&dir, "room", &[mesh], doc);
     let mut obj = String::new();
@@ -528,6 +530,7 @@ fn vertex_normals_shade_smoothly() {
         normals,
         uvs: None,
         colors: None,
+        tangents: None,
     };
     let dir = test_dir("vertex-normals");
     let smooth = common::load_gltf(&write_gltf(

@@ -64,6 +64,7 @@ fn square(h: f32, r: f32, material: usize, uv: Option<fn([f32; 3]) -> [f32; 2]>)
         material: Some(material),
         normals: None,
         colors: None,
+        tangents: None,
     }
 }
 
@@ -512,6 +513,7 @@ fn vertex_colours_colour_the_diffuse_reflectance() {
     );
     let floor = MeshData {
         colors: Some(colours.to_vec()),
+        tangents: None,
         ..square(0.0, 2.0, 0, None)
     };
     let positions = floor.positions.clone();
@@ -560,6 +562,10 @@ fn vertex_colours_colour_the_diffuse_reflectance() {
 /// tilts towards, the Lambertian floor of reflectance ρ is
 /// `ρ/π·E·(n·ω)`: brighter than the flat floor's `ρ/π·E·cos γ`, exactly so
 /// — also where the floor's node mirrors it (T turns, B does not).
+/// Where the floor carries its own TANGENT (here T = +z, not the
+/// coordinates' +x), the map tilts in that frame, `B = w·(N × T)`, and a
+/// mirroring node flips the handedness w it gives. (Without TANGENT the
+/// loader's MikkTSpace tangents of a plane are the coordinates' own.)
 /// Each map is checked by `single` and `volpath`; the paths are
 /// deterministic (one sun, a diffuse floor seen from above), so the
 /// estimates agree with the closed form to f32.
@@ -568,35 +574,56 @@ fn normal_maps_tilt_the_shading_normal() {
     let dir = test_dir("normal-map");
     let rho = 0.8f32;
     let gamma = 50f32.to_radians();
-    // (texel codes, scale, the direction the sun's light comes from, and
-    // whether the floor's node mirrors x, which turns T to −x while B stays)
+    // (texel codes, scale, the direction the sun's light comes from,
+    // whether the floor's node mirrors x, which turns T to −x while B
+    // stays, and the floor's TANGENT if it has one)
     let cases = [
         (
             [218u8, 128, 218],
             1.0f32,
             Vec3::new(gamma.sin(), gamma.cos(), 0.0),
             false,
+            None,
         ),
         (
             [218, 128, 218],
             0.5,
             Vec3::new(gamma.sin(), gamma.cos(), 0.0),
             false,
+            None,
         ),
         (
             [128, 218, 218],
             1.0,
             Vec3::new(0.0, gamma.cos(), -gamma.sin()),
             false,
+            None,
         ),
         (
             [200, 200, 218],
             1.0,
             Vec3::new(-gamma.sin(), gamma.cos(), -gamma.sin()).normalize(),
             true,
+            None,
+        ),
+        // T = +z: x of the map tilts towards +z.
+        (
+            [218, 128, 218],
+            1.0,
+            Vec3::new(0.0, gamma.cos(), gamma.sin()),
+            false,
+            Some([0.0f32, 0.0, 1.0, 1.0]),
+        ),
+        // T = +z, w = −1, mirrored: w becomes +1, B = y × z = +x.
+        (
+            [128, 218, 218],
+            1.0,
+            Vec3::new(gamma.sin(), gamma.cos(), 0.0),
+            true,
+            Some([0.0, 0.0, 1.0, -1.0]),
         ),
     ];
-    for (k, (codes, scale, towards_sun, mirrored)) in cases.into_iter().enumerate() {
+    for (k, (codes, scale, towards_sun, mirrored, tangent)) in cases.into_iter().enumerate() {
         image::RgbImage::from_raw(1, 1, codes.to_vec())
             .expect("image")
             .save(dir.join(format!("normal{k}.png")))
@@ -619,13 +646,24 @@ fn normal_maps_tilt_the_shading_normal() {
         if mirrored {
             doc["nodes"][0]["scale"] = json!([-1.0, 1.0, 1.0]);
         }
-        let floor = square(0.0, 2.0, 0, Some(floor_uv));
+        let floor = MeshData {
+            tangents: tangent.map(|t| vec![t; 4]),
+            ..square(0.0, 2.0, 0, Some(floor_uv))
+        };
         let desc = common::load_gltf(&write_gltf(&dir, &format!("bumped{k}"), &[floor], doc))
             .expect("loads");
         let c = Vec3::new(codes[0] as f32, codes[1] as f32, codes[2] as f32) / 255.0;
         let m = (c * 2.0 - Vec3::ONE) * Vec3::new(scale, scale, 1.0);
-        let tangent = if mirrored { Vec3::NEG_X } else { Vec3::X };
-        let n = (tangent * m.x - Vec3::Z * m.y + Vec3::Y * m.z).normalize();
+        let (t, b) = match tangent {
+            Some([x, y, z, w]) => {
+                let flip = if mirrored { -1.0 } else { 1.0 };
+                let t = Vec3::new(x * flip, y, z);
+                (t, Vec3::Y.cross(t) * (w * flip))
+            }
+            None if mirrored => (Vec3::NEG_X, Vec3::NEG_Z),
+            None => (Vec3::X, Vec3::NEG_Z),
+        };
+        let n = (t * m.x + b * m.y + Vec3::Y * m.z).normalize();
         let expected = rho / PI * n.dot(towards_sun);
         assert!(
             expected > rho / PI * gamma.cos() * 1.05,

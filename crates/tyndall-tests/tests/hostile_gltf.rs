@@ -30,6 +30,7 @@ fn triangle() -> MeshData {
         normals: None,
         uvs: None,
         colors: None,
+        tangents: None,
     }
 }
 
@@ -37,6 +38,7 @@ fn textured_triangle() -> MeshData {
     MeshData {
         uvs: Some(vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]),
         colors: None,
+        tangents: None,
         ..triangle()
     }
 }
@@ -160,6 +162,35 @@ fn integer_texture_coordinates_are_refused() {
         &path,
         &["meshes[0].primitives[0].attributes.TEXCOORD_0: accessor 2 must be VEC2 of floats"],
     );
+}
+
+/// A normal-mapped triangle whose TANGENT is a zero vector, or whose
+/// TANGENT accessor is not VEC4 of floats, is refused naming the
+/// primitive.
+#[test]
+fn tangents_that_make_no_frame_are_refused() {
+    let dir = test_dir("hostile-tangent");
+    std::fs::write(dir.join("t.png"), png_bytes()).expect("png");
+    let doc = json!({
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "images": [{"uri": "t.png"}],
+        "textures": [{"source": 0}],
+        "materials": [{"normalTexture": {"index": 0}}]
+    });
+    let mesh = |tangent: [f32; 4]| MeshData {
+        tangents: Some(vec![tangent; 3]),
+        ..textured_triangle()
+    };
+    let zero = write_gltf(&dir, "zero", &[mesh([0.0, 0.0, 0.0, 1.0])], doc.clone());
+    refused(&zero, &["meshes[0].primitives[0]", "tangent", "non-zero"]);
+    let path = write_gltf(&dir, "vec3", &[mesh([1.0, 0.0, 0.0, 1.0])], doc);
+    let mut edited: Value =
+        serde_json::from_slice(&std::fs::read(&path).expect("read")).expect("json");
+    let tangent = edited["meshes"][0]["primitives"][0]["attributes"]["TANGENT"].clone();
+    edited["accessors"][tangent.as_u64().expect("index") as usize]["type"] = json!("VEC3");
+    std::fs::write(&path, serde_json::to_vec(&edited).expect("json")).expect("write");
+    refused(&path, &["TANGENT must be Vec4 of floats"]);
 }
 
 #[test]

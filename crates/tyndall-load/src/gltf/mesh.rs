@@ -4,10 +4,11 @@
 
 use super::GltfLoader;
 use super::materials::UvTransform;
+use super::tangents::{self, TangentInput};
 use crate::source::SceneError;
 use ::gltf::mesh::Mode;
 use ::gltf::{Accessor, Semantic};
-use glam::{Mat3, Mat4, Vec2, Vec3};
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use tyndall::color::Rgb;
 use tyndall::description::{
     EmissionMap, MeshAttributes, MetallicRoughnessMap, NormalMap, SceneDesc, SurfaceTexture,
@@ -16,6 +17,34 @@ use tyndall::materials::Material;
 use tyndall::shapes::Triangle;
 
 impl GltfLoader<'_> {
+    /// A primitive's `TANGENT`s, one per vertex, placed by the node's
+    /// `world` matrix: the tangent as a direction along the surface, the
+    /// handedness (the sign of w) flipped by a mirroring matrix, which
+    /// turns `N × T` against the bitangent the file's frame has.
+    fn file_tangents(
+        &self,
+        element: &str,
+        tangents: impl Iterator<Item = [f32; 4]>,
+        world: Mat4,
+        vertices: usize,
+    ) -> Result<Vec<Vec4>, SceneError> {
+        let linear = Mat3::from_mat4(world);
+        let flip = world.determinant().signum();
+        let tangents: Vec<Vec4> = tangents
+            .map(|[x, y, z, w]| (linear * Vec3::new(x, y, z)).extend(w.signum() * flip))
+            .collect();
+        if tangents.len() != vertices {
+            return Err(self.err(
+                element,
+                format!(
+                    "TANGENT has {} entries but POSITION has {vertices}",
+                    tangents.len()
+                ),
+            ));
+        }
+        Ok(tangents)
+    }
+
     /// Checks that an accessor holds `dimensions` × f32 or integer data
     /// as expected, naming `element` in the error.
     fn check_accessor(
@@ -103,6 +132,15 @@ impl GltfLoader<'_> {
                     true,
                 )?;
             }
+            if let Some(tangents) = primitive.get(&Semantic::Tangents) {
+                self.check_accessor(
+                    &element,
+                    "TANGENT",
+                    &tangents,
+                    ::gltf::accessor::Dimensions::Vec4,
+                    true,
+                )?;
+            }
             let (material, textures) = self.material_id(&primitive.material(), scene)?;
             let base_texture = textures.base;
             if self
@@ -152,6 +190,19 @@ impl GltfLoader<'_> {
                     ),
                 ));
             }
+            // The file's tangents, where a normal map needs them.
+            let file_tangents = match reader.read_tangents() {
+                Some(tangents) if textures.normal.is_some() => {
+                    Some(self.file_tangents(&element, tangents, world, positions.len())?)
+                }
+                None if primitive.get(&Semantic::Tangents).is_some() => {
+                    return Err(self.err(
+                        &element,
+                        "cannot read TANGENT: its accessor lies outside its buffer",
+                    ));
+                }
+                _ => None,
+            };
             // A texture's coordinates (its TEXCOORD_n set, transformed):
             // `Err(n)` where the primitive has no set n.
             let read_coords = |set: u32, transform: UvTransform| {
@@ -245,6 +296,7 @@ impl GltfLoader<'_> {
                 }
                 None => None,
             };
+            let mut kept = Vec::new();
             let mut corner_uvs = Vec::new();
             let mut corner_normal_uvs = Vec::new();
             let mut corner_emission_uvs = Vec::new();
@@ -320,6 +372,7 @@ impl GltfLoader<'_> {
                             corner_normals.push(n);
                         }
                         triangles.push(triangle);
+                        kept.push(order);
                     }
                     None => self.skipped_degenerate += 1,
                 }
@@ -362,11 +415,28 @@ impl GltfLoader<'_> {
                 cutout: t.cutout,
             });
             let normal_map = match (textures.normal, map_coords) {
-                (Some(normal), Some(_)) => Some(NormalMap {
-                    texture: normal.map.texture,
-                    uvs: corner_normal_uvs,
-                    scale: normal.scale,
-                }),
+                (Some(normal), Some(_)) => {
+                    let tangents = match &file_tangents {
+                        Some(tangents) => kept
+                            .iter()
+                            .map(|order| order.map(|i| tangents[i as usize]))
+                            .collect(),
+                        None => tangents::mikktspace(&TangentInput {
+                            positions: &kept
+                                .iter()
+                                .map(|order| order.map(|i| positions[i as usize]))
+                                .collect::<Vec<_>>(),
+                            normals: &corner_normals,
+                            uvs: &corner_normal_uvs,
+                        }),
+                    };
+                    Some(NormalMap {
+                        texture: normal.map.texture,
+                        uvs: corner_normal_uvs,
+                        scale: normal.scale,
+                        tangents,
+                    })
+                }
                 _ => None,
             };
             let emission_map = match (textures.emission, glow_coords) {

@@ -25,6 +25,7 @@ mod glb;
 mod materials;
 mod mesh;
 mod sources;
+mod tangents;
 mod validate;
 
 pub use glb::glb_bytes;

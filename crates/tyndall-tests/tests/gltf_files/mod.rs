@@ -20,6 +20,9 @@ pub struct MeshData {
     /// Vertex colours (the COLOR_0 attribute, linear RGB floats), one
     /// per position.
     pub colors: Option<Vec<[f32; 3]>>,
+    /// Tangents and their handedness (the TANGENT attribute), one per
+    /// position.
+    pub tangents: Option<Vec<[f32; 4]>>,
 }
 
 /// A fresh directory for one test's files.
@@ -75,6 +78,10 @@ pub fn write_gltf(dir: &Path, name: &str, meshes: &[MeshData], mut doc: Value) -
         }
         if let Some(colors) = &mesh.colors {
             attributes["attributes"]["COLOR_0"] = json!(push_floats(&mut buffers, colors, "VEC3"));
+        }
+        if let Some(tangents) = &mesh.tangents {
+            attributes["attributes"]["TANGENT"] =
+                json!(push_floats(&mut buffers, tangents, "VEC4"));
         }
         if let Some(mode) = mesh.mode {
             attributes["mode"] = json!(mode);

@@ -30,7 +30,7 @@ use crate::phase::PhaseFunction;
 use crate::settings::RenderSettings;
 use crate::shapes::{Bounds, Shape, Triangle};
 use crate::texture::{AlphaCutout, Texture, TextureId};
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -155,17 +155,31 @@ pub struct SurfaceTexture {
 /// each point the texture's texel `c` (read as data, `code/255`) gives
 /// the shading normal `normalize(x·T + y·B + z·N)` with
 /// `(x, y, z) = (2c − 1)·(scale, scale, 1)`, where N is the mesh's
-/// shading normal there, T the direction of increasing u and B that of
-/// decreasing v along the triangle (glTF's v runs down its images, and
-/// +y of the map points up them, as Blender and Cycles read it), both
-/// made perpendicular to N. The coordinates are one per corner of each
-/// triangle, in the order of [`ShapeDesc::vertex_normals`].
+/// shading normal there and T, B its tangent frame:
+///
+/// - with `tangents` (glTF's `TANGENT`, or MikkTSpace's tangents computed
+///   by the loader as glTF 2.0 §3.7.2.1 asks where a file has none), T
+///   is the corners' tangents interpolated across the triangle and
+///   `B = w·(N × T)`, as the MikkTSpace reference (mikktspace.h, "how to
+///   use") and Cycles' Normal Map node use them: neither is normalised
+///   nor made perpendicular before the sum is;
+/// - without, T is the triangle's direction of increasing u and B that
+///   of decreasing v, both made perpendicular to N.
+///
+/// Either way B points up the map's image (glTF's v runs down its
+/// images, and +y of the map points up them, as Blender and Cycles read
+/// it). The coordinates and tangents are one per corner of each triangle,
+/// in the order of [`ShapeDesc::vertex_normals`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct NormalMap {
     pub texture: TextureId,
     pub uvs: Vec<[Vec2; 3]>,
     /// glTF's `normalTexture.scale`: the map's x and y are multiplied by it.
     pub scale: f32,
+    /// Per corner, the tangent T (xyz, world space, non-zero) and the
+    /// handedness `w = ±1` of the frame (glTF's `TANGENT`); empty for the
+    /// triangles' own frames.
+    pub tangents: Vec<[Vec4; 3]>,
 }
 
 /// A colour texture over an emissive mesh (glTF's `emissiveTexture`):

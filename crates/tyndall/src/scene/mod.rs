@@ -411,6 +411,7 @@ impl Scene {
                             map.texture,
                             uvs,
                             map.scale,
+                            map.tangents.get(k).copied(),
                         );
                     }
                 }

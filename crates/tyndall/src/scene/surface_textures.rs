@@ -10,7 +10,7 @@ use crate::color::Rgb;
 use crate::materials::MetallicRoughness;
 use crate::shapes::Triangle;
 use crate::texture::{AlphaCutout, Texture, TextureId};
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use std::sync::Arc;
 
 /// Values bound to some primitives, found by primitive index: a slot per
@@ -63,15 +63,24 @@ struct Binding {
 }
 
 /// A primitive's normal map: its texture, its corners' coordinates, its
-/// scale, and the triangle's tangent frame from them — `∂P/∂u` and
-/// `−∂P/∂v`, before they are made perpendicular to the shading normal.
+/// scale, and its tangent frame.
 #[derive(Clone, Copy, Debug)]
 struct NormalBinding {
     texture: TextureId,
     uvs: [Vec2; 3],
     scale: f32,
-    tangent: Vec3,
-    bitangent: Vec3,
+    frame: TangentFrame,
+}
+
+/// Where a normal map's tangent frame comes from (see
+/// [`crate::description::NormalMap`]).
+#[derive(Clone, Copy, Debug)]
+enum TangentFrame {
+    /// The corners' tangents (xyz) and handedness (w), interpolated.
+    Corners([Vec4; 3]),
+    /// The triangle's own `∂P/∂u` and `−∂P/∂v`, before they are made
+    /// perpendicular to the shading normal.
+    Triangle { tangent: Vec3, bitangent: Vec3 },
 }
 
 /// A primitive's metallic-roughness surface: its factors, and its
@@ -159,7 +168,8 @@ impl SurfaceTextures {
     }
 
     /// Binds a normal map to `triangle` (primitive `primitive`): `texture`
-    /// at the corners' coordinates `uvs`, its x and y times `scale`. A
+    /// at the corners' coordinates `uvs`, its x and y times `scale`, in
+    /// the frame of the corners' `tangents` if given. Without them, a
     /// triangle whose coordinates do not span the plane (no tangent frame)
     /// is left without.
     pub fn bind_normal_map(
@@ -169,24 +179,33 @@ impl SurfaceTextures {
         texture: TextureId,
         uvs: [Vec2; 3],
         scale: f32,
+        tangents: Option<[Vec4; 3]>,
     ) {
-        // e1 = T·Δu₁ + P_v·Δv₁ and e2 = T·Δu₂ + P_v·Δv₂, solved for the
-        // surface's derivatives T = ∂P/∂u and P_v = ∂P/∂v.
-        let (d1, d2) = (uvs[1] - uvs[0], uvs[2] - uvs[0]);
-        let det = d1.x * d2.y - d2.x * d1.y;
-        let tangent = (triangle.e1 * d2.y - triangle.e2 * d1.y) / det;
-        let along_v = (triangle.e2 * d1.x - triangle.e1 * d2.x) / det;
-        if !(det != 0.0 && tangent.is_finite() && along_v.is_finite()) {
-            return;
-        }
+        let frame = match tangents {
+            Some(corners) => TangentFrame::Corners(corners),
+            None => {
+                // e1 = T·Δu₁ + P_v·Δv₁ and e2 = T·Δu₂ + P_v·Δv₂, solved
+                // for the surface's derivatives T = ∂P/∂u and P_v = ∂P/∂v.
+                let (d1, d2) = (uvs[1] - uvs[0], uvs[2] - uvs[0]);
+                let det = d1.x * d2.y - d2.x * d1.y;
+                let tangent = (triangle.e1 * d2.y - triangle.e2 * d1.y) / det;
+                let along_v = (triangle.e2 * d1.x - triangle.e1 * d2.x) / det;
+                if !(det != 0.0 && tangent.is_finite() && along_v.is_finite()) {
+                    return;
+                }
+                TangentFrame::Triangle {
+                    tangent,
+                    bitangent: -along_v,
+                }
+            }
+        };
         self.normal_maps.insert(
             primitive,
             NormalBinding {
                 texture,
                 uvs,
                 scale,
-                tangent,
-                bitangent: -along_v,
+                frame,
             },
         );
     }
@@ -202,14 +221,24 @@ impl SurfaceTextures {
         let texture = &self.textures[binding.texture as usize];
         let c = texture.lookup_data(triangle.uv_at(binding.uvs, p))?;
         let m = (c * 2.0 - Vec3::ONE) * Vec3::new(binding.scale, binding.scale, 1.0);
-        // Gram–Schmidt: the tangent made perpendicular to n, and the
-        // bitangent n × T on the side the triangle's −∂P/∂v lies.
-        let t = (binding.tangent - n * n.dot(binding.tangent)).try_normalize()?;
-        let b = n.cross(t);
-        let b = if b.dot(binding.bitangent) < 0.0 {
-            -b
-        } else {
-            b
+        let (t, b) = match binding.frame {
+            TangentFrame::Corners(corners) => {
+                // MikkTSpace's own use: the tangent interpolated as it
+                // is, the bitangent w·(n × T) from it, the sum normalised
+                // once. The handedness is the triangle's (one per
+                // triangle where the frame is not split across it).
+                let [w0, w1, w2] = triangle.corner_weights(p);
+                let t = (corners[0] * w0 + corners[1] * w1 + corners[2] * w2).truncate();
+                (t, n.cross(t) * corners[0].w)
+            }
+            TangentFrame::Triangle { tangent, bitangent } => {
+                // Gram–Schmidt: the tangent made perpendicular to n, and
+                // the bitangent n × T on the side the triangle's −∂P/∂v
+                // lies.
+                let t = (tangent - n * n.dot(tangent)).try_normalize()?;
+                let b = n.cross(t);
+                (t, if b.dot(bitangent) < 0.0 { -b } else { b })
+            }
         };
         (t * m.x + b * m.y + n * m.z).try_normalize()
     }

@@ -7,7 +7,7 @@ use super::Item;
 use crate::description::{
     DescError, EmissionMap, MetallicRoughnessMap, NormalMap, SceneDesc, ShapeDesc, SurfaceTexture,
 };
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 impl SceneDesc {
     /// The shape's per-corner attributes, each checked against its
@@ -72,7 +72,23 @@ impl SceneDesc {
                 format!("the normal map's scale must be finite, got {}", map.scale),
             );
         }
-        corner_uvs(shape, &map.uvs, "normal-map coordinate", "normal_map", item)
+        corner_uvs(shape, &map.uvs, "normal-map coordinate", "normal_map", item)?;
+        if map.tangents.is_empty() {
+            return Ok(());
+        }
+        per_triangle(shape, map.tangents.len(), "tangent", "normal_map", item)?;
+        let valid =
+            |t: &Vec4| t.is_finite() && t.truncate().length_squared() > 0.0 && t.w.abs() == 1.0;
+        match map.tangents.iter().position(|c| !c.iter().all(valid)) {
+            Some(t) => item.fail(
+                "normal_map",
+                format!(
+                    "triangle {t} has a tangent that is not a finite non-zero vector with \
+                     handedness ±1"
+                ),
+            ),
+            None => Ok(()),
+        }
     }
 
     /// An emission map names a texture of the scene, lies on an emissive
