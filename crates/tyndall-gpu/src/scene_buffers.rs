@@ -305,6 +305,11 @@ fn primitive(shape: &Shape, material: u32) -> GpuPrimitive {
 
 fn material(m: &Material) -> Result<GpuMaterial, GpuError> {
     Ok(match *m {
+        Material::Opaque(s) if s.coat.reflectance > 0.0 => {
+            return Err(GpuError::Unsupported(
+                "clear coats (glTF KHR_materials_clearcoat, a principled coat)".into(),
+            ));
+        }
         Material::Opaque(s) => GpuMaterial {
             kind: MATERIAL_OPAQUE,
             roughness: s.roughness,

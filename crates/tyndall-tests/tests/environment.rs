@@ -171,6 +171,47 @@ box = { min = [-2, -2, -2], max = [2, 2, 2] }
     }
 }
 
+/// The white sphere under a clear coat (glTF's `KHR_materials_clearcoat`
+/// at factor 1, a mirror coat, over a white Lambertian base of F0 0):
+/// the coat reflects 0.04 of the sky and passes 0.96 to the base, which
+/// returns all of it, so the furnace stays white in every integrator —
+/// each follows the coat by its own strategy (the camera path's one
+/// reflected ray, `volpath`'s lobe choice). A coat that did not dim the
+/// base would give 1.04 on the sphere (half the image), one that
+/// reflected nothing 0.96.
+#[test]
+fn a_coated_sphere_keeps_the_furnace_white() {
+    use tyndall::materials::{Clearcoat, Material, MetallicRoughness};
+    let coated = MetallicRoughness {
+        base: tyndall::Rgb::ONE,
+        metallic: 0.0,
+        roughness: 1.0,
+        f0: tyndall::Rgb::ZERO,
+        clearcoat: Clearcoat {
+            factor: 1.0,
+            roughness: 0.0,
+        },
+    }
+    .surface();
+    for kind in IntegratorKind::ALL {
+        let mut desc = scene(&white_sphere("")).desc;
+        for material in &mut desc.materials {
+            material.value = Material::Opaque(coated);
+        }
+        let desc = common::Loaded::new(desc).expect("scene");
+        let image = render(&desc, |s| {
+            s.spp = 64;
+            s.integrator = kind;
+        });
+        let (mean, stderr) = mean_of_channels(&image);
+        assert!(
+            (mean - 1.0).abs() <= 4.0 * stderr + 1e-5,
+            "{kind:?}: mean {mean:.5} ± {stderr:.1e}"
+        );
+        assert!(stderr < 2e-3, "the test has no power: {stderr:.1e}");
+    }
+}
+
 /// `single` (light sampled at the surface point and at the distance
 /// sample on each camera ray) and `volpath` limited to one scattering
 /// event (NEE at its events weighed against phase- and BSDF-sampled

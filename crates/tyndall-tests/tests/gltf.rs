@@ -183,11 +183,7 @@ fn gltf_loads_into_the_expected_description() {
         Material::Emissive {
             radiance: Rgb::new(4.0, 2.0, 0.0),
             two_sided: false,
-            surface: Surface {
-                diffuse: Rgb::ZERO,
-                specular: Rgb::ONE,
-                roughness: 1.0,
-            },
+            surface: Surface::layered(Rgb::ZERO, Rgb::ONE, 1.0),
         }
     );
     let Material::Opaque(metal) = *scene.material(4) else {

@@ -679,6 +679,72 @@ fn normal_maps_tilt_the_shading_normal() {
     }
 }
 
+/// `KHR_materials_clearcoat` lays a clear coat over the surface: a floor
+/// of base ρ (F0 0: Lambert) under a coat of factor c takes `1 − 0.04·c`
+/// of the sun's light to its base, `(1 − 0.04·c)·ρ/π·E` seen from above
+/// (the coat reflects the sun, a delta light, to no camera ray), by
+/// `single` and `volpath`; the coat itself is the surface's, its
+/// roughness squared. The coat's textures are named in warnings; a
+/// factor outside [0, 1] is refused naming the material.
+#[test]
+fn clearcoat_dims_the_base_and_coats_it() {
+    let dir = test_dir("clearcoat");
+    write_checker(&dir);
+    let rho = 0.8f32;
+    let material = |coat: Value| {
+        json!({
+            "images": [{"uri": "checker.png"}],
+            "textures": [{"source": 0}],
+            "materials": [{
+                "pbrMetallicRoughness": {"baseColorFactor": [rho, rho, rho, 1.0],
+                                         "metallicFactor": 0.0},
+                "extensions": {"KHR_materials_specular": {"specularFactor": 0.0},
+                               "KHR_materials_clearcoat": coat}}],
+        })
+    };
+    let floor = || square(0.0, 2.0, 0, Some(floor_uv));
+    for c in [0.5f32, 1.0] {
+        let coat = json!({"clearcoatFactor": c, "clearcoatRoughnessFactor": 0.5,
+                          "clearcoatTexture": {"index": 0}});
+        let path = write_gltf(&dir, "coated", &[floor()], sunlit(1, material(coat)));
+        let desc = common::load_gltf(&path).expect("loads");
+        let tyndall::materials::Material::Opaque(surface) = *desc.scene.material(0) else {
+            panic!("{:?}", desc.scene.material(0))
+        };
+        assert!((surface.coat.reflectance - 0.04 * c).abs() < 1e-7);
+        assert!((surface.coat.roughness - 0.25).abs() < 1e-7);
+        assert!(
+            desc.warnings
+                .iter()
+                .any(|w| w.contains("materials[0]") && w.contains("clearcoatTexture")),
+            "{:?}",
+            desc.warnings
+        );
+        let expected = (1.0 - 0.04 * c) * rho / PI;
+        for kind in [IntegratorKind::Single, IntegratorKind::Volpath] {
+            let seen = looking_down(&desc, kind, 0.3, 1.0, -0.4);
+            assert!(
+                (seen - Rgb::splat(expected)).abs().max_element() < 1e-5,
+                "c {c}, {kind:?}: {seen} vs {expected}"
+            );
+        }
+    }
+    let bad = write_gltf(
+        &dir,
+        "bad-coat",
+        &[floor()],
+        sunlit(1, material(json!({"clearcoatFactor": 1.5}))),
+    );
+    let Err(error) = common::load_gltf(&bad) else {
+        panic!("a clearcoatFactor of 1.5 loaded")
+    };
+    let message = error.to_string();
+    assert!(
+        message.contains("materials[0]") && message.contains("clearcoatFactor"),
+        "{message}"
+    );
+}
+
 /// A texture a material may carry that Tyndall does not apply is named
 /// in a warning with the material, which says what the image lacks: the
 /// occlusion a path tracer computes itself (Cycles ignores it too), and a

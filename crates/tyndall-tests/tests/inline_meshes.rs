@@ -117,6 +117,7 @@ fn a_textured_principled_triangles_floor_matches_its_closed_form() {
         metallic: 0.25,
         roughness: 0.4,
         f0: Rgb::splat(0.04),
+        clearcoat: Default::default(),
     }
     .surface();
     assert_eq!(plain.scene.materials()[0], Material::Opaque(expected));

@@ -117,9 +117,11 @@ pub fn first_surface(scene: &Scene, mut ray: Ray) -> FirstSurface {
             }
             SurfaceEvent::Reflector(surface) => {
                 let surface = scene.surface_at(surface, hit.primitive, p);
-                let mirror = surface.roughness <= 0.0 && surface.diffuse == Rgb::ZERO;
+                let mirror = surface.roughness <= 0.0
+                    && surface.diffuse == Rgb::ZERO
+                    && surface.coat.reflectance == 0.0;
                 if !mirror || !surface.has_specular() || bounces >= MAX_GUIDE_BOUNCES {
-                    return ends(throughput, surface.diffuse + surface.specular);
+                    return ends(throughput, surface.albedo());
                 }
                 bounces += 1;
                 throughput *= surface.specular;

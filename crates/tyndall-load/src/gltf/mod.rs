@@ -26,6 +26,7 @@ mod materials;
 mod mesh;
 mod sources;
 mod tangents;
+mod textures;
 mod validate;
 
 pub use glb::glb_bytes;
@@ -58,6 +59,7 @@ pub const HANDLED_EXTENSIONS: &[&str] = &[
     "KHR_materials_ior",
     "KHR_materials_emissive_strength",
     "KHR_materials_specular",
+    "KHR_materials_clearcoat",
     "KHR_texture_transform",
 ];
 
@@ -475,7 +477,7 @@ struct GltfLoader<'a> {
     base: Option<&'a Path>,
     buffers: Vec<::gltf::buffer::Data>,
     /// Texels of the images decoded so far (bounded by
-    /// `materials::MAX_DECODED_TEXELS`).
+    /// `textures::MAX_DECODED_TEXELS`).
     decoded_texels: u64,
     /// Tyndall material of each glTF material (`None`: the default one),
     /// with the base colour texture that multiplies its diffuse

@@ -87,11 +87,7 @@ pub(super) fn build(
                     alpha: m.alpha,
                 })
             } else {
-                Material::Opaque(Surface {
-                    diffuse: m.diffuse,
-                    specular: m.reflective,
-                    roughness: m.roughness,
-                })
+                Material::Opaque(Surface::layered(m.diffuse, m.reflective, m.roughness))
             };
             desc.add_material(material, at(m.offset))
         })

@@ -451,20 +451,18 @@ impl Loader<'_> {
             MaterialTable::Diffuse(DiffuseTable { reflectance }) => {
                 Material::Opaque(Surface::diffuse(Rgb::from_array(reflectance.0)))
             }
-            MaterialTable::Mirror(MirrorTable { reflectance }) => Material::Opaque(Surface {
-                diffuse: Rgb::ZERO,
-                specular: Rgb::from_array(reflectance.0),
-                roughness: 0.0,
-            }),
+            MaterialTable::Mirror(MirrorTable { reflectance }) => Material::Opaque(
+                Surface::layered(Rgb::ZERO, Rgb::from_array(reflectance.0), 0.0),
+            ),
             MaterialTable::Glossy(GlossyTable {
                 reflectance,
                 roughness,
                 diffuse,
-            }) => Material::Opaque(Surface {
-                diffuse: diffuse.map_or(Rgb::ZERO, |d| Rgb::from_array(d.0)),
-                specular: Rgb::from_array(reflectance.0),
+            }) => Material::Opaque(Surface::layered(
+                diffuse.map_or(Rgb::ZERO, |d| Rgb::from_array(d.0)),
+                Rgb::from_array(reflectance.0),
                 roughness,
-            }),
+            )),
             MaterialTable::Emissive(EmissiveTable {
                 radiance,
                 two_sided,

@@ -9,7 +9,7 @@ use std::ops::Range;
 use std::sync::Arc;
 use tyndall::color::Rgb;
 use tyndall::description::SceneDesc;
-use tyndall::materials::{Material, MetallicRoughness};
+use tyndall::materials::{Clearcoat, Material, MetallicRoughness};
 use tyndall::texture::{TextureId, Wrap};
 
 /// The index of refraction whose F0 is the default (glTF's).
@@ -45,6 +45,10 @@ impl Loader<'_> {
             f0: match table.f0 {
                 Some(f0) => self.color(span, "f0", f0, true)?,
                 None => Rgb::splat(MetallicRoughness::dielectric_f0(DEFAULT_IOR)),
+            },
+            clearcoat: Clearcoat {
+                factor: unit("coat", table.coat)?,
+                roughness: unit("coat_roughness", table.coat_roughness)?,
             },
         };
         let emission = match table.emission {

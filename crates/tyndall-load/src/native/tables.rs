@@ -150,6 +150,13 @@ pub(super) struct PrincipledTable {
     pub(super) emission: Option<ColorValue>,
     #[serde(default)]
     pub(super) two_sided: bool,
+    /// The clear coat's weight (Blender's Coat Weight, glTF's
+    /// `clearcoatFactor`), 0 for none.
+    #[serde(default)]
+    pub(super) coat: f32,
+    /// The coat's perceptual roughness.
+    #[serde(default)]
+    pub(super) coat_roughness: f32,
 }
 
 pub(super) fn half() -> f32 {

@@ -190,19 +190,26 @@ impl CameraPath<'_> {
             if !surface.has_specular() || bounces >= self.max_bounces {
                 return radiance;
             }
-            let Some(direction) =
-                surface.reflect(ray.direction, normals.shading, sampler.next_2d())
+            // A coated surface's reflection is the coat's or the specular
+            // layer's, chosen; without a coat no number is drawn for it.
+            let choice = match surface.coat.reflectance > 0.0 {
+                true => sampler.next_1d(),
+                false => 0.0,
+            };
+            let Some(reflection) =
+                surface.reflect_layers(ray.direction, normals.shading, choice, sampler.next_2d())
             else {
                 return radiance;
             };
+            let direction = reflection.direction;
             if !normals.reflects(direction) {
                 return radiance;
             }
             bounces += 1;
-            if surface.roughness > 0.0 {
+            if surface.roughness_of(reflection.lobe) > 0.0 {
                 history = history.then(Scattering::Surface);
             }
-            throughput *= surface.specular;
+            throughput *= reflection.weight;
             ray = Ray {
                 origin: offset_origin(p, geometric_normal, direction),
                 direction,

@@ -278,7 +278,9 @@ fn validate_surface(s: &Surface, item: &Item) -> Result<(), DescError> {
     let diffuse_key = if is_diffuse { "reflectance" } else { "diffuse" };
     item.color(diffuse_key, s.diffuse, true)?;
     item.color("reflectance", s.specular, true)?;
-    item.number("roughness", s.roughness, (0.0, 1.0), "in [0, 1]")
+    item.number("roughness", s.roughness, (0.0, 1.0), "in [0, 1]")?;
+    item.number("coat", s.coat.reflectance, (0.0, 1.0), "in [0, 1]")?;
+    item.number("coat_roughness", s.coat.roughness, (0.0, 1.0), "in [0, 1]")
 }
 
 fn validate_material(material: &Material, origin: &Origin) -> Result<(), DescError> {

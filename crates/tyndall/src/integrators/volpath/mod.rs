@@ -552,7 +552,7 @@ pub(crate) fn radiance<K: Keep>(
         throughput *= sample.weight;
         let direction = sample.direction;
         // A mirror's reflection does not scatter; a diffuse or glossy one does.
-        if sample.lobe == Lobe::Diffuse || surface.roughness > 0.0 {
+        if sample.lobe == Lobe::Diffuse || surface.roughness_of(sample.lobe) > 0.0 {
             history = here;
         }
         match sample.lobe {
@@ -569,7 +569,7 @@ pub(crate) fn radiance<K: Keep>(
                     reached: None,
                 };
             }
-            Lobe::Specular => {
+            Lobe::Specular | Lobe::Coat => {
                 arrival = Arrival::Unweighted;
                 connected_from = Connections::default();
             }

@@ -1,0 +1,372 @@
+//! The opaque surface: a Lambertian lobe, a specular layer and an
+//! optional clear coat, the choice between them, and each reflective
+//! layer's lobe.
+
+use crate::color::{Rgb, luminance};
+use crate::sampling::cosine_hemisphere;
+use glam::{Vec2, Vec3};
+use std::f32::consts::{FRAC_1_PI, PI};
+
+/// Lambertian diffuse reflectance `diffuse` (BRDF `diffuse/π`) plus a
+/// specular layer of reflectance `specular`: a perfect mirror when
+/// `roughness` is 0, otherwise a glossy lobe around the mirror direction;
+/// and over both, optionally, a clear `coat`.
+///
+/// The reflective layers are followed by tracing one reflected ray (the
+/// course code base's model, which the paper's scenes use); they reflect
+/// what that ray sees (emitters, lit surfaces, fog) but not delta lights.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Surface {
+    pub diffuse: Rgb,
+    pub specular: Rgb,
+    pub roughness: f32,
+    pub coat: Coat,
+}
+
+/// A clear coat: a colourless dielectric layer over a surface (glTF's
+/// `KHR_materials_clearcoat`, the Coat of Blender's Principled BSDF),
+/// which reflects `reflectance` of the light at normal incidence — its
+/// weight times the layer's `((n − 1)/(n + 1))²` — by a lobe of its own
+/// `roughness` (α, as [`Surface::roughness`]: a mirror at 0), followed
+/// as the specular layer is. What it does not reflect reaches the layers
+/// beneath; whoever makes the surface scales them by `1 − reflectance`
+/// ([`super::MetallicRoughness::surface`]), at normal incidence as the rest of
+/// the model is.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Coat {
+    pub reflectance: f32,
+    pub roughness: f32,
+}
+
+impl Coat {
+    /// No coat.
+    pub const NONE: Self = Self {
+        reflectance: 0.0,
+        roughness: 0.0,
+    };
+}
+
+impl Surface {
+    /// A surface that reflects nothing.
+    pub const BLACK: Self = Self {
+        diffuse: Rgb::ZERO,
+        specular: Rgb::ZERO,
+        roughness: 0.0,
+        coat: Coat::NONE,
+    };
+
+    /// A purely diffuse surface.
+    pub fn diffuse(reflectance: Rgb) -> Self {
+        Self {
+            diffuse: reflectance,
+            ..Self::BLACK
+        }
+    }
+
+    /// A surface of Lambertian reflectance `diffuse` and a specular layer
+    /// of reflectance `specular` and roughness `roughness`, uncoated.
+    pub fn layered(diffuse: Rgb, specular: Rgb, roughness: f32) -> Self {
+        Self {
+            diffuse,
+            specular,
+            roughness,
+            coat: Coat::NONE,
+        }
+    }
+
+    /// Lambert BRDF value `ρ/π` (sr⁻¹).
+    #[inline]
+    pub fn diffuse_brdf(&self) -> Rgb {
+        self.diffuse / PI
+    }
+
+    /// Whether a reflective layer (the specular layer or the coat)
+    /// reflects any light.
+    pub fn has_specular(&self) -> bool {
+        self.specular.max_element() > 0.0 || self.coat.reflectance > 0.0
+    }
+
+    /// Whether the surface reflects any light (by any lobe).
+    pub fn reflects(&self) -> bool {
+        self.diffuse.max_element() > 0.0 || self.has_specular()
+    }
+
+    /// All the light the surface reflects at normal incidence, every
+    /// layer's reflectance summed (the albedo a denoiser's guide holds).
+    pub fn albedo(&self) -> Rgb {
+        self.diffuse + self.specular + Rgb::splat(self.coat.reflectance)
+    }
+
+    /// Direction of the specular layer's reflected ray for a ray
+    /// travelling along `incoming` ([`reflect_lobe`] of the layer's
+    /// roughness).
+    pub fn reflect(&self, incoming: Vec3, normal: Vec3, u: Vec2) -> Option<Vec3> {
+        reflect_lobe(incoming, normal, self.roughness, u)
+    }
+
+    /// Continues a path by the reflective layers: the specular layer or
+    /// the coat, chosen by `choice` with probability proportional to the
+    /// luminance of each one's reflectance, its direction by
+    /// [`reflect_lobe`] from `u`. The weight is the chosen layer's
+    /// reflectance over its probability, so that its expectation is the
+    /// layers' sum. `None` if neither reflects or the direction falls
+    /// below the surface. Without a coat the specular layer is chosen
+    /// whatever `choice` is.
+    #[inline]
+    pub fn reflect_layers(
+        &self,
+        incoming: Vec3,
+        normal: Vec3,
+        choice: f32,
+        u: Vec2,
+    ) -> Option<SurfaceSample> {
+        let specular = luminance(self.specular);
+        let total = specular + self.coat.reflectance;
+        if total <= 0.0 {
+            return None;
+        }
+        let p_specular = specular / total;
+        self.reflection_by(
+            incoming,
+            normal,
+            (choice < p_specular).then_some(p_specular),
+            (1.0 - p_specular, u),
+        )
+    }
+
+    /// The reflected ray of the specular layer if `specular` holds the
+    /// probability it was chosen with, else of the coat, chosen with
+    /// probability `coat.0`; the weight is the layer's reflectance over
+    /// its probability.
+    #[inline]
+    fn reflection_by(
+        &self,
+        incoming: Vec3,
+        normal: Vec3,
+        specular: Option<f32>,
+        (p_coat, u): (f32, Vec2),
+    ) -> Option<SurfaceSample> {
+        let (roughness, weight, lobe) = match specular {
+            Some(p) => (self.roughness, self.specular / p, Lobe::Specular),
+            None => (
+                self.coat.roughness,
+                Rgb::splat(self.coat.reflectance / p_coat),
+                Lobe::Coat,
+            ),
+        };
+        Some(SurfaceSample {
+            direction: reflect_lobe(incoming, normal, roughness, u)?,
+            weight,
+            pdf: 0.0,
+            lobe,
+        })
+    }
+
+    /// The roughness of the layer `lobe` samples (0 for the Lambertian
+    /// lobe, which is not a reflection).
+    #[inline]
+    pub fn roughness_of(&self, lobe: Lobe) -> f32 {
+        match lobe {
+            Lobe::Diffuse => 0.0,
+            Lobe::Specular => self.roughness,
+            Lobe::Coat => self.coat.roughness,
+        }
+    }
+}
+
+/// Direction of the reflected ray for a ray travelling along `incoming`,
+/// at a surface with unit normal `normal` facing the incoming ray, by a
+/// reflective layer of roughness `roughness`. With roughness `r > 0` the
+/// direction is drawn from a normalised Phong lobe `cosⁿ` around the
+/// mirror direction, with `n = 2/r² − 2` (the Beckmann-equivalent
+/// exponent, Walter et al. 2007). Returns `None` when the drawn direction
+/// lies below the surface (that sample carries no light).
+pub fn reflect_lobe(incoming: Vec3, normal: Vec3, roughness: f32, u: Vec2) -> Option<Vec3> {
+    let mirror = incoming - 2.0 * incoming.dot(normal) * normal;
+    if roughness <= 0.0 {
+        return Some(mirror);
+    }
+    let r2 = (roughness * roughness).max(1e-6);
+    let exponent = (2.0 / r2 - 2.0).max(0.0);
+    let cos_t = u.x.powf(1.0 / (exponent + 1.0));
+    let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    let (t, b) = mirror.any_orthonormal_pair();
+    let dir = (t * (sin_t * phi.cos()) + b * (sin_t * phi.sin()) + mirror * cos_t).normalize();
+    (dir.dot(normal) > 0.0).then_some(dir)
+}
+
+/// The lobe of a [`Surface`] a sampled direction came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lobe {
+    /// The Lambertian lobe, cosine-sampled: its direction can also be
+    /// reached by light sampling, so its density takes part in MIS.
+    Diffuse,
+    /// The specular layer (mirror or glossy), followed by its one
+    /// reflected ray: no other strategy produces it.
+    Specular,
+    /// The clear coat, followed as the specular layer is.
+    Coat,
+}
+
+/// A direction drawn by [`Surface::sample`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceSample {
+    /// Unit direction of the continuing ray.
+    pub direction: Vec3,
+    /// `f·cos θ / p` with the lobe's choice probability in `p`: `ρ/P_d`
+    /// for the Lambertian lobe, a reflective layer's reflectance over its
+    /// probability for that layer (whose lobe is sampled exactly).
+    pub weight: Rgb,
+    /// Solid-angle density of the direction for the Lambertian lobe,
+    /// `P_d·cos θ/π` ([`Surface::pdf`]); not meaningful for the
+    /// reflective layer.
+    pub pdf: f32,
+    pub lobe: Lobe,
+}
+
+impl Surface {
+    /// The probabilities of continuing a path by the Lambertian lobe, the
+    /// specular layer and the coat: proportional to the luminance of each
+    /// one's reflectance. `None` if the surface reflects nothing.
+    #[inline]
+    fn lobe_probabilities(&self) -> Option<[f32; 3]> {
+        let (diffuse, specular) = (luminance(self.diffuse), luminance(self.specular));
+        let total = diffuse + specular + self.coat.reflectance;
+        if total <= 0.0 {
+            return None;
+        }
+        Some([diffuse, specular, self.coat.reflectance].map(|l| l / total))
+    }
+
+    /// The probability `P_d` of continuing a path by the Lambertian lobe
+    /// rather than a reflective layer (see [`Surface::sample`]). `None` if
+    /// the surface reflects nothing.
+    #[inline]
+    pub fn diffuse_probability(&self) -> Option<f32> {
+        self.lobe_probabilities().map(|[p_diffuse, ..]| p_diffuse)
+    }
+
+    /// Continues a path that arrived along `incoming` at a point with unit
+    /// normal `normal` (facing the path): the lobe — Lambertian, specular
+    /// layer or coat — is chosen by `choice` with probability proportional
+    /// to the luminance of its reflectance ([`Surface::diffuse_probability`]
+    /// for the first), the direction from `u` (cosine-distributed, or by
+    /// [`reflect_lobe`] of the layer's roughness). `None` if the surface
+    /// reflects nothing or the reflected direction falls below it.
+    #[inline]
+    pub fn sample(
+        &self,
+        incoming: Vec3,
+        normal: Vec3,
+        choice: f32,
+        u: Vec2,
+    ) -> Option<SurfaceSample> {
+        let [p_diffuse, p_specular, p_coat] = self.lobe_probabilities()?;
+        if choice < p_diffuse {
+            let direction = cosine_hemisphere(normal, u);
+            // f·cos/pdf = (ρ/π)·cos / (P_d·cos/π) = ρ/P_d.
+            return Some(SurfaceSample {
+                direction,
+                weight: self.diffuse / p_diffuse,
+                pdf: p_diffuse * normal.dot(direction).max(0.0) * FRAC_1_PI,
+                lobe: Lobe::Diffuse,
+            });
+        }
+        let specular = (choice < p_diffuse + p_specular || p_coat <= 0.0).then_some(p_specular);
+        self.reflection_by(incoming, normal, specular, (p_coat, u))
+    }
+
+    /// The Lambertian lobe's `f·cos θ` for light leaving along unit
+    /// `omega` at a point with unit normal `normal` (the cosine included,
+    /// as Mitsuba 3's `BSDF::eval`): `ρ/π·cos θ`, 0 below the surface.
+    /// The reflective layer is not evaluated: it is only followed by its
+    /// reflected ray.
+    #[inline]
+    pub fn eval(&self, normal: Vec3, omega: Vec3) -> Rgb {
+        let cos = normal.dot(omega);
+        if cos > 0.0 {
+            self.diffuse * (FRAC_1_PI * cos)
+        } else {
+            Rgb::ZERO
+        }
+    }
+
+    /// Solid-angle density with which [`Surface::sample`] picks `omega`
+    /// by the Lambertian lobe, `P_d·cos θ/π` (0 below the surface or if
+    /// the surface reflects nothing).
+    #[inline]
+    pub fn pdf(&self, normal: Vec3, omega: Vec3) -> f32 {
+        self.diffuse_probability().map_or(0.0, |p_diffuse| {
+            p_diffuse * normal.dot(omega).max(0.0) * FRAC_1_PI
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mirror_reflects_about_normal() {
+        let s = Surface::layered(Rgb::ZERO, Rgb::ONE, 0.0);
+        let d = Vec3::new(1.0, -1.0, 0.0).normalize();
+        let r = s.reflect(d, Vec3::Y, Vec2::ZERO).unwrap();
+        assert!((r - Vec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-6);
+    }
+
+    #[test]
+    fn rough_reflection_stays_near_mirror() {
+        let s = Surface::layered(Rgb::ZERO, Rgb::ONE, 0.05);
+        let mirror = Vec3::Y;
+        for i in 0..64 {
+            let u = Vec2::new((i as f32 + 0.5) / 64.0, (i * 37 % 64) as f32 / 64.0);
+            let r = s.reflect(-Vec3::Y, Vec3::Y, u).unwrap();
+            assert!(r.dot(mirror) > 0.9);
+        }
+    }
+
+    /// `sample`, `eval` and `pdf` agree: a Lambertian sample's weight is
+    /// `eval/pdf`, the lobe follows `choice` against `P_d` (luminance
+    /// ratio), and `pdf` integrates to `P_d` over the hemisphere.
+    #[test]
+    fn surface_sample_eval_pdf_agree() {
+        let s = Surface::layered(Rgb::new(0.6, 0.5, 0.4), Rgb::splat(0.3), 0.0);
+        let n = Vec3::Y;
+        let incoming = Vec3::new(0.3, -1.0, 0.2).normalize();
+        let p_d = s.diffuse_probability().unwrap();
+        let expected = luminance(s.diffuse) / (luminance(s.diffuse) + luminance(s.specular));
+        assert!((p_d - expected).abs() < 1e-6);
+        let diffuse = s
+            .sample(incoming, n, 0.5 * p_d, Vec2::new(0.3, 0.8))
+            .unwrap();
+        assert_eq!(diffuse.lobe, Lobe::Diffuse);
+        assert!((diffuse.pdf - s.pdf(n, diffuse.direction)).abs() < 1e-6);
+        let ratio = s.eval(n, diffuse.direction) / diffuse.pdf;
+        assert!((ratio - diffuse.weight).abs().max_element() < 1e-5);
+        let specular = s.sample(incoming, n, 0.5 + 0.5 * p_d, Vec2::ZERO).unwrap();
+        assert_eq!(specular.lobe, Lobe::Specular);
+        assert!((specular.direction - s.reflect(incoming, n, Vec2::ZERO).unwrap()).length() < 1e-6);
+        assert!(
+            (specular.weight - s.specular / (1.0 - p_d))
+                .abs()
+                .max_element()
+                < 1e-6
+        );
+        // ∫ pdf dω over the hemisphere (midpoint rule in cos θ and φ).
+        let k = 200;
+        let mut total = 0.0;
+        for i in 0..k {
+            let cos = (i as f32 + 0.5) / k as f32;
+            let sin = (1.0 - cos * cos).sqrt();
+            for j in 0..k {
+                let phi = 2.0 * PI * (j as f32 + 0.5) / k as f32;
+                let omega = Vec3::new(sin * phi.cos(), cos, sin * phi.sin());
+                total += s.pdf(n, omega) * (2.0 * PI / (k * k) as f32);
+            }
+        }
+        assert!((total - p_d).abs() < 1e-3, "{total} vs {p_d}");
+        assert_eq!(s.eval(n, -Vec3::Y), Rgb::ZERO);
+        assert_eq!(Surface::diffuse(Rgb::ZERO).diffuse_probability(), None);
+    }
+}
