@@ -21,8 +21,10 @@ Units and conventions (each checked against Cycles by tests/):
 * Principled BSDF: glTF's metallic-roughness mix, as Blender's glTF
   exporter maps it — base colour (or an image texture on it), metallic,
   roughness, F0 = ((ior − 1)/(ior + 1))² · 2·(Specular IOR Level) ·
-  Specular Tint, emission colour × strength added over it (both faces,
-  as Cycles' mesh emission); Transmission Weight ≥ ½ is a refracting
+  Specular Tint, a clear coat of Coat Weight and Coat Roughness (its
+  IOR taken as 1.5 and its tint as white, with a warning otherwise),
+  emission colour × strength added over it (both faces, as Cycles' mesh
+  emission); Transmission Weight ≥ ½ is a refracting
   dielectric of its IOR. Diffuse, Glossy, Emission, Transparent and
   Glass BSDFs map to Tyndall's materials of those names.
 * The World: its Background colour × strength (or an equirectangular
@@ -329,7 +331,6 @@ class _Converter:
         ignored = [
             name
             for name, key in (
-                ("coat", "Coat Weight"),
                 ("sheen", "Sheen Weight"),
                 ("subsurface", "Subsurface Weight"),
             )
@@ -363,6 +364,14 @@ class _Converter:
         tint = self.colour(material, inputs["Specular Tint"])
         r0 = ((ior - 1.0) / (ior + 1.0)) ** 2 if ior > 0 else 0.0
         table["f0"] = [min(1.0, max(0.0, r0 * 2.0 * level * t)) for t in tint]
+        coat = self.value(material, inputs["Coat Weight"])
+        if coat > 0.0:
+            table["coat"] = min(1.0, coat)
+            table["coat_roughness"] = self.value(material, inputs["Coat Roughness"])
+            if abs(self.value(material, inputs["Coat IOR"]) - 1.5) > 1e-6:
+                self.warn(f"{where}: the coat's IOR is rendered as 1.5 (F0 0.04)")
+            if any(abs(t - 1.0) > 1e-6 for t in self.colour(material, inputs["Coat Tint"])):
+                self.warn(f"{where}: the coat's tint is not rendered (a clear coat)")
         strength = self.value(material, inputs["Emission Strength"])
         emission = [c * strength for c in self.colour(material, inputs["Emission Color"])]
         if any(e > 0.0 for e in emission):
