@@ -70,6 +70,8 @@ OUT_DIR/side-by-side.png:
 - noise: relMSE(seed 1, seed 2)/4 for Tyndall and relMSE(half 0,
   half 1)/4 for Cycles, each an estimate of the relMSE its two-render
   mean has against the noiseless image;
+- the means of each seed and each half: their spread is the noise of
+  the means (Cycles' fireflies can move it by several per cent);
 - pass: the mean within 2 % and relMSE ≤ noise(Tyndall) + noise(Cycles)
   + 0.01;
 - side-by-side.png: Tyndall | Cycles | |difference| × 4, each clipped to
@@ -340,6 +342,8 @@ def compare(out, tyndall, spp):
         "mean_tyndall": float(t.mean()),
         "mean_cycles": float(c.mean()),
         "mean_ratio": float(t.mean() / c.mean()),
+        "means_tyndall_seeds": [float(t1.mean()), float(t2.mean())],
+        "means_cycles_halves": [float(c0.mean()), float(c1.mean())],
         "rel_mse": rel_mse(t, c),
         "noise_tyndall": rel_mse(t1, t2) / 4,
         "noise_cycles": rel_mse(c0, c1) / 4,

@@ -156,6 +156,11 @@ impl SceneBuffers {
                     .into(),
             ));
         }
+        if scene.has_coverage() {
+            return Err(GpuError::Unsupported(
+                "alpha coverage (glTF alphaMode MASK or BLEND)".into(),
+            ));
+        }
         if scene.has_textures() {
             return Err(GpuError::Unsupported("textured surfaces".into()));
         }
@@ -459,7 +464,6 @@ mod tests {
             SurfaceTexture {
                 texture: desc.add_texture(std::sync::Arc::new(image), Origin::Code),
                 uvs: Vec::new(),
-                cutout: None,
             }
         });
         let attributes = tyndall::description::MeshAttributes {

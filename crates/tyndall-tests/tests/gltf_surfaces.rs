@@ -6,9 +6,9 @@ mod common;
 mod gltf_files;
 
 use glam::Vec3;
-use gltf_files::{MeshData, test_dir, write_gltf};
+use gltf_files::{MeshData, floor_uv, square, sunlit, test_dir, write_gltf};
 use serde_json::{Value, json};
-use std::f32::consts::{FRAC_1_SQRT_2, PI};
+use std::f32::consts::PI;
 use tyndall::IntegratorKind;
 use tyndall::color::Rgb;
 use tyndall::ray::Ray;
@@ -30,48 +30,6 @@ fn write_checker(dir: &std::path::Path) {
         0.0,
     )
     .expect("png");
-}
-
-/// A glTF document of meshes `0..meshes` (a node each) under a sun
-/// straight down of 683 lx (E = 1 W/m² at 683 lm/W), with `more`'s
-/// members (images, samplers, textures, materials) added.
-fn sunlit(meshes: usize, more: Value) -> Value {
-    let s = FRAC_1_SQRT_2;
-    let mut nodes: Vec<Value> = (0..meshes).map(|m| json!({"mesh": m})).collect();
-    nodes.push(json!({"rotation": [-s, 0.0, 0.0, s],
-                      "extensions": {"KHR_lights_punctual": {"light": 0}}}));
-    let mut doc = json!({
-        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_specular", "KHR_texture_transform"],
-        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "intensity": 683.0}]}},
-        "scenes": [{"nodes": (0..=meshes).collect::<Vec<_>>()}],
-        "nodes": nodes,
-    });
-    for (key, value) in more.as_object().expect("members") {
-        doc[key] = value.clone();
-    }
-    doc
-}
-
-/// A square of half-side `r` at height `h`, facing up, of `material`,
-/// with texture coordinates `uv(corner)` if given.
-fn square(h: f32, r: f32, material: usize, uv: Option<fn([f32; 3]) -> [f32; 2]>) -> MeshData {
-    let positions = vec![[-r, h, -r], [r, h, -r], [r, h, r], [-r, h, r]];
-    MeshData {
-        uvs: uv.map(|uv| positions.iter().map(|&p| uv(p)).collect()),
-        positions,
-        indices: Some(vec![0, 2, 1, 0, 3, 2]),
-        mode: None,
-        material: Some(material),
-        normals: None,
-        colors: None,
-        tangents: None,
-    }
-}
-
-/// Texture coordinates spreading an image over the 4 × 4 floor: u along
-/// x, v along z.
-fn floor_uv(p: [f32; 3]) -> [f32; 2] {
-    [(p[0] + 2.0) / 4.0, (p[2] + 2.0) / 4.0]
 }
 
 /// The radiance straight up from the point under `(x, z)` met by a ray
@@ -331,116 +289,6 @@ fn metallic_roughness_texture_varies_the_surface() {
             );
         }
     }
-}
-
-/// Alpha cut-outs (glTF `alphaMode` `MASK`): a leaf quad at height 1,
-/// its base colour texture a 2×2 checker of alpha 1 and 0 (clamped, so
-/// coverage ≥ ½ exactly on the quadrants of its opaque texels), over a
-/// floor, under a sun straight down (E = 1 W/m²). Every ray passes the
-/// holes and stops at the rest, so with direct light only (`single`, and
-/// `volpath` of one scattering event) the radiance up from each point is
-/// a closed form:
-/// - seen from above, an opaque quadrant is the lit leaf (`0.5/π`), a hole
-///   the lit floor beneath it (`0.8/π`): camera rays and shadow rays pass
-///   holes;
-/// - seen from between leaf and floor, the floor is dark under an opaque
-///   quadrant and lit under a hole: shadow rays stop at the rest.
-///
-/// A `MASK` material below its cutoff without a texture (a pane over
-/// everything) is left out; shadow maps, which cannot see holes, are
-/// refused; `BLEND` is rendered opaque, with a warning.
-#[test]
-fn alpha_cutouts_are_holes_for_every_ray() {
-    let dir = test_dir("cutout");
-    let checker = image::RgbaImage::from_fn(2, 2, |x, y| {
-        image::Rgba([255, 255, 255, if x == y { 255 } else { 0 }])
-    });
-    checker.save(dir.join("leaf.png")).expect("png");
-    let no_specular = json!({"KHR_materials_specular": {"specularFactor": 0.0}});
-    let doc = |leaf_mode: &str| {
-        sunlit(
-            3,
-            json!({
-                "images": [{"uri": "leaf.png"}],
-                "samplers": [{"wrapS": 33071, "wrapT": 33071}],
-                "textures": [{"source": 0, "sampler": 0}],
-                "materials": [
-                    {"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0],
-                                              "baseColorTexture": {"index": 0}, "metallicFactor": 0.0},
-                     "alphaMode": leaf_mode, "extensions": no_specular},
-                    {"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0], "metallicFactor": 0.0},
-                     "extensions": no_specular},
-                    {"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.3, 0.3, 0.3], "metallicFactor": 0.0},
-                     "alphaMode": "MASK", "extensions": no_specular}
-                ]
-            }),
-        )
-    };
-    // The leaf's coordinates spread the image over it: u along x, v along z.
-    let meshes = [
-        square(
-            1.0,
-            1.0,
-            0,
-            Some(|p| [(p[0] + 1.0) / 2.0, (p[2] + 1.0) / 2.0]),
-        ),
-        square(0.0, 2.0, 1, None),
-        square(1.5, 3.0, 2, None),
-    ];
-    let desc = common::load_gltf(&write_gltf(&dir, "leaf", &meshes, doc("MASK"))).expect("loads");
-    assert!(desc.scene.has_cutouts());
-    let (leaf, floor, dark) = (0.5 / PI, 0.8 / PI, 0.0);
-    // (x, z, from height, expected): quadrant (−, −) and (+, +) opaque.
-    let cases = [
-        (-0.5, -0.5, 2.0, leaf),
-        (0.5, 0.5, 2.0, leaf),
-        (0.5, -0.5, 2.0, floor),
-        (-0.5, 0.5, 2.0, floor),
-        (1.5, 0.3, 2.0, floor),
-        (-0.3, -0.7, 0.5, dark),
-        (0.7, 0.2, 0.5, dark),
-        (0.3, -0.7, 0.5, floor),
-        (-0.7, 0.2, 0.5, floor),
-    ];
-    for kind in [IntegratorKind::Single, IntegratorKind::Volpath] {
-        let settings = tyndall::RenderSettings {
-            integrator: kind,
-            max_depth: 1,
-            ..desc.settings
-        };
-        for (x, z, y, expected) in cases {
-            let ray = Ray::new(Vec3::new(x, y, z), Vec3::new(0.0, -1.0, 0.0));
-            let (got, _) = common::estimate_ray_with(&desc, settings, ray, 8);
-            assert!(
-                (got - Rgb::splat(expected)).abs().max_element() < 1e-5,
-                "{kind:?} from ({x}, {y}, {z}): {got} vs {expected}"
-            );
-        }
-    }
-    // The guides see through the holes too.
-    let guide = tyndall::guides::first_surface(
-        &desc.scene,
-        Ray::new(Vec3::new(0.5, 2.0, -0.5), Vec3::new(0.0, -1.0, 0.0)),
-    );
-    assert!((guide.albedo - Rgb::splat(0.8)).abs().max_element() < 1e-6);
-
-    let maps = tyndall::RenderSettings {
-        visibility: tyndall::settings::VisibilityMode::Maps { resolution: 64 },
-        ..desc.settings
-    };
-    assert_eq!(
-        maps.validate(&desc.scene),
-        Err(tyndall::render::RenderError::CutoutsNeedShadowRays)
-    );
-
-    let blended =
-        common::load_gltf(&write_gltf(&dir, "blend", &meshes, doc("BLEND"))).expect("loads");
-    assert!(!blended.scene.has_cutouts());
-    assert!(
-        blended.warnings.iter().any(|w| w.contains("BLEND")),
-        "{:?}",
-        blended.warnings
-    );
 }
 
 /// `KHR_texture_transform` on a base colour texture: a 2×2 checker

@@ -24,6 +24,7 @@ pub mod accel;
 pub mod aov;
 pub mod camera;
 pub mod color;
+pub mod coverage;
 pub mod description;
 pub mod distribution;
 pub mod exact_sum;

@@ -6,9 +6,9 @@
 //! Texels stay 8-bit sRGB, three bytes each, and are decoded through a
 //! 256-entry table when looked up: a 4096² texture takes 48 MiB instead of
 //! the 192 MiB of linear floats. An image's alpha channel, if it has one,
-//! is kept as a fourth byte per texel for cut-outs (glTF `alphaMode`
-//! `MASK`, §3.9.4: alpha is linear coverage, not sRGB), looked up with
-//! the same filtering.
+//! is kept as a fourth byte per texel for the surface's coverage (glTF
+//! `alphaMode`, §3.9.4: alpha is linear coverage, not sRGB;
+//! [`crate::coverage`]), looked up with the same filtering.
 
 use crate::color::{Rgb, srgb_to_linear};
 use glam::{Vec2, Vec3};
@@ -44,26 +44,6 @@ impl Wrap {
             }
         };
         wrapped as usize
-    }
-}
-
-/// An alpha cut-out (glTF `alphaMode` `MASK`, §3.9.4): where the
-/// coverage `factor · α(uv)` (α the texture's alpha at the point, 1
-/// without an alpha channel) is below `cutoff` the surface is a hole that
-/// every ray passes, elsewhere it is wholly there.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AlphaCutout {
-    /// In `[0, 1]`; glTF's `alphaCutoff`, 0.5 by default.
-    pub cutoff: f32,
-    /// In `[0, 1]`; glTF's `baseColorFactor` alpha.
-    pub factor: f32,
-}
-
-impl AlphaCutout {
-    /// Whether texture alpha `alpha` makes a hole.
-    #[inline]
-    pub fn is_hole(&self, alpha: f32) -> bool {
-        self.factor * alpha < self.cutoff
     }
 }
 

@@ -123,7 +123,7 @@ const OWN_HIT_FRACTION: f32 = 0.999;
 /// and the holes of alpha cut-outs are passed.
 fn shadow_ray(scene: &Scene, origin: Vec3, incident: &Incident, own: Option<u32>) -> Rgb {
     let (geometry, materials, model) = (&scene.geometry, &scene.materials, scene.glass.model);
-    let cutouts = scene.has_cutouts();
+    let coverage = scene.has_coverage();
     let ray = Ray {
         origin,
         direction: incident.direction,
@@ -142,7 +142,7 @@ fn shadow_ray(scene: &Scene, origin: Vec3, incident: &Incident, own: Option<u32>
         if own == Some(index) && t > OWN_HIT_FRACTION * t_max {
             return ControlFlow::Continue(());
         }
-        if cutouts && scene.is_hole(index, ray.at(t)) {
+        if coverage && scene.passes(index, &ray, t) {
             return ControlFlow::Continue(());
         }
         match &materials[geometry.primitive(index).material as usize] {

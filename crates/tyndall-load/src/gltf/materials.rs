@@ -9,7 +9,8 @@ use tyndall::color::Rgb;
 use tyndall::description::SceneDesc;
 use tyndall::glass::Glass;
 use tyndall::materials::{Clearcoat, Material, MaterialId, MetallicRoughness};
-use tyndall::texture::{AlphaCutout, TextureId};
+use tyndall::coverage::Coverage;
+use tyndall::texture::TextureId;
 
 /// glTF's `alphaCutoff` when a `MASK` material does not give it
 /// (glTF 2.0 §5.19, material.alphaCutoff).
@@ -22,9 +23,6 @@ const DEFAULT_ALPHA_CUTOFF: f32 = 0.5;
 pub(super) struct BaseTexture {
     pub texture: TextureId,
     pub tex_coord: u32,
-    /// The material's alpha cut-out (`alphaMode` `MASK`) on the
-    /// texture's alpha, if it has one.
-    pub cutout: Option<AlphaCutout>,
     /// `KHR_texture_transform` of the texture's coordinates.
     pub transform: UvTransform,
 }
@@ -62,6 +60,9 @@ pub(super) struct MaterialTextures {
     /// An emitter's `emissiveTexture`.
     pub emission: Option<MappedTexture>,
     pub metallic_roughness: Option<MetallicRoughnessTexture>,
+    /// The surface's alpha coverage (`alphaMode` `MASK` or `BLEND`), on
+    /// the base colour texture's alpha where it has one.
+    pub coverage: Option<Coverage>,
 }
 
 /// An affine map of texture coordinates, `KHR_texture_transform`'s
@@ -146,13 +147,9 @@ impl GltfLoader<'_> {
             }
             _ => None,
         };
-        // A cut-out without a texture's alpha is wholly there or wholly
-        // a hole (coverage: the factor alone).
-        if textures.base.is_none_or(|t| t.cutout.is_none())
-            && self
-                .alpha_cutout(material, &element)?
-                .is_some_and(|c| c.is_hole(1.0))
-        {
+        // A surface that no texture's alpha can make more than a hole is
+        // left out.
+        if textures.coverage.is_some_and(|c| c.is_empty()) {
             self.hidden_materials.insert(material.index());
         }
         let id = scene.add_material(converted, self.origin(element));
@@ -259,7 +256,6 @@ impl GltfLoader<'_> {
                         .as_ref()
                         .and_then(|t| t.tex_coord())
                         .unwrap_or(info.tex_coord()),
-                    cutout: None,
                     transform: transform.map_or(UvTransform::IDENTITY, |t| {
                         UvTransform::new(t.offset(), t.rotation(), t.scale())
                     }),
@@ -283,12 +279,19 @@ impl GltfLoader<'_> {
                 "emissiveFactor × emissiveStrength must be non-negative and finite",
             ));
         }
-        let masked = material.alpha_mode() == AlphaMode::Mask && texture.is_some();
+        // The alpha mode, where it asks for partial coverage.
+        let covered = match material.alpha_mode() {
+            AlphaMode::Opaque => None,
+            AlphaMode::Mask => Some("MASK"),
+            AlphaMode::Blend => Some("BLEND"),
+        };
         let emits = emission.max_element() > 0.0;
-        if emits && masked {
+        if let Some(mode) = covered
+            && emits
+        {
             self.warn(
                 &element,
-                "alphaMode MASK is ignored on an emitter: it emits over its whole surface",
+                format!("alphaMode {mode} is ignored on an emitter: it emits over its whole surface"),
             );
         }
         let ior = material.ior().unwrap_or(DEFAULT_IOR);
@@ -312,10 +315,10 @@ impl GltfLoader<'_> {
             && !emits
         {
             let t = transmission.transmission_factor();
-            if masked {
+            if let Some(mode) = covered {
                 self.warn(
                     &element,
-                    "alphaMode MASK is ignored on glass: the whole surface transmits",
+                    format!("alphaMode {mode} is ignored on glass: the whole surface transmits"),
                 );
             }
             if transmission.transmission_texture().is_some() {
@@ -421,22 +424,14 @@ impl GltfLoader<'_> {
         }
         .surface();
         let diffuse = surface.diffuse;
-        let cutout = match emits {
+        let coverage = match emits {
             true => None,
-            false => self.alpha_cutout(material, &element)?,
+            false => self.coverage(material, &element)?,
         };
-        if material.alpha_mode() == AlphaMode::Blend {
-            self.warn(
-                &element,
-                "alphaMode BLEND is rendered opaque: the surface's partial coverage is ignored",
-            );
-        }
         // A surface with no diffuse reflectance has nothing to texture,
-        // unless the texture's alpha cuts it out or colours its metal.
-        let texture = match (texture, cutout) {
-            (Some(t), Some(_)) if scene.textures[t.texture as usize].value.has_alpha() => {
-                Some(BaseTexture { cutout, ..t })
-            }
+        // unless the texture's alpha covers it or colours its metal.
+        let texture = match (texture, coverage) {
+            (Some(t), Some(_)) if scene.textures[t.texture as usize].value.has_alpha() => Some(t),
             (t, _) => t.filter(|_| diffuse != Rgb::ZERO || metallic_roughness.is_some()),
         };
         let converted = match emits {
@@ -452,6 +447,7 @@ impl GltfLoader<'_> {
             MaterialTextures {
                 base: texture,
                 metallic_roughness,
+                coverage,
                 ..MaterialTextures::default()
             },
         ))
@@ -512,28 +508,35 @@ impl GltfLoader<'_> {
         Ok(clearcoat)
     }
 
-    /// The alpha cut-out of a `MASK` material (`alphaCutoff`, 0.5 by
-    /// default, on `baseColorFactor`'s alpha); `None` for other modes.
-    fn alpha_cutout(
+    /// The alpha coverage of a `MASK` material (a cut-out at
+    /// `alphaCutoff`, 0.5 by default) or a `BLEND` one (partial
+    /// coverage), on `baseColorFactor`'s alpha; `None` for `OPAQUE`.
+    fn coverage(
         &self,
         material: &::gltf::Material,
         element: &str,
-    ) -> Result<Option<AlphaCutout>, SceneError> {
-        if material.alpha_mode() != AlphaMode::Mask {
-            return Ok(None);
-        }
-        let cutoff = material.alpha_cutoff().unwrap_or(DEFAULT_ALPHA_CUTOFF);
-        if !(cutoff.is_finite() && (0.0..=1.0).contains(&cutoff)) {
+    ) -> Result<Option<Coverage>, SceneError> {
+        let factor = material.pbr_metallic_roughness().base_color_factor()[3];
+        if !(0.0..=1.0).contains(&factor) {
             return Err(self.err(
                 element,
-                format!("alphaCutoff must be in [0, 1], got {cutoff}"),
+                format!("baseColorFactor's alpha must be in [0, 1], got {factor}"),
             ));
         }
-        let factor = material.pbr_metallic_roughness().base_color_factor()[3];
-        Ok(Some(AlphaCutout {
-            cutoff,
-            factor: factor.clamp(0.0, 1.0),
-        }))
+        Ok(match material.alpha_mode() {
+            AlphaMode::Opaque => None,
+            AlphaMode::Blend => Some(Coverage::Partial { factor }),
+            AlphaMode::Mask => {
+                let cutoff = material.alpha_cutoff().unwrap_or(DEFAULT_ALPHA_CUTOFF);
+                if !(cutoff.is_finite() && (0.0..=1.0).contains(&cutoff)) {
+                    return Err(self.err(
+                        element,
+                        format!("alphaCutoff must be in [0, 1], got {cutoff}"),
+                    ));
+                }
+                Some(Coverage::Cutout { cutoff, factor })
+            }
+        })
     }
 
     /// The absorption σa per unit length inside a dielectric from

@@ -412,7 +412,6 @@ impl GltfLoader<'_> {
             let texture = base_texture.map(|t| SurfaceTexture {
                 texture: t.texture,
                 uvs: corner_uvs,
-                cutout: t.cutout,
             });
             let normal_map = match (textures.normal, map_coords) {
                 (Some(normal), Some(_)) => {
@@ -465,6 +464,7 @@ impl GltfLoader<'_> {
                 normal_map,
                 emission_map,
                 metallic_roughness,
+                coverage: textures.coverage,
             };
             scene.add_mesh(triangles, attributes, material, origin);
         }

@@ -133,7 +133,6 @@ impl Loader<'_> {
             attributes.texture = Some(SurfaceTexture {
                 texture,
                 uvs: corner_uvs,
-                cutout: None,
             });
             // A textured metal's specular colour follows its texture, as
             // the glTF loader binds it.

@@ -4,6 +4,7 @@
 #![allow(dead_code)]
 
 use serde_json::{Value, json};
+use std::f32::consts::FRAC_1_SQRT_2;
 use std::path::{Path, PathBuf};
 
 /// One triangle-list primitive (its own mesh).
@@ -142,4 +143,46 @@ pub fn to_glb(dir: &Path, name: &str) -> PathBuf {
     let path = dir.join(format!("{name}.glb"));
     std::fs::write(&path, tyndall_load::gltf::glb_bytes(&json, &bin)).expect("write glb");
     path
+}
+
+/// A glTF document of meshes `0..meshes` (a node each) under a sun
+/// straight down of 683 lx (E = 1 W/m² at 683 lm/W), with `more`'s
+/// members (images, samplers, textures, materials) added.
+pub fn sunlit(meshes: usize, more: Value) -> Value {
+    let s = FRAC_1_SQRT_2;
+    let mut nodes: Vec<Value> = (0..meshes).map(|m| json!({"mesh": m})).collect();
+    nodes.push(json!({"rotation": [-s, 0.0, 0.0, s],
+                      "extensions": {"KHR_lights_punctual": {"light": 0}}}));
+    let mut doc = json!({
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_specular", "KHR_texture_transform"],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "intensity": 683.0}]}},
+        "scenes": [{"nodes": (0..=meshes).collect::<Vec<_>>()}],
+        "nodes": nodes,
+    });
+    for (key, value) in more.as_object().expect("members") {
+        doc[key] = value.clone();
+    }
+    doc
+}
+
+/// A square of half-side `r` at height `h`, facing up, of `material`,
+/// with texture coordinates `uv(corner)` if given.
+pub fn square(h: f32, r: f32, material: usize, uv: Option<fn([f32; 3]) -> [f32; 2]>) -> MeshData {
+    let positions = vec![[-r, h, -r], [r, h, -r], [r, h, r], [-r, h, r]];
+    MeshData {
+        uvs: uv.map(|uv| positions.iter().map(|&p| uv(p)).collect()),
+        positions,
+        indices: Some(vec![0, 2, 1, 0, 3, 2]),
+        mode: None,
+        material: Some(material),
+        normals: None,
+        colors: None,
+        tangents: None,
+    }
+}
+
+/// Texture coordinates spreading an image over the 4 × 4 floor: u along
+/// x, v along z.
+pub fn floor_uv(p: [f32; 3]) -> [f32; 2] {
+    [(p[0] + 2.0) / 4.0, (p[2] + 2.0) / 4.0]
 }

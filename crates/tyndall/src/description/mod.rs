@@ -29,7 +29,8 @@ use crate::media::volume::Density;
 use crate::phase::PhaseFunction;
 use crate::settings::RenderSettings;
 use crate::shapes::{Bounds, Shape, Triangle};
-use crate::texture::{AlphaCutout, Texture, TextureId};
+use crate::coverage::Coverage;
+use crate::texture::{Texture, TextureId};
 use glam::{Vec2, Vec3, Vec4};
 use std::fmt;
 use std::ops::Range;
@@ -115,6 +116,12 @@ pub struct ShapeDesc {
     /// A glTF metallic-roughness surface evaluated point by point, if
     /// any.
     pub metallic_roughness: Option<MetallicRoughnessMap>,
+    /// How much of the mesh is there (glTF's `alphaMode` `MASK` or
+    /// `BLEND`), on its coverage: the rule's factor times the alpha of
+    /// [`ShapeDesc::texture`] at each point (its mean coverage without
+    /// coordinates; 1 without a texture or without an alpha channel).
+    /// `None`: wholly there.
+    pub coverage: Option<Coverage>,
 }
 
 /// What a mesh carries per corner or per point besides its positions,
@@ -128,6 +135,7 @@ pub struct MeshAttributes {
     pub normal_map: Option<NormalMap>,
     pub emission_map: Option<EmissionMap>,
     pub metallic_roughness: Option<MetallicRoughnessMap>,
+    pub coverage: Option<Coverage>,
 }
 
 impl ShapeDesc {
@@ -147,8 +155,6 @@ impl ShapeDesc {
 pub struct SurfaceTexture {
     pub texture: TextureId,
     pub uvs: Vec<[Vec2; 3]>,
-    /// Holes where the texture's alpha is below a cutoff, if any.
-    pub cutout: Option<AlphaCutout>,
 }
 
 /// A tangent-space normal map over a mesh (glTF's `normalTexture`): at
@@ -422,6 +428,7 @@ impl SceneDesc {
             normal_map: None,
             emission_map: None,
             metallic_roughness: None,
+            coverage: None,
         });
     }
 
@@ -443,6 +450,7 @@ impl SceneDesc {
             normal_map,
             emission_map,
             metallic_roughness,
+            coverage,
         } = attributes;
         self.shapes.push(ShapeDesc {
             shapes: triangles.into_iter().map(Shape::Triangle).collect(),
@@ -454,6 +462,7 @@ impl SceneDesc {
             normal_map,
             emission_map,
             metallic_roughness,
+            coverage,
         });
     }
 

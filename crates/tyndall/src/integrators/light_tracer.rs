@@ -375,7 +375,7 @@ impl Tracer<'_> {
         scene
             .geometry
             .for_each_hit(&ray, distance * (1.0 - 1e-4), |t, primitive| {
-                if scene.has_cutouts() && scene.is_hole(primitive, ray.at(t)) {
+                if scene.has_coverage() && scene.passes(primitive, &ray, t) {
                     return ControlFlow::Continue(());
                 }
                 match scene.material(primitive).event(true, opaque_glass) {

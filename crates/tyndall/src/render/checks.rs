@@ -60,8 +60,8 @@ impl RenderSettings {
                 self.integrator.name(),
             ));
         }
-        if scene.has_cutouts() && matches!(self.visibility, VisibilityMode::Maps { .. }) {
-            return Err(RenderError::CutoutsNeedShadowRays);
+        if scene.has_coverage() && matches!(self.visibility, VisibilityMode::Maps { .. }) {
+            return Err(RenderError::CoverageNeedsShadowRays);
         }
         if scene.volumes.len() > MAX_VOLUMES {
             return Err(RenderError::TooManyVolumes(scene.volumes.len()));

@@ -52,7 +52,7 @@ pub enum RenderError {
     )]
     ComponentsWithLightPaths,
     #[error(
-        "the scene has alpha cut-outs (glTF alphaMode MASK), which shadow maps do not see: use shadow rays (visibility = \"rays\", the default)"
+        "the scene has alpha coverage (glTF alphaMode MASK or BLEND), which shadow maps do not see: use shadow rays (visibility = \"rays\", the default)"
     )]
-    CutoutsNeedShadowRays,
+    CoverageNeedsShadowRays,
 }

@@ -259,39 +259,43 @@ impl Scene {
         self.vertex_colours.is_used()
     }
 
-    /// Whether some surface has an alpha cut-out (glTF `MASK`).
-    pub fn has_cutouts(&self) -> bool {
-        self.textures.has_cutouts()
+    /// Whether some surface has alpha coverage (glTF `MASK` or `BLEND`,
+    /// [`crate::coverage`]).
+    pub fn has_coverage(&self) -> bool {
+        self.textures.has_coverage()
     }
 
-    /// Whether the point `p` of primitive `primitive` is a hole of its
-    /// alpha cut-out, which every ray passes.
+    /// Whether `ray` passes primitive `primitive` where it meets it at
+    /// distance `t`: a hole of its alpha coverage there, or a part of a
+    /// partially covering surface that this ray misses
+    /// ([`crate::coverage::Coverage::passes`]).
     #[inline]
-    pub fn is_hole(&self, primitive: u32, p: Vec3) -> bool {
+    pub fn passes(&self, primitive: u32, ray: &Ray, t: f32) -> bool {
         match &self.geometry.primitive(primitive).shape {
-            Shape::Triangle(triangle) => self.textures.is_hole(primitive, triangle, p),
+            Shape::Triangle(triangle) => self.textures.passes(primitive, triangle, ray, t),
             _ => false,
         }
     }
 
-    /// The nearest surface along `ray` with `t ∈ (0, t_max)`, the holes
-    /// of alpha cut-outs passed: what every integrator's rays hit.
+    /// The nearest surface along `ray` with `t ∈ (0, t_max)`, the
+    /// surfaces it passes by their coverage passed: what every
+    /// integrator's rays hit.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        if !self.has_cutouts() {
+        if !self.has_coverage() {
             return self.geometry.intersect(ray, t_max);
         }
         self.geometry
-            .intersect_where(ray, t_max, |t, index| !self.is_hole(index, ray.at(t)))
+            .intersect_where(ray, t_max, |t, index| !self.passes(index, ray, t))
     }
 
-    /// Whether any surface (not a hole of a cut-out) meets `ray` before
-    /// `t_max`.
+    /// Whether any surface that `ray` does not pass by its coverage meets
+    /// it before `t_max`.
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let mut hit = false;
         self.geometry.for_each_hit(ray, t_max, |t, index| {
-            if self.has_cutouts() && self.is_hole(index, ray.at(t)) {
+            if self.has_coverage() && self.passes(index, ray, t) {
                 return ControlFlow::Continue(());
             }
             hit = true;
@@ -393,7 +397,12 @@ impl Scene {
             if let Some(texture) = &item.texture {
                 for k in 0..item.shapes.len() {
                     let uvs = texture.uvs.get(k).copied();
-                    textures.bind(first + k as u32, texture.texture, uvs, texture.cutout);
+                    textures.bind(first + k as u32, texture.texture, uvs);
+                }
+            }
+            if let Some(rule) = item.coverage {
+                for k in 0..item.shapes.len() {
+                    textures.bind_coverage(first + k as u32, rule);
                 }
             }
             if let Some(map) = &item.metallic_roughness {

@@ -1,7 +1,7 @@
 //! Textures bound to mesh triangles: which colour texture multiplies a
 //! primitive's diffuse reflectance, and its texture coordinates at the
 //! triangle's corners, interpolated by barycentric weights; the alpha
-//! cut-outs that make holes in them; tangent-space normal maps
+//! coverage ([`Coverage`]) that makes holes in them; tangent-space normal maps
 //! ([`crate::description::NormalMap`]) that bend the shading normal; and
 //! glTF metallic-roughness surfaces evaluated point by point
 //! ([`crate::description::MetallicRoughnessMap`]).
@@ -9,7 +9,9 @@
 use crate::color::Rgb;
 use crate::materials::MetallicRoughness;
 use crate::shapes::Triangle;
-use crate::texture::{AlphaCutout, Texture, TextureId};
+use crate::coverage::{self, Coverage};
+use crate::ray::Ray;
+use crate::texture::{Texture, TextureId};
 use glam::{Vec2, Vec3, Vec4};
 use std::sync::Arc;
 
@@ -59,7 +61,15 @@ impl<T> PerPrimitive<T> {
 struct Binding {
     texture: TextureId,
     uvs: Option<[Vec2; 3]>,
-    cutout: Option<AlphaCutout>,
+}
+
+/// A primitive's coverage rule and the texture whose alpha it reads, with
+/// the corners' coordinates (`None`: the texture's mean coverage), if it
+/// has one.
+#[derive(Clone, Copy, Debug)]
+struct CoverageBinding {
+    rule: Coverage,
+    alpha: Option<(TextureId, Option<[Vec2; 3]>)>,
 }
 
 /// A primitive's normal map: its texture, its corners' coordinates, its
@@ -96,8 +106,7 @@ struct MetallicRoughnessBinding {
 pub(crate) struct SurfaceTextures {
     textures: Vec<Arc<Texture>>,
     colours: PerPrimitive<Binding>,
-    /// Whether some binding has a cut-out.
-    cutouts: bool,
+    coverage: PerPrimitive<CoverageBinding>,
     normal_maps: PerPrimitive<NormalBinding>,
     metallic_roughness: PerPrimitive<MetallicRoughnessBinding>,
 }
@@ -113,23 +122,22 @@ impl SurfaceTextures {
     }
 
     /// Binds `texture` to primitive `primitive` with its corners'
-    /// coordinates `uvs`, and the texture's alpha `cutout` if given.
-    pub fn bind(
-        &mut self,
-        primitive: u32,
-        texture: TextureId,
-        uvs: Option<[Vec2; 3]>,
-        cutout: Option<AlphaCutout>,
-    ) {
-        self.cutouts |= cutout.is_some();
-        self.colours.insert(
-            primitive,
-            Binding {
-                texture,
-                uvs,
-                cutout,
-            },
-        );
+    /// coordinates `uvs`.
+    pub fn bind(&mut self, primitive: u32, texture: TextureId, uvs: Option<[Vec2; 3]>) {
+        self.colours.insert(primitive, Binding { texture, uvs });
+    }
+
+    /// Binds the coverage `rule` to primitive `primitive`, on the alpha of
+    /// its colour texture if it is bound one that has alpha ([`Self::bind`]
+    /// first).
+    pub fn bind_coverage(&mut self, primitive: u32, rule: Coverage) {
+        let alpha = self
+            .colours
+            .get(primitive)
+            .filter(|b| self.textures[b.texture as usize].has_alpha())
+            .map(|b| (b.texture, b.uvs));
+        self.coverage
+            .insert(primitive, CoverageBinding { rule, alpha });
     }
 
     /// Binds a metallic-roughness surface of `factors` to primitive
@@ -243,28 +251,36 @@ impl SurfaceTextures {
         (t * m.x + b * m.y + n * m.z).try_normalize()
     }
 
-    /// Whether some primitive has an alpha cut-out.
-    pub fn has_cutouts(&self) -> bool {
-        self.cutouts
+    /// Whether some primitive has alpha coverage.
+    pub fn has_coverage(&self) -> bool {
+        !self.coverage.is_empty()
     }
 
-    /// Whether the point `p` of triangle `triangle` (primitive
-    /// `primitive`) lies in a hole of the primitive's cut-out: its
-    /// texture's alpha at `p` (at the texture's mean coverage without
-    /// coordinates) below the cutoff.
+    /// Whether `ray` passes triangle `triangle` (primitive `primitive`)
+    /// where it meets it, at distance `t`: by the primitive's coverage
+    /// rule ([`Coverage::passes`]) on its texture's alpha at that point
+    /// (at the texture's mean coverage without coordinates), with the
+    /// number [`coverage::ray_number`] gives the ray and the primitive.
     #[inline]
-    pub fn is_hole(&self, primitive: u32, triangle: &Triangle, p: Vec3) -> bool {
-        let Some((binding, texture)) = self.binding(primitive) else {
+    pub fn passes(&self, primitive: u32, triangle: &Triangle, ray: &Ray, t: f32) -> bool {
+        let Some(binding) = self.coverage.get(primitive) else {
             return false;
         };
-        let Some(cutout) = binding.cutout else {
-            return false;
+        let alpha = match binding.alpha {
+            Some((texture, uvs)) => {
+                let texture = &self.textures[texture as usize];
+                match uvs {
+                    Some(uvs) => texture.alpha(triangle.uv_at(uvs, ray.at(t))),
+                    None => texture.mean_alpha(),
+                }
+            }
+            None => 1.0,
         };
-        let alpha = match binding.uvs {
-            Some(uvs) => texture.alpha(triangle.uv_at(uvs, p)),
-            None => texture.mean_alpha(),
+        let u = match binding.rule.is_stochastic() {
+            true => coverage::ray_number(ray, primitive),
+            false => 0.0,
         };
-        cutout.is_hole(alpha)
+        binding.rule.passes(alpha, u)
     }
 
     /// Whether any primitive is textured, normal-mapped or has a

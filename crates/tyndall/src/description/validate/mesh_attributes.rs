@@ -1,9 +1,10 @@
 //! Validation of what a mesh carries per triangle corner: texture
-//! coordinates and their colour texture (with its cut-out), a normal map,
-//! an emission texture, a metallic-roughness surface, vertex colours and
-//! vertex normals.
+//! coordinates and their colour texture, a normal map, an emission
+//! texture, a metallic-roughness surface, vertex colours and vertex
+//! normals; and its coverage.
 
 use super::Item;
+use crate::coverage::Coverage;
 use crate::description::{
     DescError, EmissionMap, MetallicRoughnessMap, NormalMap, SceneDesc, ShapeDesc, SurfaceTexture,
 };
@@ -28,6 +29,9 @@ impl SceneDesc {
         }
         if let Some(map) = &shape.metallic_roughness {
             self.validate_metallic_roughness(shape, map, item)?;
+        }
+        if let Some(coverage) = shape.coverage {
+            validate_coverage(shape, coverage, item)?;
         }
         let colour = |c: Vec3| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0;
         validate_corners(
@@ -185,19 +189,7 @@ impl SceneDesc {
         if !shape.is_mesh() {
             return item.fail("texture", "only triangle meshes can be textured".into());
         }
-        if let Some(cutout) = texture.cutout {
-            for (name, v) in [
-                ("cutoff", cutout.cutoff),
-                ("coverage factor", cutout.factor),
-            ] {
-                if !(0.0..=1.0).contains(&v) {
-                    return item.fail(
-                        "cutout",
-                        format!("the alpha cut-out's {name} must be in [0, 1], got {v}"),
-                    );
-                }
-            }
-        }
+
         if texture.uvs.is_empty() {
             return Ok(());
         }
@@ -248,6 +240,27 @@ fn validate_corners(
     for (t, corners) in values.iter().enumerate() {
         if let Some(&v) = corners.iter().find(|&&v| !valid(v)) {
             return item.fail(field, invalid(t, v));
+        }
+    }
+    Ok(())
+}
+
+/// A coverage rule lies on a triangle mesh and its numbers are in
+/// `[0, 1]`.
+fn validate_coverage(shape: &ShapeDesc, coverage: Coverage, item: &Item) -> Result<(), DescError> {
+    if !shape.is_mesh() {
+        return item.fail("coverage", "only triangle meshes have alpha coverage".into());
+    }
+    let numbers = match coverage {
+        Coverage::Cutout { cutoff, factor } => [("cutoff", cutoff), ("coverage factor", factor)],
+        Coverage::Partial { factor } => [("coverage factor", factor), ("coverage factor", factor)],
+    };
+    for (name, v) in numbers {
+        if !(0.0..=1.0).contains(&v) {
+            return item.fail(
+                "coverage",
+                format!("the alpha coverage's {name} must be in [0, 1], got {v}"),
+            );
         }
     }
     Ok(())
