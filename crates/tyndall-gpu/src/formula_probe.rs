@@ -49,6 +49,9 @@ pub enum Formula {
     /// height, _]`; output `[sample.xyz, solid angle]`, all 0 when the
     /// rectangle is invalid from `o`.
     SphericalRectangle,
+    /// `lobe_density(incoming, +y, roughness, omega)`: input
+    /// `[incoming.xyz, roughness], [omega.xyz, _]`; output `x`.
+    LobeDensity,
 }
 
 impl Formula {
@@ -63,6 +66,7 @@ impl Formula {
             Formula::Exponential => "probe_exponential",
             Formula::UniformCone => "probe_uniform_cone",
             Formula::SphericalRectangle => "probe_spherical_rectangle",
+            Formula::LobeDensity => "probe_lobe_density",
         }
     }
 }
@@ -239,9 +243,12 @@ pub enum SceneFormula {
     /// [direction.xyz, _], [seed, _, _, _]` (an integer below 2²⁴);
     /// output `[radiance.rgb, _]`, then `0`.
     Radiance,
-    /// `direct_lighting(diffuse, x, normal)`: input `[x.xyz, _],
-    /// [normal.xyz, _], [diffuse.rgb, _]`; output `[radiance.rgb, _]`,
-    /// then `0`. For scenes of delta lights (an area light's points draw
+    /// `direct_lighting(diffuse, specular, roughness, incoming, x,
+    /// normal)`: input `[x.xyz, roughness], [normal.xyz, specular],
+    /// [diffuse.rgb, tilt]` (a grey specular layer; the ray arriving along
+    /// `normalize(tilt·t − normal)`, t the first of glam's
+    /// `any_orthonormal_pair(normal)`); output `[radiance.rgb, _]`, then
+    /// `0`. For scenes of delta lights (an area light's points draw
     /// random numbers).
     DirectLighting,
     /// `camera_ray(film)`: input `[film.xy, _, _], _, _`; output

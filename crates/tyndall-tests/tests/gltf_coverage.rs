@@ -7,9 +7,9 @@ mod gltf_files;
 
 use common::{mean_and_stderr, render};
 use glam::Vec3;
-use gltf_files::{square, sunlit, test_dir, write_gltf};
+use gltf_files::{camera_looking_down, square, sunlit, test_dir, write_gltf};
 use serde_json::json;
-use std::f32::consts::{FRAC_1_SQRT_2, PI};
+use std::f32::consts::PI;
 use tyndall::IntegratorKind;
 use tyndall::color::Rgb;
 use tyndall::ray::Ray;
@@ -102,6 +102,7 @@ fn alpha_cutouts_are_holes_for_every_ray() {
     let guide = tyndall::guides::first_surface(
         &desc.scene,
         Ray::new(Vec3::new(0.5, 2.0, -0.5), Vec3::new(0.0, -1.0, 0.0)),
+        None,
     );
     assert!((guide.albedo - Rgb::splat(0.8)).abs().max_element() < 1e-6);
 
@@ -113,7 +114,6 @@ fn alpha_cutouts_are_holes_for_every_ray() {
         maps.validate(&desc.scene),
         Err(tyndall::render::RenderError::CoverageNeedsShadowRays)
     );
-
 }
 
 /// `BLEND` is partial coverage: a ray meets the surface with probability
@@ -155,20 +155,9 @@ fn blend_covers_a_fraction_of_every_ray() {
                  "extensions": no_specular},
                 leaf(0.0, 0.5)
             ],
-            "cameras": [{"type": "perspective", "perspective": {"yfov": 0.3, "aspectRatio": 1.0, "znear": 0.01}}]
         }),
     );
-    // A camera 4 up looking straight down (its −z turned to −y).
-    let s = FRAC_1_SQRT_2;
-    let camera = doc["nodes"].as_array().expect("nodes").len();
-    doc["nodes"]
-        .as_array_mut()
-        .expect("nodes")
-        .push(json!({"camera": 0, "translation": [0.0, 4.0, 0.0], "rotation": [-s, 0.0, 0.0, s]}));
-    doc["scenes"][0]["nodes"]
-        .as_array_mut()
-        .expect("scene")
-        .push(json!(camera));
+    camera_looking_down(&mut doc, 4.0, 0.3);
     let meshes = [
         square(1.0, 3.0, 0, None),
         square(2.0, 3.0, 1, None),
@@ -184,9 +173,7 @@ fn blend_covers_a_fraction_of_every_ray() {
         "the leaf of coverage 0 is left out"
     );
     let (t1, t2) = (1.0 - a1, 1.0 - a2);
-    let expected = f64::from(
-        (a2 * rho2 + t2 * t2 * a1 * rho1 + t2 * t2 * t1 * t1 * rho_f) / PI,
-    );
+    let expected = f64::from((a2 * rho2 + t2 * t2 * a1 * rho1 + t2 * t2 * t1 * t1 * rho_f) / PI);
     for kind in [IntegratorKind::Single, IntegratorKind::Volpath] {
         let image = render(&desc, |s| {
             s.integrator = kind;

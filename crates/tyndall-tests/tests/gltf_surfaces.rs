@@ -104,7 +104,7 @@ fn base_colour_texture_colours_points() {
     // `factor·texel`, point by point.
     for (desc, [x, z], expected) in cases {
         let ray = Ray::new(Vec3::new(x, 1.0, z), Vec3::new(0.0, -1.0, 0.0));
-        let guide = tyndall::guides::first_surface(&desc.scene, ray);
+        let guide = tyndall::guides::first_surface(&desc.scene, ray, None);
         let albedo = expected * PI;
         assert!(
             (guide.albedo - albedo).abs().max_element() < 1e-5,
@@ -182,7 +182,7 @@ fn emission_texture_glows_point_by_point() {
     }
     for (desc, [x, z], _) in cases {
         let ray = Ray::new(Vec3::new(x, 1.0, z), Vec3::new(0.0, -1.0, 0.0));
-        let guide = tyndall::guides::first_surface(&desc.scene, ray);
+        let guide = tyndall::guides::first_surface(&desc.scene, ray, None);
         assert!(
             (guide.albedo - Rgb::splat(0.8)).abs().max_element() < 1e-5,
             "albedo at ({x}, {z}): {}",
@@ -197,10 +197,13 @@ fn emission_texture_glows_point_by_point() {
 /// 1, roughnessFactor 0.5 and F0 = 0 (specularFactor 0), the colour
 /// checker as its texture, so that red and green texels are dielectric
 /// (m = 0) and blue and white ones metal (m = 1), green and white rough
-/// (α = 0.5²) and red and blue smooth. Under a sun straight down only the
-/// diffuse part `0.8·(1 − m)/π` is lit (a glossy lobe finds no sun): so
-/// at each texel's centre, and halfway between a dielectric and a metal
-/// texel `0.4/π`, by `single` and `volpath`; the surface there is
+/// (α = 0.5²) and red and blue smooth. Under a sun straight down, seen
+/// from straight above, the diffuse part gives `0.8·(1 − m)/π` and a
+/// rough metal's glossy layer `0.8·m·(n + 1)/(2π)` (its lobe's density
+/// at its peak, the sun in the mirror direction; n = 2/α² − 2 = 30); a
+/// smooth one reflects the sun to no one: so at each texel's centre, and
+/// halfway between a smooth dielectric and a smooth metal texel
+/// `0.4/π`, by `single` and `volpath`; the surface there is
 /// `MetallicRoughness::surface` of those parameters, written out here.
 /// Without the texture's TEXCOORD the factors hold, with a warning.
 #[test]
@@ -256,7 +259,11 @@ fn metallic_roughness_texture_varies_the_surface() {
         (&plain, [0.7, -1.3], (1.0, 0.5)),
     ];
     for (desc, [x, z], (m, r)) in cases {
-        let expected = Rgb::splat(0.8 * (1.0 - m) / PI);
+        let glossy = match r > 0.0 {
+            true => 0.8 * m * (2.0 / (r * r * r * r) - 1.0) / (2.0 * PI),
+            false => 0.0,
+        };
+        let expected = Rgb::splat(0.8 * (1.0 - m) / PI + glossy);
         for kind in [IntegratorKind::Single, IntegratorKind::Volpath] {
             let got = looking_down(desc, kind, x, 1.0, z);
             assert!(
@@ -273,7 +280,12 @@ fn metallic_roughness_texture_varies_the_surface() {
         else {
             panic!("{:?}", desc.scene.material(hit.primitive))
         };
-        let at = desc.scene.surface_at(surface, hit.primitive, ray.at(hit.t));
+        let at = desc.scene.surface_at(
+            surface,
+            hit.primitive,
+            ray.at(hit.t),
+            tyndall::footprint::Footprint::POINT,
+        );
         let base = Rgb::splat(0.8);
         let diffuse = base * (1.0 - m);
         let specular = base * m;
@@ -395,8 +407,106 @@ fn vertex_colours_colour_the_diffuse_reflectance() {
                 (got - expected).abs().max_element() < 1e-5,
                 "{kind:?} at {p}: {got} vs {expected}"
             );
-            let guide = tyndall::guides::first_surface(&desc.scene, ray);
+            let guide = tyndall::guides::first_surface(&desc.scene, ray, None);
             assert!((guide.albedo - albedo).abs().max_element() < 1e-5);
+        }
+    }
+}
+
+/// Minified textures are filtered over each camera ray's footprint (ray
+/// cones and MIP levels), so one sample per pixel does not alias: a floor
+/// under a sun straight down, seen from 3 above over 32 × 32 pixels, its
+/// 256² texture a checker of single black and white texels spread over
+/// 4 × 4 (64 texels a unit), has 5 texels or more under every pixel at one
+/// sample (level of detail ≥ 2.3). Every level from 1 on is the checker's
+/// mean, linear ½ (sRGB code 188: 0.5029), so every pixel of a 1-spp
+/// render is `0.8·0.5029/π` to f32 rounding, for `single` and `volpath`.
+/// Read at full resolution, pixels would be black or white at random.
+#[test]
+fn a_minified_checker_is_its_mean_at_one_sample() {
+    let dir = test_dir("minified");
+    image::RgbImage::from_fn(256, 256, |x, y| {
+        image::Rgb([if (x + y) % 2 == 0 { 255 } else { 0 }; 3])
+    })
+    .save(dir.join("fine.png"))
+    .expect("png");
+    let mut doc = sunlit(
+        1,
+        json!({
+            "images": [{"uri": "fine.png"}],
+            "textures": [{"source": 0}],
+            "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0],
+                                                    "baseColorTexture": {"index": 0},
+                                                    "metallicFactor": 0.0},
+                           "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}]
+        }),
+    );
+    gltf_files::camera_looking_down(&mut doc, 3.0, 0.8);
+    let floor = square(0.0, 2.0, 0, Some(floor_uv));
+    let desc = common::load_gltf(&write_gltf(&dir, "fine", &[floor], doc)).expect("loads");
+    let mean = tyndall::texture::Encoding::Srgb.decode(188);
+    let expected = 0.8 * mean / PI;
+    for kind in [IntegratorKind::Single, IntegratorKind::Volpath] {
+        let image = common::render(&desc, |s| {
+            s.integrator = kind;
+            s.width = 32;
+            s.height = 32;
+            s.spp = 1;
+        });
+        for (i, p) in image.pixels().iter().enumerate() {
+            assert!(
+                (*p - Rgb::splat(expected)).abs().max_element() < 1e-5,
+                "{kind:?}, pixel {i}: {p} vs {expected}"
+            );
+        }
+    }
+}
+
+/// A glossy layer reflects delta lights too (next event estimation of the
+/// layer's lobe: no reflected ray can find a sun): a rough metal floor of
+/// base ρ (metallic 1, roughness factor 0.5, so α = 0.25 and the lobe's
+/// exponent n = 2/α² − 2 = 30) under a sun 30° off the vertical, of
+/// irradiance E = 1 W/m² across its beam, reflects towards a viewer whose
+/// mirror direction lies α_v from the sun's direction the radiance
+/// `ρ·(n + 1)/(2π)·cos^n α_v·E` — the layer's BRDF × cos is its
+/// reflectance times its sampling density. Checked where the viewer sees
+/// the sun's mirror image (α_v = 0) and 10° and 25° off it, by `single`
+/// and `volpath`; the paths are deterministic (nothing else is lit).
+#[test]
+fn glossy_layers_reflect_the_sun() {
+    let dir = test_dir("glossy-sun");
+    let rho = 0.7f32;
+    let mut doc = sunlit(
+        1,
+        json!({
+            "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [rho, rho, rho, 1.0],
+                                                    "metallicFactor": 1.0, "roughnessFactor": 0.5}}]
+        }),
+    );
+    // The sun's light travels along −towards_sun (its node's −z).
+    let sun = 30f32.to_radians();
+    let towards_sun = Vec3::new(sun.sin(), sun.cos(), 0.0);
+    let turn = glam::Quat::from_rotation_arc(Vec3::NEG_Z, -towards_sun);
+    doc["nodes"][1]["rotation"] = json!(turn.to_array());
+    let floor = square(0.0, 2.0, 0, None);
+    let desc = common::load_gltf(&write_gltf(&dir, "metal", &[floor], doc)).expect("loads");
+    let n = 2.0 / (0.25f32 * 0.25) - 2.0;
+    for off in [0f32, 10.0, 25.0] {
+        // The viewer's mirror direction: the sun's direction turned by
+        // `off` about the z axis, further from the vertical.
+        let a = sun + off.to_radians();
+        let mirror = Vec3::new(a.sin(), a.cos(), 0.0);
+        // The ray whose mirror direction about +y that is.
+        let arriving = Vec3::new(mirror.x, -mirror.y, 0.0);
+        let target = Vec3::new(0.2, 0.0, -0.3);
+        let ray = Ray::new(target - arriving * 2.0, arriving);
+        let expected = rho * (n + 1.0) / (2.0 * PI) * off.to_radians().cos().powf(n);
+        for kind in [IntegratorKind::Single, IntegratorKind::Volpath] {
+            let (seen, _) = common::estimate_ray(&desc, kind, 0.1, ray, 4);
+            assert!(
+                (seen - Rgb::splat(expected)).abs().max_element() < 1e-4 * expected.max(1.0),
+                "{off}° off the mirror, {kind:?}: {seen} vs {expected}"
+            );
         }
     }
 }
@@ -529,10 +639,11 @@ fn normal_maps_tilt_the_shading_normal() {
 
 /// `KHR_materials_clearcoat` lays a clear coat over the surface: a floor
 /// of base ρ (F0 0: Lambert) under a coat of factor c takes `1 − 0.04·c`
-/// of the sun's light to its base, `(1 − 0.04·c)·ρ/π·E` seen from above
-/// (the coat reflects the sun, a delta light, to no camera ray), by
-/// `single` and `volpath`; the coat itself is the surface's, its
-/// roughness squared. The coat's textures are named in warnings; a
+/// of the sun's light to its base and reflects `0.04·c` of it by its own
+/// lobe (α = 0.5² = 0.25, exponent n = 2/α² − 2 = 30): seen from above,
+/// the sun straight down in the mirror direction,
+/// `[(1 − 0.04·c)·ρ/π + 0.04·c·(n + 1)/(2π)]·E`, by `single` and
+/// `volpath`; the coat itself is the surface's, its roughness squared. The coat's textures are named in warnings; a
 /// factor outside [0, 1] is refused naming the material.
 #[test]
 fn clearcoat_dims_the_base_and_coats_it() {
@@ -568,7 +679,7 @@ fn clearcoat_dims_the_base_and_coats_it() {
             "{:?}",
             desc.warnings
         );
-        let expected = (1.0 - 0.04 * c) * rho / PI;
+        let expected = (1.0 - 0.04 * c) * rho / PI + 0.04 * c * 31.0 / (2.0 * PI);
         for kind in [IntegratorKind::Single, IntegratorKind::Volpath] {
             let seen = looking_down(&desc, kind, 0.3, 1.0, -0.4);
             assert!(

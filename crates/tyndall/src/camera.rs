@@ -1,5 +1,6 @@
 //! The pinhole perspective camera.
 
+use crate::footprint::RayCone;
 use crate::ray::Ray;
 use glam::{Vec2, Vec3};
 
@@ -128,6 +129,20 @@ impl Camera {
     /// build the rays themselves (the GPU path).
     pub fn frame(&self) -> (Vec3, Vec3, Vec3, Vec2) {
         (self.forward, self.right, self.up, self.half_extent)
+    }
+
+    /// The cone about the camera ray along unit `direction` that spreads
+    /// over `scale` of a pixel ([`crate::footprint::camera_spread_scale`]):
+    /// from the pinhole (width 0), its spread the angle a pixel subtends
+    /// across that ray, `(2·tan(fov_y/2)/height)·cos θ` at θ off the
+    /// optical axis, times `scale`.
+    #[inline]
+    pub fn cone(&self, direction: Vec3, scale: f32) -> RayCone {
+        let pixel = 2.0 * self.half_extent.y / self.resolution.y;
+        RayCone {
+            width: 0.0,
+            spread: pixel * direction.dot(self.forward).max(0.0) * scale,
+        }
     }
 
     /// The ray through the film position `pixel` (in pixels: x to the

@@ -34,6 +34,7 @@
 use crate::aov::Aov;
 use crate::color::Rgb;
 use crate::film::Image;
+use crate::footprint::RayCone;
 use crate::integrators::{MAX_GLASS_CROSSINGS, SurfaceHit};
 use crate::materials::{Interface, SurfaceEvent, dielectric_reflectance, dielectric_scatter};
 use crate::ray::{Ray, offset_origin};
@@ -56,8 +57,9 @@ pub struct FirstSurface {
 }
 
 /// Follows the camera ray `ray` (unit direction) to the surfaces its
-/// guides describe (see the module docs).
-pub fn first_surface(scene: &Scene, mut ray: Ray) -> FirstSurface {
+/// guides describe (see the module docs), their textures filtered over
+/// its `cone` if given (as the radiance's are: [`crate::footprint`]).
+pub fn first_surface(scene: &Scene, mut ray: Ray, mut cone: Option<RayCone>) -> FirstSurface {
     let sky = |throughput: Rgb, direction: Vec3, hit| FirstSurface {
         albedo: throughput * scene.escaped_radiance(direction).clamp(Rgb::ZERO, Rgb::ONE),
         normal: Vec3::ZERO,
@@ -70,8 +72,10 @@ pub fn first_surface(scene: &Scene, mut ray: Ray) -> FirstSurface {
         let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
             return sky(throughput, ray.direction, first_hit);
         };
-        let surface_hit = SurfaceHit::new(scene, &ray, &hit);
-        let p = surface_hit.p;
+        let surface_hit = SurfaceHit::new(scene, &ray, &hit, cone);
+        let (p, footprint) = (surface_hit.p, surface_hit.footprint);
+        // Every event the guide ray follows is specular: its cone goes on.
+        cone = cone.map(|c| c.advanced(hit.t));
         let first = *first_hit.get_or_insert((hit.t, p));
         let ends = |throughput: Rgb, albedo: Rgb| FirstSurface {
             albedo: throughput * albedo.clamp(Rgb::ZERO, Rgb::ONE),
@@ -85,7 +89,7 @@ pub fn first_surface(scene: &Scene, mut ray: Ray) -> FirstSurface {
         // An emitter that also reflects is seen as its surface.
         match event.without_emission() {
             SurfaceEvent::Emitter { emitted, .. } => {
-                let emitted = emitted.map(|le| scene.emitted_at(le, hit.primitive, p));
+                let emitted = emitted.map(|le| scene.emitted_at(le, hit.primitive, p, footprint));
                 return ends(throughput, emitted.unwrap_or(Rgb::ZERO));
             }
             SurfaceEvent::Pane { transmittance } => {
@@ -116,7 +120,7 @@ pub fn first_surface(scene: &Scene, mut ray: Ray) -> FirstSurface {
                 };
             }
             SurfaceEvent::Reflector(surface) => {
-                let surface = scene.surface_at(surface, hit.primitive, p);
+                let surface = scene.surface_at(surface, hit.primitive, p, footprint);
                 let mirror = surface.roughness <= 0.0
                     && surface.diffuse == Rgb::ZERO
                     && surface.coat.reflectance == 0.0;

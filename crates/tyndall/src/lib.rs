@@ -29,6 +29,7 @@ pub mod description;
 pub mod distribution;
 pub mod exact_sum;
 pub mod film;
+pub mod footprint;
 pub mod glass;
 pub mod guides;
 pub(crate) mod integrators;

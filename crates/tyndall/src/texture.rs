@@ -1,16 +1,23 @@
-//! Colour textures: an sRGB-encoded 8-bit image looked up at texture
-//! coordinates with bilinear filtering in linear RGB, as a glTF base
-//! colour texture is (glTF 2.0 §3.8: sRGB transfer function, texel centres
-//! at half-integers, the sampler's wrap modes).
+//! Textures: an 8-bit image looked up at texture coordinates with
+//! bilinear filtering, as glTF's textures are (glTF 2.0 §3.8: texel
+//! centres at half-integers, the sampler's wrap modes), from a pyramid of
+//! averaged levels (a MIP map, Williams 1983, "Pyramidal parametrics")
+//! where a footprint spans many texels: trilinear filtering between the
+//! two levels whose texels are nearest the footprint's size.
 //!
-//! Texels stay 8-bit sRGB, three bytes each, and are decoded through a
-//! 256-entry table when looked up: a 4096² texture takes 48 MiB instead of
-//! the 192 MiB of linear floats. An image's alpha channel, if it has one,
-//! is kept as a fourth byte per texel for the surface's coverage (glTF
-//! `alphaMode`, §3.9.4: alpha is linear coverage, not sRGB;
-//! [`crate::coverage`]), looked up with the same filtering.
+//! A colour texture's codes are sRGB-encoded (glTF: base colour and
+//! emissive textures) and are decoded through a 256-entry table when
+//! looked up, and blended in linear RGB; a data texture's are linear
+//! (normal, metallic-roughness maps). Texels stay 8-bit, three bytes
+//! each, in every level: a 4096² texture takes 64 MiB with its pyramid
+//! instead of 256 MiB of linear floats. An image's alpha channel, if it
+//! has one, is kept as a fourth byte per texel of the full-resolution
+//! level for the surface's coverage (glTF `alphaMode`, §3.9.4: alpha is
+//! linear coverage, not sRGB; [`crate::coverage`]), looked up with
+//! bilinear filtering: coverage decides per ray where a surface is, and
+//! the rays' own spread averages it.
 
-use crate::color::{Rgb, srgb_to_linear};
+use crate::color::{Rgb, linear_to_srgb, srgb_to_linear};
 use glam::{Vec2, Vec3};
 use std::sync::OnceLock;
 
@@ -47,14 +54,36 @@ impl Wrap {
     }
 }
 
-/// An sRGB-encoded colour image of `width × height` texels, row by row
-/// from the top (texture coordinate v = 0 is the first row, as in glTF).
+/// How a texture's 8-bit codes encode its values.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Encoding {
+    /// Colour, by the sRGB transfer function (glTF's base colour and
+    /// emissive textures).
+    #[default]
+    Srgb,
+    /// Data, `code/255` (glTF's normal and metallic-roughness textures).
+    Linear,
+}
+
+/// One level of a texture's pyramid: `width × height` texels, row by row
+/// from the top.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Texture {
+struct Level {
     width: u32,
     height: u32,
     texels: Vec<[u8; 3]>,
-    /// Linear coverage `code/255` per texel, if the image has it.
+}
+
+/// An 8-bit image of `width × height` texels, row by row from the top
+/// (texture coordinate v = 0 is the first row, as in glTF), with its
+/// pyramid of averaged levels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texture {
+    /// The image, then each level half the last's size (rounded down,
+    /// at least 1) down to 1 × 1.
+    levels: Vec<Level>,
+    encoding: Encoding,
+    /// Linear coverage `code/255` per texel of the image, if it has it.
     alpha: Option<Vec<u8>>,
     wrap: [Wrap; 2],
     mean: Rgb,
@@ -68,13 +97,26 @@ fn decode(code: u8) -> f32 {
 }
 
 impl Texture {
-    /// A texture of `width × height` sRGB texels with wrap modes
+    /// A colour texture of `width × height` sRGB texels with wrap modes
     /// `[u, v]`; an error if the sizes disagree or it is empty.
     pub fn new(
         width: u32,
         height: u32,
         texels: Vec<[u8; 3]>,
         wrap: [Wrap; 2],
+    ) -> Result<Self, String> {
+        Self::encoded(width, height, texels, wrap, Encoding::Srgb)
+    }
+
+    /// A texture of `width × height` texels of `encoding` with wrap modes
+    /// `[u, v]`, and its pyramid; an error if the sizes disagree or it is
+    /// empty.
+    pub fn encoded(
+        width: u32,
+        height: u32,
+        texels: Vec<[u8; 3]>,
+        wrap: [Wrap; 2],
+        encoding: Encoding,
     ) -> Result<Self, String> {
         if width == 0 || height == 0 || texels.len() as u64 != u64::from(width) * u64::from(height)
         {
@@ -87,7 +129,7 @@ impl Texture {
         let mut sum = [0.0f64; 3];
         for texel in &texels {
             for (s, &c) in sum.iter_mut().zip(texel) {
-                *s += f64::from(decode(c));
+                *s += f64::from(encoding.decode(c));
             }
         }
         let n = texels.len() as f64;
@@ -96,10 +138,17 @@ impl Texture {
             (sum[1] / n) as f32,
             (sum[2] / n) as f32,
         );
-        Ok(Self {
+        let mut levels = vec![Level {
             width,
             height,
             texels,
+        }];
+        while let Some(next) = levels.last().and_then(|l| l.halved(encoding)) {
+            levels.push(next);
+        }
+        Ok(Self {
+            levels,
+            encoding,
             alpha: None,
             wrap,
             mean,
@@ -110,12 +159,12 @@ impl Texture {
     /// The texture with an alpha channel: one linear 8-bit coverage code
     /// per texel, in the texels' order; an error if the count differs.
     pub fn with_alpha(mut self, alpha: Vec<u8>) -> Result<Self, String> {
-        if alpha.len() != self.texels.len() {
+        let texels = self.levels[0].texels.len();
+        if alpha.len() != texels {
             return Err(format!(
-                "a {}×{} texture needs {} alpha values, got {}",
-                self.width,
-                self.height,
-                self.texels.len(),
+                "a {}×{} texture needs {texels} alpha values, got {}",
+                self.width(),
+                self.height(),
                 alpha.len()
             ));
         }
@@ -137,11 +186,21 @@ impl Texture {
     }
 
     pub fn width(&self) -> u32 {
-        self.width
+        self.levels[0].width
     }
 
     pub fn height(&self) -> u32 {
-        self.height
+        self.levels[0].height
+    }
+
+    /// How the texels' codes encode the texture's values.
+    pub fn encoding(&self) -> Encoding {
+        self.encoding
+    }
+
+    /// How many levels the pyramid has, the image included.
+    pub fn levels(&self) -> usize {
+        self.levels.len()
     }
 
     /// The mean linear colour of all texels (for surfaces that have no
@@ -150,71 +209,196 @@ impl Texture {
         self.mean
     }
 
-    /// The linear colour of texel (`x`, `y`), wrapped.
-    #[inline]
-    fn texel(&self, x: i64, y: i64) -> Rgb {
-        let [r, g, b] = self.texels[self.index(x, y)];
-        Rgb::new(decode(r), decode(g), decode(b))
+    /// The value at texture coordinates `uv` (decoded by the texture's
+    /// encoding): the four nearest texel centres of the image (at
+    /// `(i + ½)/width`, `(j + ½)/height`) blended bilinearly after
+    /// decoding. Non-finite coordinates give the mean.
+    pub fn lookup(&self, uv: Vec2) -> Rgb {
+        self.filtered(uv, f32::NEG_INFINITY).unwrap_or(self.mean)
     }
 
-    /// The linear colour at texture coordinates `uv`: the four nearest
-    /// texel centres (at `(i + ½)/width`, `(j + ½)/height`) blended
-    /// bilinearly after decoding. Non-finite coordinates give the mean.
-    pub fn lookup(&self, uv: Vec2) -> Rgb {
-        match self.bilinear(uv) {
-            Some(corners) => corners
-                .into_iter()
-                .map(|(x, y, w)| self.texel(x, y) * w)
-                .sum(),
-            None => self.mean,
-        }
+    /// The value at texture coordinates `uv` over a footprint of level of
+    /// detail `lod`: log₂ of its width in texels of the image. Up to 0
+    /// the image itself, as [`Texture::lookup`]; beyond, trilinear
+    /// filtering: the levels ⌊lod⌋ and ⌊lod⌋ + 1, each bilinear, blended
+    /// by lod's fraction, up to the 1 × 1 level. Non-finite coordinates
+    /// give the mean.
+    pub fn lookup_lod(&self, uv: Vec2, lod: f32) -> Rgb {
+        self.filtered(uv, lod).unwrap_or(self.mean)
     }
 
     /// The texels' codes read as data, not colour (`code/255` per channel,
     /// no sRGB decoding: a normal map's vectors), at texture coordinates
-    /// `uv`, filtered as [`Texture::lookup`] filters colour; `None` at
-    /// non-finite coordinates.
-    pub fn lookup_data(&self, uv: Vec2) -> Option<Vec3> {
-        let corners = self.bilinear(uv)?;
-        Some(
-            corners
-                .into_iter()
-                .map(|(x, y, w)| {
-                    let [r, g, b] = self.texels[self.index(x, y)];
-                    Vec3::new(f32::from(r), f32::from(g), f32::from(b)) * (w / 255.0)
-                })
-                .sum(),
-        )
+    /// `uv` over a footprint of level of detail `lod`, filtered as
+    /// [`Texture::lookup_lod`] filters; `None` at non-finite coordinates.
+    pub fn lookup_data(&self, uv: Vec2, lod: f32) -> Option<Vec3> {
+        let codes = |level: &Level, x: i64, y: i64| {
+            let [r, g, b] = level.texels[self.index(level, x, y)];
+            Vec3::new(f32::from(r), f32::from(g), f32::from(b)) / 255.0
+        };
+        self.trilinear(uv, lod, codes)
+    }
+
+    /// [`Texture::lookup_lod`] with `None` at non-finite coordinates.
+    #[inline]
+    fn filtered(&self, uv: Vec2, lod: f32) -> Option<Rgb> {
+        let decoded = |level: &Level, x: i64, y: i64| {
+            let [r, g, b] = level.texels[self.index(level, x, y)];
+            let e = self.encoding;
+            Rgb::new(e.decode(r), e.decode(g), e.decode(b))
+        };
+        self.trilinear(uv, lod, decoded)
+    }
+
+    /// The values `texel` gives, filtered bilinearly at `uv` in the level
+    /// of detail `lod` (trilinearly between levels; the image up to 0).
+    #[inline]
+    fn trilinear(
+        &self,
+        uv: Vec2,
+        lod: f32,
+        texel: impl Fn(&Level, i64, i64) -> Vec3,
+    ) -> Option<Vec3> {
+        let bilinear = |level: &Level| -> Option<Vec3> {
+            let corners = bilinear_corners(uv, level.width, level.height)?;
+            Some(
+                corners
+                    .into_iter()
+                    .map(|(x, y, w)| texel(level, x, y) * w)
+                    .sum(),
+            )
+        };
+        let last = (self.levels.len() - 1) as f32;
+        // Not above 0 (NaN included): the image.
+        if lod.is_nan() || lod <= 0.0 {
+            return bilinear(&self.levels[0]);
+        }
+        let lod = lod.min(last);
+        let below = lod.floor();
+        let fraction = lod - below;
+        let fine = bilinear(&self.levels[below as usize])?;
+        if fraction == 0.0 {
+            return Some(fine);
+        }
+        let coarse = bilinear(&self.levels[below as usize + 1])?;
+        Some(fine + (coarse - fine) * fraction)
     }
 
     /// The coverage (alpha, in `[0, 1]`) at texture coordinates `uv`,
-    /// filtered as [`Texture::lookup`] filters colour; 1 where the image
-    /// has no alpha channel, and at non-finite coordinates.
+    /// filtered bilinearly in the image as [`Texture::lookup`] filters
+    /// colour; 1 where the image has no alpha channel, and at non-finite
+    /// coordinates.
     pub fn alpha(&self, uv: Vec2) -> f32 {
         let Some(alpha) = &self.alpha else {
             return 1.0;
         };
-        match self.bilinear(uv) {
+        let image = &self.levels[0];
+        match bilinear_corners(uv, image.width, image.height) {
             Some(corners) => corners
                 .into_iter()
-                .map(|(x, y, w)| f32::from(alpha[self.index(x, y)]) / 255.0 * w)
+                .map(|(x, y, w)| f32::from(alpha[self.index(image, x, y)]) / 255.0 * w)
                 .sum(),
             None => 1.0,
         }
     }
 
+    /// The position in `level`'s texel array of its texel (`x`, `y`),
+    /// wrapped.
     #[inline]
-    fn bilinear(&self, uv: Vec2) -> Option<[(i64, i64, f32); 4]> {
-        bilinear_corners(uv, self.width, self.height)
+    fn index(&self, level: &Level, x: i64, y: i64) -> usize {
+        let x = self.wrap[0].index(x, level.width);
+        let y = self.wrap[1].index(y, level.height);
+        y * level.width as usize + x
+    }
+}
+
+impl Encoding {
+    /// The value of code `code`.
+    #[inline]
+    pub fn decode(self, code: u8) -> f32 {
+        match self {
+            Encoding::Srgb => decode(code),
+            Encoding::Linear => f32::from(code) / 255.0,
+        }
     }
 
-    /// The position in the texel array of texel (`x`, `y`), wrapped.
-    #[inline]
-    fn index(&self, x: i64, y: i64) -> usize {
-        let x = self.wrap[0].index(x, self.width);
-        let y = self.wrap[1].index(y, self.height);
-        y * self.width as usize + x
+    /// The nearest code of value `value` (clamped to `[0, 1]`).
+    fn encode(self, value: f32) -> u8 {
+        let v = value.clamp(0.0, 1.0);
+        let code = match self {
+            Encoding::Srgb => linear_to_srgb(v),
+            Encoding::Linear => v,
+        };
+        (code * 255.0).round() as u8
     }
+}
+
+impl Level {
+    /// The next level of the pyramid, half the size along each side
+    /// (rounded down, at least 1), each of its texels the mean of the
+    /// image area it covers — whole texels and the shares of those cut
+    /// by its edge where a side is odd (a box filter, so the level's mean
+    /// is this one's) — in the encoding's linear values; `None` for
+    /// 1 × 1.
+    fn halved(&self, encoding: Encoding) -> Option<Level> {
+        if self.width == 1 && self.height == 1 {
+            return None;
+        }
+        let (width, height) = ((self.width / 2).max(1), (self.height / 2).max(1));
+        let across = box_weights(self.width, width);
+        let down = box_weights(self.height, height);
+        let linear: Vec<Vec3> = self
+            .texels
+            .iter()
+            .map(|t| Vec3::from_array(t.map(|c| encoding.decode(c))))
+            .collect();
+        // Rows first, then columns: the box filter is separable.
+        let mut rows = vec![Vec3::ZERO; width as usize * self.height as usize];
+        for y in 0..self.height as usize {
+            for (x, weights) in across.iter().enumerate() {
+                rows[y * width as usize + x] = weights
+                    .iter()
+                    .map(|&(i, w)| linear[y * self.width as usize + i] * w)
+                    .sum();
+            }
+        }
+        let mut texels = Vec::with_capacity(width as usize * height as usize);
+        for weights in &down {
+            for x in 0..width as usize {
+                let v: Vec3 = weights
+                    .iter()
+                    .map(|&(j, w)| rows[j * width as usize + x] * w)
+                    .sum();
+                texels.push(v.to_array().map(|c| encoding.encode(c)));
+            }
+        }
+        Some(Level {
+            width,
+            height,
+            texels,
+        })
+    }
+}
+
+/// For each of `to` texels along a side that had `from`, the texels of
+/// `from` it covers and the share of its width each takes (a box filter:
+/// texel i of `to` covers `[i, i + 1)·from/to`; the shares sum to 1).
+fn box_weights(from: u32, to: u32) -> Vec<Vec<(usize, f32)>> {
+    let scale = f64::from(from) / f64::from(to);
+    (0..to)
+        .map(|i| {
+            let (a, b) = (f64::from(i) * scale, f64::from(i + 1) * scale);
+            let first = a.floor() as u32;
+            let last = (b.ceil() as u32).min(from);
+            (first..last)
+                .map(|j| {
+                    let overlap = b.min(f64::from(j + 1)) - a.max(f64::from(j));
+                    (j as usize, (overlap / scale) as f32)
+                })
+                .filter(|&(_, w)| w > 0.0)
+                .collect()
+        })
+        .collect()
 }
 
 /// The four texels of a `width × height` image nearest the image
@@ -283,6 +467,86 @@ mod tests {
         assert_eq!(Wrap::Mirror.index(3, 3), 2);
         assert_eq!(Wrap::Repeat.index(-1, 3), 2);
         assert!(Texture::new(2, 2, vec![[0; 3]; 3], [Wrap::Repeat; 2]).is_err());
+    }
+
+    /// The pyramid of a 37 × 23 image: each level half the last (rounded
+    /// down) to 1 × 1, each the box-filtered image, so every level's mean
+    /// is the image's — in linear values, up to the 8-bit rounding of the
+    /// levels made so far (half a code a level, through the sRGB decode's
+    /// steepest slope, 2.3, for colour).
+    #[test]
+    fn pyramid_levels_keep_the_mean() {
+        let texels: Vec<[u8; 3]> = (0..37 * 23)
+            .map(|i: u32| {
+                [
+                    (i * 37 % 256) as u8,
+                    (i * 101 % 256) as u8,
+                    (i * i % 251) as u8,
+                ]
+            })
+            .collect();
+        for encoding in [Encoding::Srgb, Encoding::Linear] {
+            let t = Texture::encoded(37, 23, texels.clone(), [Wrap::Clamp; 2], encoding).unwrap();
+            let sizes: Vec<(u32, u32)> = t.levels.iter().map(|l| (l.width, l.height)).collect();
+            assert_eq!(sizes, [(37, 23), (18, 11), (9, 5), (4, 2), (2, 1), (1, 1)]);
+            assert_eq!(t.levels(), 6);
+            let step = match encoding {
+                Encoding::Srgb => 2.3 * 0.5 / 255.0,
+                Encoding::Linear => 0.5 / 255.0,
+            };
+            for (k, level) in t.levels.iter().enumerate() {
+                let n = level.texels.len() as f32;
+                let mean = level
+                    .texels
+                    .iter()
+                    .map(|c| Vec3::from_array(c.map(|v| encoding.decode(v))))
+                    .sum::<Vec3>()
+                    / n;
+                let error = (mean - t.mean()).abs().max_element();
+                assert!(
+                    error <= step * k as f32 + 1e-5,
+                    "{encoding:?} level {k}: {mean} vs {}",
+                    t.mean()
+                );
+            }
+        }
+        for (from, to) in [(37, 18), (5, 2), (4, 2), (2, 1)] {
+            for weights in box_weights(from, to) {
+                let sum: f32 = weights.iter().map(|&(_, w)| w).sum();
+                assert!((sum - 1.0).abs() < 1e-6, "{from} → {to}: {weights:?}");
+            }
+        }
+    }
+
+    /// Trilinear filtering: at a level of detail up to 0 the image as
+    /// [`Texture::lookup`] filters it; at 1 (a footprint of two texels)
+    /// the 2 × 2 checker's 1 × 1 level, its mean (to 8 bits), everywhere;
+    /// halfway, the
+    /// two blended; beyond the last level, the last.
+    #[test]
+    fn levels_of_detail_blend_levels() {
+        let t = checker(Wrap::Repeat);
+        let white = Vec2::new(0.75, 0.25);
+        assert_eq!(t.lookup_lod(white, f32::NEG_INFINITY), t.lookup(white));
+        assert_eq!(t.lookup_lod(white, 0.0), Rgb::ONE);
+        // The mean, linear 0.5, is sRGB code 188 (0.7354 · 255 = 187.5,
+        // rounded up): 0.5029 decoded.
+        let half = decode(188);
+        for lod in [1.0, 1.7, 40.0] {
+            assert!(
+                (t.lookup_lod(white, lod) - Rgb::splat(half))
+                    .abs()
+                    .max_element()
+                    < 1e-6
+            );
+        }
+        let blended = t.lookup_lod(white, 0.5).x;
+        assert!((blended - (1.0 + half) / 2.0).abs() < 1e-6, "{blended}");
+        let data = t.lookup_data(white, 0.5).unwrap();
+        assert!(
+            (data.x - (1.0 + 188.0 / 255.0) / 2.0).abs() < 1e-6,
+            "{data}"
+        );
     }
 
     /// Alpha is linear (code 128 is 0.502, not sRGB's 0.216) and filtered

@@ -1,7 +1,11 @@
-// Direct light on a Lambertian surface: Σ ρ/π·E·cos θ·V·Tr_glass·T_fog,
-// one sample_incident per light (the CPU march's lambert_direct_lighting).
-fn direct_lighting(diffuse: vec3<f32>, x: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
-    if all(diffuse == vec3<f32>(0.0)) {
+// Direct light on a surface of Lambertian reflectance `diffuse` and a
+// specular layer of reflectance `specular` and roughness `roughness`,
+// seen along `incoming`: Σ (ρ/π·cos θ + f_layer)·E·V·Tr_glass·T_fog, one
+// sample_incident per light, f_layer = specular·lobe_density for delta
+// lights alone (the CPU's surface_direct_lighting).
+fn direct_lighting(diffuse: vec3<f32>, specular: vec3<f32>, roughness: f32, incoming: vec3<f32>, x: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
+    let glossy = roughness > 0.0 && any(specular > vec3<f32>(0.0));
+    if all(diffuse == vec3<f32>(0.0)) && !glossy {
         return vec3<f32>(0.0);
     }
     var sum = vec3<f32>(0.0);
@@ -15,9 +19,13 @@ fn direct_lighting(diffuse: vec3<f32>, x: vec3<f32>, normal: vec3<f32>) -> vec3<
         if cos_theta <= 0.0 {
             continue;
         }
-        sum += light_arriving(i, light, x, true, normal, inc) * cos_theta;
+        var f = diffuse / PI * cos_theta;
+        if glossy && !is_area_light(light) {
+            f += specular * lobe_density(incoming, normal, roughness, inc.direction);
+        }
+        sum += light_arriving(i, light, x, true, normal, inc) * f;
     }
-    return sum * diffuse / PI;
+    return sum;
 }
 
 // The reflective layer's direction (tyndall::materials::Surface::reflect):
@@ -110,7 +118,7 @@ fn radiance(first: Ray, stratum: u32, strata: u32) -> vec3<f32> {
         if material.kind == MATERIAL_OPAQUE {
             specular = material.specular.xyz;
         }
-        result += throughput * direct_lighting(diffuse, x, normal);
+        result += throughput * direct_lighting(diffuse, specular, material.roughness, ray.direction, x, normal);
         if all(specular == vec3<f32>(0.0)) || bounces >= params.max_bounces {
             return result;
         }

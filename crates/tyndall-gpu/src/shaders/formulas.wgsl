@@ -307,3 +307,29 @@ fn triangle_point(v0: vec3<f32>, e1: vec3<f32>, e2: vec3<f32>, u: vec2<f32>) -> 
     let s = sqrt(u.x);
     return v0 + e1 * (s * (1.0 - u.y)) + e2 * (s * u.y);
 }
+
+// ---- a reflective layer's lobe (tyndall::materials) ----
+
+// The Phong exponent of a layer of roughness α: n = 2/α² − 2, at least 0
+// (tyndall::materials::surface's phong_exponent).
+fn phong_exponent(roughness: f32) -> f32 {
+    let r2 = max(roughness * roughness, 1e-6);
+    return max(2.0 / r2 - 2.0, 0.0);
+}
+
+// The solid-angle density of a reflective layer's direction `omega` for a
+// ray travelling along `incoming` at unit `normal`: (n + 1)/(2π)·cosⁿ α, α
+// the angle between omega and the mirror direction (up to 90°), 0 below
+// the surface and for a mirror (tyndall::materials::lobe_density).
+fn lobe_density(incoming: vec3<f32>, normal: vec3<f32>, roughness: f32, omega: vec3<f32>) -> f32 {
+    if roughness <= 0.0 || dot(omega, normal) <= 0.0 {
+        return 0.0;
+    }
+    let mirror = incoming - 2.0 * dot(incoming, normal) * normal;
+    let cos_a = dot(mirror, omega);
+    if cos_a <= 0.0 {
+        return 0.0;
+    }
+    let n = phong_exponent(roughness);
+    return (n + 1.0) / (2.0 * PI) * pow(cos_a, n);
+}

@@ -119,13 +119,17 @@ fn march_in_scattered_matches_rust() {
     );
 }
 
-/// `direct_lighting` (Σ ρ/π·light_arriving·cos θ over the lights, one
-/// sample each) on surfaces facing up, down and sideways, with the
-/// scene's delta lights: each light's term within `light_arriving`'s
-/// tolerance plus cos θ's error over the direction's rounding δ (δ/cos θ
-/// relative), the sum's rounding 2nε for n terms. A receiver is left out
-/// when `comparable` leaves it out for some light, or a light lies within
-/// 10⁻³ in cosine of its surface's plane.
+/// `direct_lighting` (Σ (ρ/π·cos θ + f_layer)·light_arriving over the
+/// lights, one sample each) on surfaces facing up, down and sideways, a
+/// third of them with a glossy layer (grey 0.4, roughness 0.2 to 0.9)
+/// seen from a tilted direction, with the scene's delta lights: each
+/// light's term within `light_arriving`'s tolerance plus cos θ's error
+/// over the direction's rounding δ (δ/cos θ relative) and, for the
+/// layer, `lobe_density`'s (as `formulas.rs` bounds it, plus the mirror
+/// direction's rounding, n·(δ + 8ε)·tan α); the sum's rounding 2nε for n
+/// terms. A receiver is left out when `comparable` leaves it out for some
+/// light, a light lies within 10⁻³ in cosine of its surface's plane, or
+/// of the lobe's edge.
 #[test]
 fn direct_lighting_matches_rust() {
     let Some(f) = fixture_of("direct_lighting_matches_rust", &scene_text(false)) else {
@@ -135,24 +139,36 @@ fn direct_lighting_matches_rust() {
     let sigma_t = f64::from(f.scene.fog().expect("fog").sigma_t);
     let diffuse = Vec3::new(0.5, 0.7, 0.9);
     let normals = [Vec3::Y, -Vec3::Y, Vec3::new(0.6, 0.0, 0.8)];
-    let receivers: Vec<(Vec3, Vec3)> = cases(1, 3000)
+    // (x, normal, (specular, roughness), tilt of the arriving ray)
+    type Receiver = (Vec3, Vec3, (f32, f32), f32);
+    let receivers: Vec<Receiver> = cases(1, 3000)
         .into_iter()
-        .map(|(_, x, _, i)| (x, normals[i % normals.len()]))
+        .map(|(_, x, _, i)| {
+            let layer = match i % 3 {
+                0 => (0.4, 0.2 + 0.7 * ((i * 37 % 100) as f32 / 100.0)),
+                _ => (0.0, 0.0),
+            };
+            let tilt = 0.2 + 1.5 * ((i * 53 % 100) as f32 / 100.0);
+            (x, normals[i % normals.len()], layer, tilt)
+        })
         .collect();
     let items: Vec<_> = receivers
         .iter()
-        .map(|(x, n)| {
+        .map(|(x, n, (specular, roughness), tilt)| {
             [
-                [x.x, x.y, x.z, 0.0],
-                [n.x, n.y, n.z, 0.0],
-                [diffuse.x, diffuse.y, diffuse.z, 0.0],
+                [x.x, x.y, x.z, *roughness],
+                [n.x, n.y, n.z, *specular],
+                [diffuse.x, diffuse.y, diffuse.z, *tilt],
             ]
         })
         .collect();
     let out = evaluate_in_scene(&f.gpu, &f.march, SceneFormula::DirectLighting, &items)
         .expect("GPU evaluation");
-    let (mut compared, mut lit) = (0, 0);
-    'receivers: for ((x, normal), o) in receivers.iter().zip(&out) {
+    let (mut compared, mut lit, mut glossy) = (0, 0, 0);
+    'receivers: for ((x, normal, (specular, roughness), tilt), o) in receivers.iter().zip(&out) {
+        let incoming = (normal.any_orthonormal_pair().0 * *tilt - *normal).normalize();
+        let mirror = incoming - 2.0 * incoming.dot(*normal) * *normal;
+        let exponent = (2.0 / (roughness * roughness).max(1e-6) - 2.0).max(0.0);
         let mut bound = DVec3::ZERO;
         let mut terms = 0usize;
         for (l, light) in lights.iter().enumerate() {
@@ -184,9 +200,34 @@ fn direct_lighting_matches_rust() {
                 + delta / cos
                 + 8.0 * EPS;
             bound += (arriving * diffuse / std::f32::consts::PI).as_dvec3() * cos * tolerance;
+            if *specular > 0.0 {
+                let cos_a = f64::from(mirror.dot(inc.direction));
+                if cos_a.abs() < 1e-3 {
+                    continue 'receivers;
+                }
+                let density = f64::from(tyndall::materials::lobe_density(
+                    incoming,
+                    *normal,
+                    *roughness,
+                    inc.direction,
+                ));
+                let n = f64::from(exponent);
+                let tan_a = (1.0 - cos_a * cos_a).max(0.0).sqrt() / cos_a.abs();
+                let layer_tolerance = tolerance
+                    + (16.0 + 4.0 * n) * EPS
+                    + n * cos_a.abs().log2().abs() / 2_097_152.0
+                    + n * (delta + 8.0 * EPS) * tan_a;
+                bound += (arriving * *specular).as_dvec3() * density * layer_tolerance;
+            }
             terms += 1;
         }
-        let rust = twins::direct_lighting(&f.scene, &f.visibility, diffuse, *x, *normal);
+        let rust = twins::direct_lighting(
+            &f.scene,
+            &f.visibility,
+            (diffuse, (Vec3::splat(*specular), *roughness)),
+            (*x, incoming),
+            *normal,
+        );
         let gpu = Vec3::new(o[0][0], o[0][1], o[0][2]);
         let rounding = 2.0 * (terms as f64 + 4.0) * EPS;
         for ch in 0..3 {
@@ -200,9 +241,10 @@ fn direct_lighting_matches_rust() {
         }
         compared += 1;
         lit += usize::from(rust.max_element() > 0.0);
+        glossy += usize::from(*specular > 0.0 && rust.max_element() > 0.0);
     }
     assert!(
-        compared > 2000 && lit > 1500,
-        "{compared} receivers compared, {lit} lit"
+        compared > 2000 && lit > 1500 && glossy > 400,
+        "{compared} receivers compared, {lit} lit, {glossy} of them glossy"
     );
 }

@@ -6,11 +6,11 @@ use super::{DEFAULT_IOR, GltfLoader};
 use crate::source::SceneError;
 use ::gltf::material::AlphaMode;
 use tyndall::color::Rgb;
+use tyndall::coverage::Coverage;
 use tyndall::description::SceneDesc;
 use tyndall::glass::Glass;
 use tyndall::materials::{Clearcoat, Material, MaterialId, MetallicRoughness};
-use tyndall::coverage::Coverage;
-use tyndall::texture::TextureId;
+use tyndall::texture::{Encoding, TextureId};
 
 /// glTF's `alphaCutoff` when a `MASK` material does not give it
 /// (glTF 2.0 §5.19, material.alphaCutoff).
@@ -125,7 +125,7 @@ impl GltfLoader<'_> {
             Some(info) if reflects => Some(NormalTexture {
                 map: self.mapped(
                     &element,
-                    &info.texture(),
+                    (&info.texture(), Encoding::Linear),
                     info.extensions(),
                     info.tex_coord(),
                     scene,
@@ -143,7 +143,7 @@ impl GltfLoader<'_> {
         };
         textures.emission = match (material.emissive_texture(), converted) {
             (Some(info), Material::Emissive { .. }) => {
-                Some(self.mapped_info(&element, &info, scene)?)
+                Some(self.mapped_info(&element, (&info, Encoding::Srgb), scene)?)
             }
             _ => None,
         };
@@ -163,12 +163,12 @@ impl GltfLoader<'_> {
     fn mapped(
         &mut self,
         element: &str,
-        texture: &::gltf::Texture,
+        (texture, encoding): (&::gltf::Texture, Encoding),
         extensions: Option<&serde_json::Map<String, serde_json::Value>>,
         tex_coord: u32,
         scene: &mut SceneDesc,
     ) -> Result<MappedTexture, SceneError> {
-        let (id, _) = self.texture(element, texture, scene)?;
+        let (id, _) = self.texture(element, texture, encoding, scene)?;
         let (transform, tex_coord) = texture_transform(extensions, tex_coord);
         Ok(MappedTexture {
             texture: id,
@@ -178,16 +178,17 @@ impl GltfLoader<'_> {
     }
 
     /// [`GltfLoader::mapped`] for a texture reference of the common kind
-    /// (emissive, metallic-roughness).
+    /// (emissive, colour: `Encoding::Srgb`; metallic-roughness, data:
+    /// `Encoding::Linear`).
     fn mapped_info(
         &mut self,
         element: &str,
-        info: &::gltf::texture::Info,
+        (info, encoding): (&::gltf::texture::Info, Encoding),
         scene: &mut SceneDesc,
     ) -> Result<MappedTexture, SceneError> {
         self.mapped(
             element,
-            &info.texture(),
+            (&info.texture(), encoding),
             info.extensions(),
             info.tex_coord(),
             scene,
@@ -247,7 +248,7 @@ impl GltfLoader<'_> {
         // stand for it.
         let (base, texture) = match pbr.base_color_texture() {
             Some(info) => {
-                let (id, mean) = self.texture(&element, &info.texture(), scene)?;
+                let (id, mean) = self.texture(&element, &info.texture(), Encoding::Srgb, scene)?;
                 let transform = info.texture_transform();
                 let texture = BaseTexture {
                     texture: id,
@@ -291,7 +292,9 @@ impl GltfLoader<'_> {
         {
             self.warn(
                 &element,
-                format!("alphaMode {mode} is ignored on an emitter: it emits over its whole surface"),
+                format!(
+                    "alphaMode {mode} is ignored on an emitter: it emits over its whole surface"
+                ),
             );
         }
         let ior = material.ior().unwrap_or(DEFAULT_IOR);
@@ -405,7 +408,7 @@ impl GltfLoader<'_> {
         let metallic_roughness = match pbr.metallic_roughness_texture() {
             Some(info) => Some(MetallicRoughnessTexture {
                 factors,
-                map: Some(self.mapped_info(&element, &info, scene)?),
+                map: Some(self.mapped_info(&element, (&info, Encoding::Linear), scene)?),
             }),
             None if texture.is_some() && metallic > 0.0 => {
                 Some(MetallicRoughnessTexture { factors, map: None })

@@ -47,7 +47,7 @@ use tyndall::lights::{DirectionalLight, PointLight, SpotLight, SpotProfile};
 use tyndall::materials::MaterialId;
 use tyndall::settings::{IntegratorKind, MAX_IMAGE_SIDE};
 use tyndall::shapes::Bounds;
-use tyndall::texture::TextureId;
+use tyndall::texture::{Encoding, TextureId};
 
 /// Extensions this loader interprets; any other listed in
 /// `extensionsUsed` is ignored with a warning (and, if required, refused
@@ -487,7 +487,7 @@ struct GltfLoader<'a> {
     /// cutoff without a texture's alpha): their primitives are left out.
     hidden_materials: HashSet<Option<usize>>,
     /// The scene's texture made of each (image, sampler) pair.
-    textures: HashMap<(usize, Option<usize>), TextureId>,
+    textures: HashMap<(usize, Option<usize>, Encoding), TextureId>,
     warnings: Vec<String>,
     camera: Option<GltfCamera>,
     bounds: Bounds,

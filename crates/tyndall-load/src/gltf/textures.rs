@@ -9,7 +9,7 @@ use ::gltf::texture::WrappingMode;
 use std::sync::Arc;
 use tyndall::color::Rgb;
 use tyndall::description::SceneDesc;
-use tyndall::texture::{Texture, TextureId, Wrap};
+use tyndall::texture::{Encoding, Texture, TextureId, Wrap};
 
 /// Most texels a texture may have (a 16384² image): larger ones are
 /// refused rather than decoded (the size is read from the image's header
@@ -22,19 +22,21 @@ pub const MAX_TEXELS: u64 = 1 << 28;
 pub const MAX_DECODED_TEXELS: u64 = 1 << 28;
 
 impl GltfLoader<'_> {
-    /// The scene's texture for a glTF texture (its image, sRGB 8-bit,
-    /// with its sampler's wrap modes; added on first use) and its mean
-    /// linear colour. Sixteen-bit images keep their high bytes; one and
+    /// The scene's texture for a glTF texture (its image, 8-bit codes of
+    /// `encoding` — sRGB for colour, linear for data — with its sampler's
+    /// wrap modes and its MIP pyramid; added on first use) and its mean
+    /// linear value. Sixteen-bit images keep their high bytes; one and
     /// two channels are grey; the alpha of two- and four-channel images
-    /// is kept as linear coverage, for cut-outs.
+    /// is kept as linear coverage.
     pub(super) fn texture(
         &mut self,
         element: &str,
         texture: &::gltf::Texture,
+        encoding: Encoding,
         scene: &mut SceneDesc,
     ) -> Result<(TextureId, Rgb), SceneError> {
         let index = texture.source().index();
-        let key = (index, texture.sampler().index());
+        let key = (index, texture.sampler().index(), encoding);
         if let Some(&id) = self.textures.get(&key) {
             return Ok((id, scene.textures[id as usize].value.mean()));
         }
@@ -101,11 +103,12 @@ impl GltfLoader<'_> {
             WrappingMode::ClampToEdge => Wrap::Clamp,
             WrappingMode::MirroredRepeat => Wrap::Mirror,
         };
-        let made = Texture::new(
+        let made = Texture::encoded(
             image.width,
             image.height,
             texels,
             [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())],
+            encoding,
         )
         .and_then(|t| match alpha {
             Some(alpha) => t.with_alpha(alpha),

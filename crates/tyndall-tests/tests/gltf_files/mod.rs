@@ -186,3 +186,21 @@ pub fn square(h: f32, r: f32, material: usize, uv: Option<fn([f32; 3]) -> [f32; 
 pub fn floor_uv(p: [f32; 3]) -> [f32; 2] {
     [(p[0] + 2.0) / 4.0, (p[2] + 2.0) / 4.0]
 }
+
+/// Adds to `doc` (as [`sunlit`] makes it) a camera `height` above the
+/// origin looking straight down (its −z turned to −y), of vertical field
+/// of view `yfov` radians and a square image.
+pub fn camera_looking_down(doc: &mut Value, height: f32, yfov: f32) {
+    let s = FRAC_1_SQRT_2;
+    doc["cameras"] = json!([{"type": "perspective",
+                             "perspective": {"yfov": yfov, "aspectRatio": 1.0, "znear": 0.01}}]);
+    let nodes = doc["nodes"].as_array_mut().expect("nodes");
+    nodes.push(
+        json!({"camera": 0, "translation": [0.0, height, 0.0], "rotation": [-s, 0.0, 0.0, s]}),
+    );
+    let camera = nodes.len() - 1;
+    doc["scenes"][0]["nodes"]
+        .as_array_mut()
+        .expect("scene")
+        .push(json!(camera));
+}

@@ -17,6 +17,7 @@ mod validate;
 
 use crate::camera::CameraSpec;
 use crate::color::Rgb;
+use crate::coverage::Coverage;
 use crate::glass::GlassModel;
 use crate::lights::{
     DirectionalLight, EnvironmentLight, Light, LightSampling, PointLight, SpotLight,
@@ -29,7 +30,6 @@ use crate::media::volume::Density;
 use crate::phase::PhaseFunction;
 use crate::settings::RenderSettings;
 use crate::shapes::{Bounds, Shape, Triangle};
-use crate::coverage::Coverage;
 use crate::texture::{Texture, TextureId};
 use glam::{Vec2, Vec3, Vec4};
 use std::fmt;

@@ -3,7 +3,7 @@
 //! reflections, with the fog's in-scattering on each segment and direct
 //! lighting where it ends.
 
-use super::lighting::{MediumQuery, TRACKING_STREAM, lambert_direct_lighting};
+use super::lighting::{MediumQuery, TRACKING_STREAM, surface_direct_lighting};
 use super::march;
 use super::path_radiance::{Gathered, Keep, PathRadiance, ScatteringHistory};
 use super::single;
@@ -12,6 +12,7 @@ use super::surfaces::{
 };
 use crate::aov::Scattering;
 use crate::color::Rgb;
+use crate::footprint::RayCone;
 use crate::materials::{Surface, SurfaceEvent};
 use crate::media::tracking::VolumeTracker;
 use crate::ray::{Ray, offset_origin};
@@ -69,11 +70,14 @@ impl InScattering {
 
 impl CameraPath<'_> {
     /// Radiance arriving along `ray`, with what `K` keeps of its
-    /// components.
+    /// components; textures are filtered over the ray's `cone`, if it has
+    /// one, which goes on through every event the path follows (all
+    /// specular or glossy: [`crate::footprint`]).
     pub fn radiance<K: Keep>(
         &self,
         scene: &Scene,
         mut ray: Ray,
+        mut cone: Option<RayCone>,
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
     ) -> PathRadiance<K> {
@@ -127,7 +131,9 @@ impl CameraPath<'_> {
                 geometric_normal,
                 normals,
                 front,
-            } = SurfaceHit::new(scene, &ray, &hit);
+                footprint,
+            } = SurfaceHit::new(scene, &ray, &hit, cone);
+            cone = cone.map(|c| c.advanced(hit.t));
             let event = scene
                 .material(hit.primitive)
                 .event(front, scene.glass.opaque_to_camera);
@@ -138,7 +144,7 @@ impl CameraPath<'_> {
                     emitted, reflects, ..
                 } => {
                     if let Some(le) = emitted {
-                        let le = scene.emitted_at(le, hit.primitive, p);
+                        let le = scene.emitted_at(le, hit.primitive, p, footprint);
                         radiance.add(
                             history.component(),
                             scene.light_group_at(hit.primitive),
@@ -147,7 +153,7 @@ impl CameraPath<'_> {
                     }
                     // An emitter that also reflects is lit as a surface.
                     match reflects {
-                        Some(surface) => scene.surface_at(surface, hit.primitive, p),
+                        Some(surface) => scene.surface_at(surface, hit.primitive, p, footprint),
                         None => return radiance,
                     }
                 }
@@ -180,12 +186,22 @@ impl CameraPath<'_> {
                     continue;
                 }
                 // Glass drawn opaque is a diffuse surface of its colour.
-                SurfaceEvent::Reflector(surface) => scene.surface_at(surface, hit.primitive, p),
+                SurfaceEvent::Reflector(surface) => {
+                    scene.surface_at(surface, hit.primitive, p, footprint)
+                }
             };
             radiance.add_gathered(
                 history.then(Scattering::Surface).component(),
                 throughput,
-                &self.direct_lighting(scene, &surface, p, normals, sampler, counts, &mut tracker),
+                &self.direct_lighting(
+                    scene,
+                    &surface,
+                    (p, ray.direction),
+                    normals,
+                    sampler,
+                    counts,
+                    &mut tracker,
+                ),
             );
             if !surface.has_specular() || bounces >= self.max_bounces {
                 return radiance;
@@ -218,8 +234,9 @@ impl CameraPath<'_> {
     }
 
     /// Reflected radiance from direct lighting at surface point `p` with
-    /// `normals` facing the viewer: `Σ ρ/π · E · cos θ · V · Tr_glass ·
-    /// T_fog`, one sample per light.
+    /// `normals` facing the viewer, seen along `incoming`: `Σ (ρ/π · cos θ
+    /// + f_layers) · E · V · Tr_glass · T_fog`, one sample per light
+    /// ([`surface_direct_lighting`]).
     #[allow(clippy::too_many_arguments)]
     // Inlined into each of the camera path's two instantiations (with
     // and without the components), as into its one before: measured, the
@@ -229,17 +246,17 @@ impl CameraPath<'_> {
         &self,
         scene: &Scene,
         surface: &Surface,
-        p: Vec3,
+        (p, incoming): (Vec3, Vec3),
         normals: SurfaceNormals,
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
         tracker: &mut VolumeTracker,
     ) -> Gathered<K> {
-        lambert_direct_lighting(
+        surface_direct_lighting(
             scene,
             self.visibility,
             surface,
-            p,
+            (p, incoming),
             normals,
             sampler,
             counts,

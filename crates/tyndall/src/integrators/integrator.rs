@@ -8,6 +8,7 @@ use super::path_radiance::{Keep, PathRadiance, Whole};
 use super::single::Single;
 use super::volpath::{self, LightSubpaths, Volpath};
 use crate::color::Rgb;
+use crate::footprint::RayCone;
 use crate::ray::Ray;
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
@@ -67,7 +68,8 @@ impl<'a> Integrator<'a> {
     }
 
     /// Radiance arriving at the camera along `ray` (one sample) through
-    /// pixel `pixel`.
+    /// pixel `pixel`, its textures read at full resolution (a ray without
+    /// a cone).
     pub fn radiance(
         &self,
         scene: &Scene,
@@ -76,16 +78,19 @@ impl<'a> Integrator<'a> {
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
     ) -> Rgb {
-        self.sample::<Whole>(scene, ray, pixel, sampler, counts)
+        self.sample::<Whole>(scene, ray, None, pixel, sampler, counts)
             .total()
     }
 
     /// As [`Integrator::radiance`], with what `K` keeps of its components
-    /// ([`crate::aov::Component`]); the total is the same.
+    /// ([`crate::aov::Component`]; the total is the same), and textures
+    /// filtered over the camera ray's `cone` where it is given
+    /// ([`crate::footprint`]).
     pub(crate) fn sample<K: Keep>(
         &self,
         scene: &Scene,
         ray: Ray,
+        cone: Option<RayCone>,
         pixel: PixelPosition,
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
@@ -107,10 +112,10 @@ impl<'a> Integrator<'a> {
                 },
             },
             Integrator::Volpath(volpath) => {
-                return volpath::radiance(volpath, scene, ray, sampler, counts);
+                return volpath::radiance(volpath, scene, ray, cone, sampler, counts);
             }
         };
-        path.radiance(scene, ray, sampler, counts)
+        path.radiance(scene, ray, cone, sampler, counts)
     }
 }
 

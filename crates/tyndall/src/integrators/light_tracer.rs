@@ -28,6 +28,7 @@ use super::volpath::{MAX_PATH_EVENTS, survives_roulette};
 use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::exact_sum::ExactRgb;
+use crate::footprint::Footprint;
 use crate::materials::{Material, SurfaceEvent};
 use crate::media::free_flight;
 use crate::media::tracking::{Collision, VolumeTracker};
@@ -285,7 +286,7 @@ impl Tracer<'_> {
                     if !self.scattering_allowed(caustic) || depth >= self.max_depth {
                         return;
                     }
-                    let surface = scene.surface_at(surface, hit.primitive, p);
+                    let surface = scene.surface_at(surface, hit.primitive, p, Footprint::POINT);
                     depth += 1;
                     let normal = if geometric_normal.dot(ray.direction) < 0.0 {
                         geometric_normal

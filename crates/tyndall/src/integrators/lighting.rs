@@ -225,24 +225,27 @@ pub(crate) fn media_transmittance(
     tracker.transmittance(&scene.volumes, &ray, 0.0, distance) * fog_t
 }
 
-/// Direct lighting of the Lambertian lobe of `surface` at point `p` with
-/// `normals` facing the viewer, one sample per chosen light ([`lights_at`],
-/// weight `c`):
-/// `Σ c · ρ/π · E · cos θ · V · Tr_glass · T_media · w` (θ from the shading
-/// normal; light from below the geometric surface does not count), where
-/// `w = weight(p_light, ω)` is the caller's MIS weight given the light
-/// sample's solid-angle density (`None` for delta lights) and unit
-/// direction ω towards it.
+/// Direct lighting of `surface` at point `p` with `normals` facing the
+/// viewer, seen by a ray travelling along `incoming`, one sample per
+/// chosen light ([`lights_at`], weight `c`):
+/// `Σ c · (ρ/π · cos θ · w + f_layers) · E · V · Tr_glass · T_media` (θ
+/// from the shading normal; light from below the geometric surface does
+/// not count), where `w = weight(p_light, ω)` is the caller's MIS weight
+/// for the Lambertian lobe given the light sample's solid-angle density
+/// (`None` for delta lights) and unit direction ω towards it, and
+/// `f_layers` is the glossy layers' `f·cos θ` ([`Surface::layers_eval`])
+/// for delta lights alone: their reflected rays find every other light,
+/// and no ray finds a delta light.
 #[allow(clippy::too_many_arguments)]
 // Inlined into each integrator's two instantiations (with and without the
 // components), as into their one before: measured, the call instead cost
 // 1.5 % of a `single` sample.
 #[inline(always)]
-pub(crate) fn lambert_direct_lighting<K: Keep>(
+pub(crate) fn surface_direct_lighting<K: Keep>(
     scene: &Scene,
     visibility: &Visibility,
     surface: &Surface,
-    p: Vec3,
+    (p, incoming): (Vec3, Vec3),
     normals: SurfaceNormals,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
@@ -250,7 +253,8 @@ pub(crate) fn lambert_direct_lighting<K: Keep>(
     weight: impl Fn(Option<f32>, Vec3) -> f32,
 ) -> Gathered<K> {
     let mut sum = Gathered::new();
-    if surface.diffuse == Rgb::ZERO {
+    let glossy = surface.has_glossy_layer();
+    if surface.diffuse == Rgb::ZERO && !glossy {
         return sum;
     }
     for (index, chosen) in lights_at(scene, p, sampler) {
@@ -272,16 +276,20 @@ pub(crate) fn lambert_direct_lighting<K: Keep>(
             counts,
             tracker,
         );
-        sum.add(
-            scene.light_group(index),
-            arriving * (chosen * cos * weight(p_light, incident.direction)),
-        );
+        let lambert = surface.diffuse_brdf() * (cos * weight(p_light, incident.direction));
+        let f = match p_light {
+            None if glossy => {
+                lambert + surface.layers_eval(incoming, normals.shading, incident.direction)
+            }
+            _ => lambert,
+        };
+        sum.add(scene.light_group(index), arriving * f * chosen);
     }
-    sum.scaled(surface.diffuse_brdf())
+    sum
 }
 
 /// [`scattered_radiance`], [`light_arriving`] and
-/// [`lambert_direct_lighting`] with their scratch made here, for the
+/// [`surface_direct_lighting`] with their scratch made here, for the
 /// tests that check their WGSL twins (`lights.wgsl` and `camera.wgsl` of
 /// crate `tyndall-gpu`) against them.
 pub mod twins {
@@ -340,23 +348,24 @@ pub mod twins {
         )
     }
 
-    /// [`lambert_direct_lighting`] unweighted (one strategy) at `x` on a
-    /// flat Lambertian surface of reflectance `diffuse` and unit `normal`.
-    /// Area lights' points come from a fixed sample stream, which the
-    /// GPU's twin does not share: compare on delta lights.
+    /// [`surface_direct_lighting`] unweighted (one strategy) at `x` on a
+    /// flat surface of unit `normal`, of Lambertian reflectance `diffuse`
+    /// and a specular layer `(reflectance, roughness)`, seen along
+    /// `incoming`. Area lights' points come from a fixed sample stream,
+    /// which the GPU's twin does not share: compare on delta lights.
     pub fn direct_lighting(
         scene: &Scene,
         visibility: &Visibility,
-        diffuse: Rgb,
-        x: Vec3,
+        (diffuse, (specular, roughness)): (Rgb, (Rgb, f32)),
+        (x, incoming): (Vec3, Vec3),
         normal: Vec3,
     ) -> Rgb {
         let mut counts = RayCounts::default();
-        super::lambert_direct_lighting::<Whole>(
+        super::surface_direct_lighting::<Whole>(
             scene,
             visibility,
-            &Surface::diffuse(diffuse),
-            x,
+            &Surface::layered(diffuse, specular, roughness),
+            (x, incoming),
             SurfaceNormals::flat(normal),
             &mut PixelSampler::new(0, 0, 0),
             &mut counts,

@@ -40,8 +40,8 @@ pub use volpath::LightSubpaths;
 // The pieces the integrators share, where `volpath` and the light tracer
 // import them from (`super::…`).
 pub(crate) use lighting::{
-    MediumQuery, TRACKING_STREAM, lambert_direct_lighting, light_arriving, lights_along, lights_at,
-    media_transmittance, sample_light, scattered_light,
+    MediumQuery, TRACKING_STREAM, light_arriving, lights_along, lights_at, media_transmittance,
+    sample_light, scattered_light, surface_direct_lighting,
 };
 pub(crate) use scatterer::Scatterer;
 pub use surfaces::MAX_GLASS_CROSSINGS;

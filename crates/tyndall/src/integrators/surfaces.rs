@@ -4,6 +4,7 @@
 
 use crate::accel::Hit;
 use crate::color::Rgb;
+use crate::footprint::{Footprint, RayCone};
 use crate::materials::{Interface, dielectric_scatter};
 use crate::media::transmittance;
 use crate::ray::{Ray, offset_origin};
@@ -99,33 +100,41 @@ pub(crate) fn refract_or_reflect(
 }
 
 /// Where a ray meets a surface: the point, the geometric normal, the
-/// normals turned to face the arriving ray, and whether the ray meets the
-/// front (the side the geometric normal points to).
+/// normals turned to face the arriving ray, whether the ray meets the
+/// front (the side the geometric normal points to), and the footprint
+/// over which its textures are filtered.
 pub(crate) struct SurfaceHit {
     pub p: Vec3,
     pub geometric_normal: Vec3,
     pub normals: SurfaceNormals,
     pub front: bool,
+    pub footprint: Footprint,
 }
 
 impl SurfaceHit {
-    pub fn new(scene: &Scene, ray: &Ray, hit: &Hit) -> Self {
+    /// The surface `ray` meets at `hit`, its textures filtered over the
+    /// footprint of the ray's `cone` there (a camera ray's, until the
+    /// path scatters: [`crate::footprint`]), at full resolution without.
+    pub fn new(scene: &Scene, ray: &Ray, hit: &Hit, cone: Option<RayCone>) -> Self {
         let p = ray.at(hit.t);
         let geometric_normal = scene.geometry.normal(hit.primitive, p);
-        let front = geometric_normal.dot(ray.direction) < 0.0;
+        let cos = geometric_normal.dot(ray.direction);
+        let front = cos < 0.0;
         let geometric = if front {
             geometric_normal
         } else {
             -geometric_normal
         };
+        let footprint = cone.map_or(Footprint::POINT, |c| c.footprint(hit.t, cos));
         let shading = scene
-            .shading_normal(hit.primitive, p)
+            .shading_normal(hit.primitive, p, footprint)
             .map_or(geometric, |n| if n.dot(geometric) < 0.0 { -n } else { n });
         Self {
             p,
             geometric_normal,
             normals: SurfaceNormals { shading, geometric },
             front,
+            footprint,
         }
     }
 }

@@ -5,6 +5,7 @@
 
 use super::{Incident, LightPoint, towards};
 use crate::color::Rgb;
+use crate::footprint::Footprint;
 use crate::shapes::Triangle;
 use crate::texture::Texture;
 use glam::{Vec2, Vec3};
@@ -93,11 +94,24 @@ impl MeshLight {
     }
 
     /// The radiance leaving the point `p` of triangle `k`: `radiance`
-    /// times the emission texture's colour there, if it has one.
+    /// times the emission texture's colour there, if it has one (at full
+    /// resolution: what light sampling finds).
     #[inline]
     pub fn radiance_at(&self, k: usize, p: Vec3) -> Rgb {
+        self.radiance_over(k, p, Footprint::POINT)
+    }
+
+    /// [`MeshLight::radiance_at`] with the texture filtered over
+    /// `footprint` (a camera ray's, [`crate::footprint`]).
+    #[inline]
+    pub fn radiance_over(&self, k: usize, p: Vec3, footprint: Footprint) -> Rgb {
         match &self.texture {
-            Some(t) => self.radiance * t.texture.lookup(self.triangles[k].uv_at(t.uvs[k], p)),
+            Some(t) => {
+                let triangle = &self.triangles[k];
+                let size = (t.texture.width(), t.texture.height());
+                let lod = footprint.level_of_detail(size, triangle, t.uvs[k]);
+                self.radiance * t.texture.lookup_lod(triangle.uv_at(t.uvs[k], p), lod)
+            }
             None => self.radiance,
         }
     }

@@ -16,7 +16,7 @@ mod surface;
 
 pub use dielectric::{dielectric_reflectance, dielectric_scatter, fresnel_dielectric};
 pub use metallic_roughness::{Clearcoat, MetallicRoughness};
-pub use surface::{Coat, Lobe, Surface, SurfaceSample, reflect_lobe};
+pub use surface::{Coat, Lobe, Surface, SurfaceSample, lobe_density, reflect_lobe};
 
 use crate::color::Rgb;
 use crate::glass::Glass;

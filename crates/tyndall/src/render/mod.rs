@@ -35,6 +35,7 @@ use crate::aov::ComponentSum;
 use crate::camera::Camera;
 use crate::exact_sum::ExactRgb;
 use crate::film::Image;
+use crate::footprint::camera_spread_scale;
 use crate::guides::{GuideSum, first_surface};
 use crate::integrators::light_tracer::{self, LightPaths};
 use crate::integrators::path_radiance::{Keep, Split, Whole};
@@ -274,6 +275,7 @@ fn camera_pass(
         integrator,
         rect,
         s,
+        cone_scale: camera_spread_scale(settings.spp),
     };
     sums.radiance
         .par_chunks_mut(width)
@@ -308,6 +310,9 @@ struct CameraPass<'a> {
     integrator: &'a Integrator<'a>,
     rect: PixelRect,
     s: u32,
+    /// The share of a pixel a camera ray's cone spreads over
+    /// ([`crate::footprint::camera_spread_scale`] of the render's spp).
+    cone_scale: f32,
 }
 
 /// One row's sums (see [`PixelSums`]).
@@ -335,10 +340,11 @@ impl CameraPass<'_> {
             let mut sampler = PixelSampler::new(self.settings.seed, index, self.s);
             let film = Vec2::new(x as f32, y as f32) + sampler.next_2d();
             let ray = self.camera.ray(film);
+            let cone = Some(self.camera.cone(ray.direction, self.cone_scale));
             let pixel = PixelPosition { x, y };
             let l = self
                 .integrator
-                .sample::<K>(scene, ray, pixel, &mut sampler, &mut counts);
+                .sample::<K>(scene, ray, cone, pixel, &mut sampler, &mut counts);
             if l.total().is_finite() {
                 *sum += l.total().as_dvec3();
                 if let (Some(sums), Some(parts)) = (sums.components.as_deref_mut(), l.components())
@@ -357,7 +363,7 @@ impl CameraPass<'_> {
                 bad += 1;
             }
             if let Some(guides) = sums.guides.as_deref_mut() {
-                guides[i].add(&first_surface(scene, ray));
+                guides[i].add(&first_surface(scene, ray, cone));
             }
         }
         (counts, bad)

@@ -13,6 +13,7 @@ use crate::accel::{Geometry, Hit, Primitive};
 use crate::camera::CameraSpec;
 use crate::color::Rgb;
 use crate::description::{DescError, GroupMember, MediumDesc, RegionDesc, SceneDesc};
+use crate::footprint::Footprint;
 use crate::light_groups::{LightGroup, LightGroups};
 use crate::lights::{
     EmissionTexture, EnvironmentLight, Light, LightSampler, LightSampling, MeshLight, QuadLight,
@@ -195,12 +196,16 @@ impl Scene {
     /// scaled by its mesh light's emission texture there, if it has one
     /// ([`MeshLight::radiance_at`]), the same radiance that light sampling
     /// finds at `p`.
+    ///
+    /// Where a camera ray's cone meets it (`footprint`), the texture is
+    /// filtered over it; light sampling, and paths that scattered before,
+    /// read it at a point ([`Footprint::POINT`]).
     #[inline]
-    pub fn emitted_at(&self, emitted: Rgb, primitive: u32, p: Vec3) -> Rgb {
+    pub fn emitted_at(&self, emitted: Rgb, primitive: u32, p: Vec3, footprint: Footprint) -> Rgb {
         match self.emitter_primitive(primitive) {
             Some(e) => match &self.lights[e.light as usize] {
                 Light::Mesh(mesh) if mesh.emission_texture().is_some() => {
-                    mesh.radiance_at(e.triangle as usize, p)
+                    mesh.radiance_over(e.triangle as usize, p, footprint)
                 }
                 _ => emitted,
             },
@@ -230,14 +235,21 @@ impl Scene {
     /// normals interpolated, if it is a triangle of a smooth mesh
     /// ([`ShapeDesc::vertex_normals`](crate::description::ShapeDesc)),
     /// bent by its normal map if it has one
-    /// ([`crate::description::NormalMap`]); not oriented to any side.
+    /// ([`crate::description::NormalMap`]; filtered over `footprint`); not
+    /// oriented to any side.
     #[inline]
-    pub fn shading_normal(&self, primitive: u32, p: Vec3) -> Option<Vec3> {
+    pub fn shading_normal(&self, primitive: u32, p: Vec3, footprint: Footprint) -> Option<Vec3> {
         match &self.geometry.primitive(primitive).shape {
             Shape::Triangle(triangle) => {
                 let smooth = self.shading_normals.normal_at(primitive, triangle, p);
                 self.textures
-                    .normal_at(primitive, triangle, p, smooth.unwrap_or(triangle.normal))
+                    .normal_at(
+                        primitive,
+                        triangle,
+                        p,
+                        smooth.unwrap_or(triangle.normal),
+                        footprint,
+                    )
                     .or(smooth)
             }
             Shape::Sphere(_) | Shape::Quad(_) => None,
@@ -313,15 +325,25 @@ impl Scene {
     /// A triangle with a metallic-roughness surface
     /// ([`ShapeDesc::metallic_roughness`](crate::description::ShapeDesc))
     /// has that surface instead, evaluated at `p` with its base colour
-    /// multiplied by the same colours.
+    /// multiplied by the same colours. Textures are filtered over
+    /// `footprint` ([`crate::footprint`]).
     #[inline]
-    pub fn surface_at(&self, surface: Surface, primitive: u32, p: Vec3) -> Surface {
+    pub fn surface_at(
+        &self,
+        surface: Surface,
+        primitive: u32,
+        p: Vec3,
+        footprint: Footprint,
+    ) -> Surface {
         let Shape::Triangle(triangle) = &self.geometry.primitive(primitive).shape else {
             return surface;
         };
-        let texture = self.textures.at(primitive, triangle, p);
+        let texture = self.textures.at(primitive, triangle, p, footprint);
         let vertex = self.vertex_colours.at(primitive, triangle, p);
-        if let Some(parameters) = self.textures.metallic_roughness_at(primitive, triangle, p) {
+        if let Some(parameters) = self
+            .textures
+            .metallic_roughness_at(primitive, triangle, p, footprint)
+        {
             let colour = texture.unwrap_or(Rgb::ONE) * vertex.unwrap_or(Rgb::ONE);
             return MetallicRoughness {
                 base: parameters.base * colour,

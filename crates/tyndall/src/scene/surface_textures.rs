@@ -7,10 +7,11 @@
 //! ([`crate::description::MetallicRoughnessMap`]).
 
 use crate::color::Rgb;
-use crate::materials::MetallicRoughness;
-use crate::shapes::Triangle;
 use crate::coverage::{self, Coverage};
+use crate::footprint::Footprint;
+use crate::materials::MetallicRoughness;
 use crate::ray::Ray;
+use crate::shapes::Triangle;
 use crate::texture::{Texture, TextureId};
 use glam::{Vec2, Vec3, Vec4};
 use std::sync::Arc;
@@ -155,19 +156,27 @@ impl SurfaceTextures {
     /// The metallic-roughness parameters at the point `p` of `triangle`
     /// (primitive `primitive`), if it has them: its factors, the metalness
     /// times the texture's blue channel and the roughness times its green
-    /// there (read as data), where it has a texture. The base colour is
-    /// the factor's alone; the caller multiplies it by the point's colour.
+    /// there (read as data, filtered over `footprint`), where it has a
+    /// texture. The base colour is the factor's alone; the caller
+    /// multiplies it by the point's colour.
     #[inline]
     pub fn metallic_roughness_at(
         &self,
         primitive: u32,
         triangle: &Triangle,
         p: Vec3,
+        footprint: Footprint,
     ) -> Option<MetallicRoughness> {
         let binding = self.metallic_roughness.get(primitive)?;
         let mut parameters = binding.factors;
         if let Some((texture, uvs)) = binding.texture
-            && let Some(c) = self.textures[texture as usize].lookup_data(triangle.uv_at(uvs, p))
+            && let Some(c) = lookup_data(
+                &self.textures[texture as usize],
+                triangle,
+                uvs,
+                p,
+                footprint,
+            )
         {
             parameters.roughness *= c.y;
             parameters.metallic *= c.z;
@@ -219,15 +228,22 @@ impl SurfaceTextures {
     }
 
     /// The shading normal at the point `p` of `triangle` (primitive
-    /// `primitive`) bent by its normal map, if it has one, from the
-    /// unbent unit normal `n` (see [`crate::description::NormalMap`]);
-    /// `None` where the map leaves no direction (a zero vector, or a
-    /// tangent along `n`).
+    /// `primitive`) bent by its normal map, if it has one (filtered over
+    /// `footprint`), from the unbent unit normal `n` (see
+    /// [`crate::description::NormalMap`]); `None` where the map leaves no
+    /// direction (a zero vector, or a tangent along `n`).
     #[inline]
-    pub fn normal_at(&self, primitive: u32, triangle: &Triangle, p: Vec3, n: Vec3) -> Option<Vec3> {
+    pub fn normal_at(
+        &self,
+        primitive: u32,
+        triangle: &Triangle,
+        p: Vec3,
+        n: Vec3,
+        footprint: Footprint,
+    ) -> Option<Vec3> {
         let binding = self.normal_maps.get(primitive)?;
         let texture = &self.textures[binding.texture as usize];
-        let c = texture.lookup_data(triangle.uv_at(binding.uvs, p))?;
+        let c = lookup_data(texture, triangle, binding.uvs, p, footprint)?;
         let m = (c * 2.0 - Vec3::ONE) * Vec3::new(binding.scale, binding.scale, 1.0);
         let (t, b) = match binding.frame {
             TangentFrame::Corners(corners) => {
@@ -293,14 +309,22 @@ impl SurfaceTextures {
 
     /// The texture colour at the point `p` of triangle `triangle`
     /// (primitive `primitive`), if it is textured: the texture looked up
-    /// at the corners' coordinates interpolated.
+    /// at the corners' coordinates interpolated, filtered over
+    /// `footprint`.
     #[inline]
-    pub fn at(&self, primitive: u32, triangle: &Triangle, p: Vec3) -> Option<Rgb> {
+    pub fn at(
+        &self,
+        primitive: u32,
+        triangle: &Triangle,
+        p: Vec3,
+        footprint: Footprint,
+    ) -> Option<Rgb> {
         let (binding, texture) = self.binding(primitive)?;
         let Some(uvs) = binding.uvs else {
             return Some(texture.mean());
         };
-        Some(texture.lookup(triangle.uv_at(uvs, p)))
+        let lod = footprint.level_of_detail((texture.width(), texture.height()), triangle, uvs);
+        Some(texture.lookup_lod(triangle.uv_at(uvs, p), lod))
     }
 
     /// Primitive `primitive`'s binding and its texture, if it is textured.
@@ -309,4 +333,18 @@ impl SurfaceTextures {
         let binding = *self.colours.get(primitive)?;
         Some((binding, &self.textures[binding.texture as usize]))
     }
+}
+
+/// `texture` read as data at the point `p` of `triangle`, whose corners
+/// map it by `uvs`, filtered over `footprint`.
+#[inline]
+fn lookup_data(
+    texture: &Texture,
+    triangle: &Triangle,
+    uvs: [Vec2; 3],
+    p: Vec3,
+    footprint: Footprint,
+) -> Option<Vec3> {
+    let lod = footprint.level_of_detail((texture.width(), texture.height()), triangle, uvs);
+    texture.lookup_data(triangle.uv_at(uvs, p), lod)
 }

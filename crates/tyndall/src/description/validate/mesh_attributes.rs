@@ -249,7 +249,10 @@ fn validate_corners(
 /// `[0, 1]`.
 fn validate_coverage(shape: &ShapeDesc, coverage: Coverage, item: &Item) -> Result<(), DescError> {
     if !shape.is_mesh() {
-        return item.fail("coverage", "only triangle meshes have alpha coverage".into());
+        return item.fail(
+            "coverage",
+            "only triangle meshes have alpha coverage".into(),
+        );
     }
     let numbers = match coverage {
         Coverage::Cutout { cutoff, factor } => [("cutoff", cutoff), ("coverage factor", factor)],

@@ -80,11 +80,12 @@ pub use light_subpaths::LightSubpaths;
 
 use super::path_radiance::{Keep, PathRadiance, ScatteringHistory};
 use super::{
-    MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, SurfaceHit, TRACKING_STREAM,
-    lambert_direct_lighting, refract_or_reflect,
+    MAX_GLASS_CROSSINGS, Scatterer, SolidDepth, SurfaceHit, TRACKING_STREAM, refract_or_reflect,
+    surface_direct_lighting,
 };
 use crate::aov::Scattering;
 use crate::color::Rgb;
+use crate::footprint::RayCone;
 use crate::light_groups::LightGroup;
 use crate::materials::{Lobe, SurfaceEvent};
 use crate::media::emitters::HitWeighting;
@@ -151,11 +152,16 @@ enum Arrival<'a> {
     },
 }
 
-/// Radiance along a camera ray: one path sample.
+/// Radiance along a camera ray: one path sample. Textures are filtered
+/// over the ray's `cone`, if it has one, through specular and glossy
+/// events, and read at full resolution once the path has scattered
+/// diffusely or in a medium ([`crate::footprint`]): from there on, light
+/// sampling and hits must weigh the same texel.
 pub(crate) fn radiance<K: Keep>(
     integrator: &Volpath,
     scene: &Scene,
     mut ray: Ray,
+    mut cone: Option<RayCone>,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
 ) -> PathRadiance<K> {
@@ -288,6 +294,7 @@ pub(crate) fn radiance<K: Keep>(
                         pdf,
                         in_volume: true,
                     };
+                    cone = None;
                     connected_from = Connections::default();
                     ray = Ray {
                         origin: x,
@@ -358,6 +365,7 @@ pub(crate) fn radiance<K: Keep>(
                 t,
                 samples,
             };
+            cone = None;
             ray = Ray {
                 origin: x,
                 direction,
@@ -382,7 +390,9 @@ pub(crate) fn radiance<K: Keep>(
             geometric_normal,
             normals,
             front,
-        } = SurfaceHit::new(scene, &ray, &hit);
+            footprint,
+        } = SurfaceHit::new(scene, &ray, &hit, cone);
+        cone = cone.map(|c| c.advanced(hit.t));
         let event = scene
             .material(hit.primitive)
             .event(front, scene.glass.opaque_to_camera);
@@ -406,7 +416,7 @@ pub(crate) fn radiance<K: Keep>(
                         }
                     }
                     Some(le) => {
-                        let le = scene.emitted_at(le, hit.primitive, p);
+                        let le = scene.emitted_at(le, hit.primitive, p, footprint);
                         let weight = emission_weight(
                             scene,
                             strategies,
@@ -425,7 +435,7 @@ pub(crate) fn radiance<K: Keep>(
                 }
                 // An emitter that also reflects goes on as a surface.
                 match reflects {
-                    Some(surface) => scene.surface_at(surface, hit.primitive, p),
+                    Some(surface) => scene.surface_at(surface, hit.primitive, p, footprint),
                     None => return radiance,
                 }
             }
@@ -455,7 +465,9 @@ pub(crate) fn radiance<K: Keep>(
                 }
                 continue;
             }
-            SurfaceEvent::Reflector(surface) => scene.surface_at(surface, hit.primitive, p),
+            SurfaceEvent::Reflector(surface) => {
+                scene.surface_at(surface, hit.primitive, p, footprint)
+            }
         };
         if depth >= max_events {
             return radiance;
@@ -482,11 +494,11 @@ pub(crate) fn radiance<K: Keep>(
             radiance.add_gathered(
                 here.component(),
                 throughput,
-                &lambert_direct_lighting(
+                &surface_direct_lighting(
                     scene,
                     visibility,
                     &surface,
-                    p,
+                    (p, ray.direction),
                     normals,
                     sampler,
                     counts,
@@ -557,6 +569,7 @@ pub(crate) fn radiance<K: Keep>(
         }
         match sample.lobe {
             Lobe::Diffuse => {
+                cone = None;
                 arrival = Arrival::Sampled {
                     from: p,
                     pdf: sample.pdf,
