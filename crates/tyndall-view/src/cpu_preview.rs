@@ -2,7 +2,10 @@
 //! where the only GPU is a software one): the render loop of the CLI
 //! (`tyndall::render::render_region`) on a background thread, one sample
 //! per pixel per pass, each pass's running mean shown — so after N passes
-//! the view is exactly `tyndall render --spp N` of the same view. With a
+//! the view is exactly `tyndall render --spp N` of the same view, but for
+//! minified textures: the view filters them over whole pixels at every
+//! pass (`RenderSettings::footprint_spp` 1: no shimmer at one sample), a
+//! render over `max(1/8, 1/√N)` of a pixel. With a
 //! denoiser, the image is denoised (Open Image Denoise, with the
 //! first-surface guides, not prefiltered) at passes 1, 2, 4, …, 64 and
 //! then every 32nd, and only the denoised images are shown. A view change or leaving CPU
@@ -74,9 +77,13 @@ impl CpuPreview {
                     return;
                 }
             };
+            // Every pass is looked at, the first ones too: textures are
+            // filtered over whole pixels, as for a one-sample image, so
+            // that they do not shimmer while the view is young.
             let settings = tyndall::RenderSettings {
                 spp,
                 guides: denoiser.is_some(),
+                footprint_spp: Some(1),
                 ..desc.settings
             };
             let region = RenderRegion::full(settings.width, settings.height, spp);

@@ -64,6 +64,11 @@ pub struct RenderSettings {
     /// `crate::light_groups::LightGroups`) beside it. They change no
     /// sample. Not for renders that trace light paths (caustics).
     pub light_groups: bool,
+    /// The samples per pixel the camera rays' cones are made for, over
+    /// which textures are filtered: `max(1/8, 1/√n)` of a pixel
+    /// ([`crate::footprint::camera_spread_scale`]). `None`: `spp`. A
+    /// progressive view, looked at after every pass, gives 1.
+    pub footprint_spp: Option<u32>,
 }
 
 impl Default for RenderSettings {
@@ -86,6 +91,7 @@ impl Default for RenderSettings {
             guides: false,
             components: false,
             light_groups: false,
+            footprint_spp: None,
         }
     }
 }

@@ -275,7 +275,7 @@ fn camera_pass(
         integrator,
         rect,
         s,
-        cone_scale: camera_spread_scale(settings.spp),
+        cone_scale: camera_spread_scale(settings.footprint_spp.unwrap_or(settings.spp)),
     };
     sums.radiance
         .par_chunks_mut(width)
