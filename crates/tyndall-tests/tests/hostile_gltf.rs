@@ -193,6 +193,35 @@ fn tangents_that_make_no_frame_are_refused() {
     refused(&path, &["TANGENT must be Vec4 of floats"]);
 }
 
+/// A normal texture whose vectors point into the surface (an all-black
+/// image: (−1, −1, −1)) is no tangent-space normal map: the file loads,
+/// the map is left out with a warning naming the material and its image,
+/// and the surface keeps its own normal.
+#[test]
+fn an_all_black_normal_texture_is_named_and_left_out() {
+    let dir = test_dir("hostile-black-normals");
+    image::RgbImage::from_pixel(4, 4, image::Rgb([0, 0, 0]))
+        .save(dir.join("black.png"))
+        .expect("png");
+    let doc = json!({
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "images": [{"uri": "black.png"}],
+        "textures": [{"source": 0}],
+        "materials": [{"normalTexture": {"index": 0}}]
+    });
+    let path = write_gltf(&dir, "black", &[textured_triangle()], doc);
+    let loaded = tyndall_load::gltf::load(&path).expect("loads");
+    assert!(
+        loaded.warnings.iter().any(|w| w.contains("materials[0]")
+            && w.contains("normalTexture")
+            && w.contains("images[0]")),
+        "{:?}",
+        loaded.warnings
+    );
+    assert!(loaded.shapes.iter().all(|s| s.normal_map.is_none()));
+}
+
 #[test]
 fn glb_image_view_past_its_buffer_is_refused() {
     let dir = test_dir("hostile-glb-view");

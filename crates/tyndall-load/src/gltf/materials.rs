@@ -122,16 +122,35 @@ impl GltfLoader<'_> {
             _ => false,
         };
         textures.normal = match material.normal_texture() {
-            Some(info) if reflects => Some(NormalTexture {
-                map: self.mapped(
+            Some(info) if reflects => {
+                let map = self.mapped(
                     &element,
                     (&info.texture(), Encoding::Linear),
                     info.extensions(),
                     info.tex_coord(),
                     scene,
-                )?,
-                scale: info.scale(),
-            }),
+                )?;
+                // A tangent-space map's vectors point out of the surface
+                // (blue above ½); one whose mean points in (an all-black
+                // image) is no normal map.
+                if scene.textures[map.texture as usize].value.mean().z < 0.5 {
+                    self.warn(
+                        &element,
+                        format!(
+                            "normalTexture (images[{}]) is ignored: its vectors point into the \
+                             surface (blue below 128 on average), which is no tangent-space \
+                             normal map",
+                            info.texture().source().index()
+                        ),
+                    );
+                    None
+                } else {
+                    Some(NormalTexture {
+                        map,
+                        scale: info.scale(),
+                    })
+                }
+            }
             Some(_) => {
                 self.warn(
                     &element,

@@ -231,7 +231,8 @@ impl SurfaceTextures {
     /// `primitive`) bent by its normal map, if it has one (filtered over
     /// `footprint`), from the unbent unit normal `n` (see
     /// [`crate::description::NormalMap`]); `None` where the map leaves no
-    /// direction (a zero vector, or a tangent along `n`).
+    /// direction (a zero vector, a vector into the surface, or a tangent
+    /// along `n`).
     #[inline]
     pub fn normal_at(
         &self,
@@ -245,6 +246,10 @@ impl SurfaceTextures {
         let texture = &self.textures[binding.texture as usize];
         let c = lookup_data(texture, triangle, binding.uvs, p, footprint)?;
         let m = (c * 2.0 - Vec3::ONE) * Vec3::new(binding.scale, binding.scale, 1.0);
+        // A texel whose vector points into the surface bends nothing.
+        if m.z <= 0.0 {
+            return None;
+        }
         let (t, b) = match binding.frame {
             TangentFrame::Corners(corners) => {
                 // MikkTSpace's own use: the tangent interpolated as it
