@@ -49,9 +49,9 @@ pub enum Formula {
     /// height, _]`; output `[sample.xyz, solid angle]`, all 0 when the
     /// rectangle is invalid from `o`.
     SphericalRectangle,
-    /// `lobe_density(incoming, +y, roughness, omega)`: input
-    /// `[incoming.xyz, roughness], [omega.xyz, _]`; output `x`.
-    LobeDensity,
+    /// `ggx_eval(α, outgoing, +y, incident)`: input `[outgoing.xyz, α],
+    /// [incident.xyz, _]`; output `x`.
+    GgxEval,
 }
 
 impl Formula {
@@ -66,7 +66,7 @@ impl Formula {
             Formula::Exponential => "probe_exponential",
             Formula::UniformCone => "probe_uniform_cone",
             Formula::SphericalRectangle => "probe_spherical_rectangle",
-            Formula::LobeDensity => "probe_lobe_density",
+            Formula::GgxEval => "probe_ggx_eval",
         }
     }
 }
@@ -243,12 +243,13 @@ pub enum SceneFormula {
     /// [direction.xyz, _], [seed, _, _, _]` (an integer below 2²⁴);
     /// output `[radiance.rgb, _]`, then `0`.
     Radiance,
-    /// `direct_lighting(diffuse, specular, roughness, incoming, x,
-    /// normal)`: input `[x.xyz, roughness], [normal.xyz, specular],
-    /// [diffuse.rgb, tilt]` (a grey specular layer; the ray arriving along
-    /// `normalize(tilt·t − normal)`, t the first of glam's
-    /// `any_orthonormal_pair(normal)`); output `[radiance.rgb, _]`, then
-    /// `0`. For scenes of delta lights (an area light's points draw
+    /// `direct_lighting(diffuse, specular, roughness, albedo, incoming,
+    /// x, normal)`: input `[x.xyz, roughness], [normal.xyz, n + specular],
+    /// [diffuse.rgb, albedo]` (a grey specular layer below 1, its GGX
+    /// lobe's albedo towards the viewer; the ray arriving along
+    /// `normalize((0.2 + 0.5·n)·t − normal)`, n an integer, t the first of
+    /// glam's `any_orthonormal_pair(normal)`); output `[radiance.rgb, _]`,
+    /// then `0`. For scenes of delta lights (an area light's points draw
     /// random numbers).
     DirectLighting,
     /// `camera_ray(film)`: input `[film.xy, _, _], _, _`; output

@@ -14,6 +14,7 @@ use tyndall::Scene;
 use tyndall::color::Rgb;
 use tyndall::lights::{Light, SpotProfile};
 use tyndall::materials::Material;
+use tyndall::materials::{ALBEDO_COSINES, Ggx};
 use tyndall::shapes::Shape;
 
 /// Shape kinds in [`GpuPrimitive::kind`].
@@ -55,7 +56,10 @@ pub struct GpuPrimitive {
 
 /// One material: `color` is the diffuse reflectance (opaque), radiance
 /// (emitters, W·sr⁻¹·m⁻²) or pane colour (glass); `specular` the
-/// reflective layer's reflectance.
+/// reflective layer's reflectance; `albedo` its GGX lobe's
+/// single-scattering albedo at the tabulated cosines
+/// (`tyndall::materials::Ggx::albedo_row`, 1 for a mirror), for its
+/// multiple-scattering compensation.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuMaterial {
@@ -65,6 +69,7 @@ pub struct GpuMaterial {
     pub alpha: f32,
     pub color: [f32; 4],
     pub specular: [f32; 4],
+    pub albedo: [[f32; 4]; ALBEDO_COSINES / 4],
 }
 
 /// One light (`tyndall::lights::Light`), by kind:
@@ -320,6 +325,10 @@ fn material(m: &Material) -> Result<GpuMaterial, GpuError> {
             roughness: s.roughness,
             color: v4(s.diffuse, 0.0),
             specular: v4(s.specular, 0.0),
+            albedo: {
+                let row = Ggx::new(s.roughness).map_or([1.0; ALBEDO_COSINES], |g| g.albedo_row());
+                std::array::from_fn(|q| std::array::from_fn(|c| row[4 * q + c]))
+            },
             ..Default::default()
         },
         Material::Emissive { surface, .. } if surface.reflects() => {

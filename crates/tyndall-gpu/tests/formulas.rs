@@ -563,61 +563,60 @@ fn spherical_rectangle_matches_rust() {
     assert!(checked > 2000, "only {checked} solid angles checked");
 }
 
-/// A reflective layer's lobe density, `(n + 1)/(2π)·cosⁿ α` about the
-/// mirror direction, for rays arriving from many directions at a surface
-/// facing +y and many directions leaving it, over roughness 0.05 to 1.
-/// `cos α` carries a few ε of rounding, which `pow` raises to n·ε
-/// relative (n = 2/α² − 2, up to 798 here); `pow` itself is `exp2(n·log2
-/// x)` in WGSL, 3 + 2|n·log₂ x| ULP, besides its own ε on `log2`
-/// (2⁻²¹ absolute): the bound is `(16 + 4n)ε + n·2⁻²¹·|log₂ cos α|`
-/// relative (both sides), plus 8ε of the density's scale.
+/// GGX's single-scattering `f·cos θ_i` (`ggx_eval`) for views from the
+/// normal to 80° off it and light from every direction above, over
+/// roughness 0.05 to 1. Each side rounds the half vector and the cosines
+/// by a few ε (δ ≈ 8ε); the distribution's denominator
+/// `d = cos²θ_h(α² − 1) + 1` loses them to cancellation where it is small
+/// (a sharp lobe at its peak): `D` within `2·(2δ + ε)/d` relative, Smith's
+/// Λ and G₂ within 16ε: each side within `(2(2δ + ε)/d + 16ε)`, the two
+/// within twice that, plus 8ε of the value's scale. Directions within
+/// 10⁻⁵ of the horizon are left out (the sides may round to either side).
 #[test]
-fn lobe_density_matches_rust() {
-    let Some(gpu) = support::gpu_or_skip("lobe_density_matches_rust") else {
+fn ggx_eval_matches_rust() {
+    let Some(gpu) = support::gpu_or_skip("ggx_eval_matches_rust") else {
         return;
     };
     let mut items = Vec::new();
     for k in 0..4000 {
-        let roughness = 0.05 + 0.95 * spread(k);
-        // Incoming: downwards, up to 80° off the normal.
+        let alpha = 0.05 + 0.95 * spread(k);
         let (t, phi) = (
             80f32.to_radians() * spread(k + 7),
             std::f32::consts::TAU * spread(k + 13),
         );
-        let incoming = Vec3::new(t.sin() * phi.cos(), -t.cos(), t.sin() * phi.sin());
-        let (s, psi) = (
-            1.6 * spread(k + 29) - 0.03,
-            std::f32::consts::TAU * spread(k + 31),
-        );
-        let omega = Vec3::new(s.sin() * psi.cos(), s.cos(), s.sin() * psi.sin());
+        let outgoing = Vec3::new(t.sin() * phi.cos(), t.cos(), t.sin() * phi.sin());
+        let (s, psi) = (1.5 * spread(k + 29), std::f32::consts::TAU * spread(k + 31));
+        let incident = Vec3::new(s.sin() * psi.cos(), s.cos(), s.sin() * psi.sin());
         items.push([
-            [incoming.x, incoming.y, incoming.z, roughness],
-            [omega.x, omega.y, omega.z, 0.0],
+            [outgoing.x, outgoing.y, outgoing.z, alpha],
+            [incident.x, incident.y, incident.z, 0.0],
         ]);
     }
-    let out = evaluate(&gpu, Formula::LobeDensity, &items).expect("GPU evaluation");
-    let mut positive = 0;
+    let out = evaluate(&gpu, Formula::GgxEval, &items).expect("GPU evaluation");
+    let mut compared = 0;
     for (item, o) in items.iter().zip(&out) {
-        let incoming = Vec3::new(item[0][0], item[0][1], item[0][2]);
-        let omega = Vec3::new(item[1][0], item[1][1], item[1][2]);
-        let roughness = item[0][3];
-        let rust = tyndall::materials::lobe_density(incoming, Vec3::Y, roughness, omega);
-        let n = (2.0 / (roughness * roughness) - 2.0).max(0.0);
-        let mirror = incoming - 2.0 * incoming.y * Vec3::Y;
-        let log_cos = mirror.dot(omega).max(1e-30).log2().abs();
-        let scale = (n + 1.0) / (2.0 * std::f32::consts::PI);
-        let tolerance =
-            ((16.0 + 4.0 * n) * EPS + n * log_cos / 2_097_152.0) * rust + 8.0 * EPS * scale;
-        // Near the horizon or the lobe's edge the two may round to
-        // opposite sides of 0: the density there is below the bound's
-        // scale either way.
-        let edge = omega.y.abs() < 1e-5 || mirror.dot(omega).abs() < 1e-5;
+        let outgoing = Vec3::new(item[0][0], item[0][1], item[0][2]);
+        let incident = Vec3::new(item[1][0], item[1][1], item[1][2]);
+        let alpha = item[0][3];
+        if outgoing.y.abs() < 1e-5 || incident.y.abs() < 1e-5 {
+            continue;
+        }
+        let rust =
+            tyndall::materials::Ggx::new(alpha)
+                .expect("rough")
+                .eval(outgoing, Vec3::Y, incident);
+        let h = (outgoing + incident).normalize();
+        let d = h.y * h.y * (alpha * alpha - 1.0) + 1.0;
+        let delta = 8.0 * EPS;
+        let relative = 2.0 * (2.0 * (2.0 * delta + EPS) / d + 16.0 * EPS);
+        let scale = 1.0 / (std::f32::consts::PI * alpha * alpha * outgoing.y);
+        let tolerance = relative * rust + 8.0 * EPS * scale;
         assert!(
-            (o[0] - rust).abs() <= tolerance || edge,
-            "incoming {incoming}, omega {omega}, roughness {roughness}: GPU {} vs Rust {rust} (tolerance {tolerance:.2e})",
+            (o[0] - rust).abs() <= tolerance,
+            "outgoing {outgoing}, incident {incident}, α {alpha}: GPU {} vs Rust {rust} (tolerance {tolerance:.2e})",
             o[0]
         );
-        positive += usize::from(rust > 0.0);
+        compared += 1;
     }
-    assert!(positive > 1000, "{positive} directions inside the lobe");
+    assert!(compared > 3900, "{compared} compared");
 }

@@ -509,30 +509,49 @@ fn reflections_match_rust() {
         let rust = surface.reflect(incoming, normal, u);
         let gpu = Vec3::new(o[0][0], o[0][1], o[0][2]);
         let what = format!("roughness {roughness}, incoming {incoming}, normal {normal}, u {u}");
-        // The mirror direction i − 2(i·n)n: 8ε a component. The lobe's
-        // cos θ = u^(1/(e+1)) = exp2(z), z = log2(u)/(e+1): WGSL's log2
-        // within 2⁻²¹ absolute (3 ULP below ½) and exp2 within 3 + 2|z|
-        // ULP, so cos θ within Δc = cos θ·(ln 2·Δz + (5 + 2|z|)ε); sin θ
-        // moves by Δc·cos θ/sin θ (at most √(2Δc)); sin, cos of φ within
-        // 2⁻¹¹ absolute, weighted by sin θ; the frame and the sum add 16ε.
+        // The mirror direction i − 2(i·n)n: 8ε a component. The GGX
+        // sample: WGSL's sin and cos of φ = 2πu.x are within 2⁻¹¹
+        // absolute, as if φ moved by 2·2⁻¹¹; the cap's z by a few ε, as
+        // if u.y moved by 8ε: the bound is the Rust sample's own change
+        // under those moves (each way), plus the rounding of the frames,
+        // the warp and the reflection, 64ε over the warped half vector's
+        // length before it is normalised (small where the cap's point
+        // nearly cancels the view: the direction is ill-conditioned there).
         let mirror = d(incoming - 2.0 * incoming.dot(normal) * normal);
         let tolerance = if roughness <= 0.0 {
             2.0 * 8.0 * EPS
         } else {
-            let r2 = f64::from(roughness * roughness).max(1e-6);
-            let y = 1.0 / ((2.0 / r2 - 2.0).max(0.0) + 1.0);
-            let log_u = f64::from(u.x).max(f64::MIN_POSITIVE).log2();
-            let z = y * log_u;
-            let dz = y * (2f64.powi(-21)).max(3.0 * EPS * log_u.abs()) + EPS * z.abs();
-            let cos = z.exp2();
-            let dc = cos * (2f64.ln() * dz + (5.0 + 2.0 * z.abs()) * EPS);
-            let sin = (1.0 - cos * cos).max(0.0).sqrt();
-            let ds = if sin > 0.0 {
-                (dc * cos / sin).min((2.0 * dc).sqrt())
-            } else {
-                (2.0 * dc).sqrt()
-            };
-            dc + ds + 2.0 * sin * 2f64.powi(-11) + 2.0 * 16.0 * EPS
+            let du = Vec2::new(
+                2.0 * 2f32.powi(-11) / std::f32::consts::TAU,
+                8.0 * f32::EPSILON,
+            );
+            let moved = [
+                Vec2::new(du.x, 0.0),
+                Vec2::new(-du.x, 0.0),
+                Vec2::new(0.0, du.y),
+                Vec2::new(0.0, -du.y),
+            ]
+            .into_iter()
+            .filter_map(|m| surface.reflect(incoming, normal, u + m))
+            .zip(std::iter::repeat(rust))
+            .filter_map(|(a, b)| b.map(|b| d(a - b).length()))
+            .fold(0.0f64, f64::max);
+            // The warped half vector's length, in f64.
+            let (t, b) = normal.any_orthonormal_pair();
+            let o = -incoming;
+            let a = f64::from(roughness);
+            let o_std = glam::DVec3::new(
+                a * f64::from(o.dot(t)),
+                a * f64::from(o.dot(b)),
+                f64::from(o.dot(normal)),
+            )
+            .normalize();
+            let phi = std::f64::consts::TAU * f64::from(u.x);
+            let z = (1.0 - f64::from(u.y)) * (1.0 + o_std.z) - o_std.z;
+            let s = (1.0 - z * z).max(0.0).sqrt();
+            let h_std = glam::DVec3::new(s * phi.cos(), s * phi.sin(), z) + o_std;
+            let h_raw = glam::DVec3::new(a * h_std.x, a * h_std.y, h_std.z.max(0.0)).length();
+            moved + 64.0 * EPS / h_raw.max(1e-30) + 2.0 * 16.0 * EPS
         };
         match rust {
             Some(r) => {

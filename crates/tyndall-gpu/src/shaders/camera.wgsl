@@ -1,9 +1,11 @@
 // Direct light on a surface of Lambertian reflectance `diffuse` and a
-// specular layer of reflectance `specular` and roughness `roughness`,
+// specular layer of reflectance `specular` and roughness `roughness`
+// (its GGX lobe's single-scattering albedo towards the viewer `albedo`),
 // seen along `incoming`: Σ (ρ/π·cos θ + f_layer)·E·V·Tr_glass·T_fog, one
-// sample_incident per light, f_layer = specular·lobe_density for delta
-// lights alone (the CPU's surface_direct_lighting).
-fn direct_lighting(diffuse: vec3<f32>, specular: vec3<f32>, roughness: f32, incoming: vec3<f32>, x: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
+// sample_incident per light, f_layer = compensated(specular,
+// albedo)·ggx_eval for delta lights alone (the CPU's
+// surface_direct_lighting).
+fn direct_lighting(diffuse: vec3<f32>, specular: vec3<f32>, roughness: f32, albedo: f32, incoming: vec3<f32>, x: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
     let glossy = roughness > 0.0 && any(specular > vec3<f32>(0.0));
     if all(diffuse == vec3<f32>(0.0)) && !glossy {
         return vec3<f32>(0.0);
@@ -21,7 +23,7 @@ fn direct_lighting(diffuse: vec3<f32>, specular: vec3<f32>, roughness: f32, inco
         }
         var f = diffuse / PI * cos_theta;
         if glossy && !is_area_light(light) {
-            f += specular * lobe_density(incoming, normal, roughness, inc.direction);
+            f += compensated(specular, albedo) * ggx_eval(roughness, -incoming, normal, inc.direction);
         }
         sum += light_arriving(i, light, x, true, normal, inc) * f;
     }
@@ -29,25 +31,26 @@ fn direct_lighting(diffuse: vec3<f32>, specular: vec3<f32>, roughness: f32, inco
 }
 
 // The reflective layer's direction (tyndall::materials::Surface::reflect):
-// the mirror direction, or a normalised Phong lobe cosⁿ around it with
-// n = 2/r² − 2; zero vector when the drawn direction is below the surface.
+// the mirror direction, or a GGX lobe's sample (ggx_sample); zero vector
+// when the drawn direction is below the surface.
 fn reflect_layer(roughness: f32, incoming: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
-    let mirror = incoming - 2.0 * dot(incoming, normal) * normal;
     let u = vec2<f32>(next_1d(), next_1d());
     if roughness <= 0.0 {
-        return mirror;
+        return incoming - 2.0 * dot(incoming, normal) * normal;
     }
-    let r2 = max(roughness * roughness, 1e-6);
-    let exponent = max(2.0 / r2 - 2.0, 0.0);
-    let cos_t = pow(u.x, 1.0 / (exponent + 1.0));
-    let sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
-    let phi = 2.0 * PI * u.y;
-    let frame = orthonormal_pair(mirror);
-    let dir = normalize(frame[0] * (sin_t * cos(phi)) + frame[1] * (sin_t * sin(phi)) + mirror * cos_t);
-    if dot(dir, normal) > 0.0 {
-        return dir;
-    }
-    return vec3<f32>(0.0);
+    return ggx_sample(roughness, -incoming, normal, u);
+}
+
+// The single-scattering albedo of material `m`'s GGX lobe at cosine
+// `cos` from its row at cosines (k + 1)/16, linear, held beyond the first
+// and last node (tyndall::materials::albedo_in_row).
+fn material_albedo(m: u32, cos: f32) -> f32 {
+    let x = clamp(cos * 16.0 - 1.0, 0.0, 15.0);
+    let k = min(u32(x), 14u);
+    let fk = x - f32(k);
+    let a = materials[m].albedo[k / 4u][k % 4u];
+    let b = materials[m].albedo[(k + 1u) / 4u][(k + 1u) % 4u];
+    return a * (1.0 - fk) + b * fk;
 }
 
 // The camera path of tyndall::integrators::camera_path::CameraPath::radiance for the
@@ -97,7 +100,8 @@ fn radiance(first: Ray, stratum: u32, strata: u32) -> vec3<f32> {
         let gn = geometric_normal(hit.primitive, x);
         let front = dot(gn, ray.direction) < 0.0;
         let normal = select(-gn, gn, front);
-        let material = materials[primitives[hit.primitive].material];
+        let material_index = primitives[hit.primitive].material;
+        let material = materials[material_index];
         var diffuse = material.color.xyz;
         var specular = vec3<f32>(0.0);
         if material.kind == MATERIAL_EMISSIVE || material.kind == MATERIAL_LAMP_FACE {
@@ -118,7 +122,8 @@ fn radiance(first: Ray, stratum: u32, strata: u32) -> vec3<f32> {
         if material.kind == MATERIAL_OPAQUE {
             specular = material.specular.xyz;
         }
-        result += throughput * direct_lighting(diffuse, specular, material.roughness, ray.direction, x, normal);
+        let albedo = material_albedo(material_index, dot(-ray.direction, normal));
+        result += throughput * direct_lighting(diffuse, specular, material.roughness, albedo, ray.direction, x, normal);
         if all(specular == vec3<f32>(0.0)) || bounces >= params.max_bounces {
             return result;
         }
@@ -127,7 +132,11 @@ fn radiance(first: Ray, stratum: u32, strata: u32) -> vec3<f32> {
             return result;
         }
         bounces++;
-        throughput *= specular;
+        if material.roughness > 0.0 {
+            throughput *= compensated(specular, albedo) * ggx_weight(material.roughness, -ray.direction, normal, direction);
+        } else {
+            throughput *= specular;
+        }
         ray = Ray(offset_origin(x, gn, direction), direction);
     }
     return result;

@@ -110,13 +110,13 @@ fn probe_spherical_rectangle(@builtin(global_invocation_id) id: vec3<u32>) {
     outputs[i] = vec4<f32>(spherical_rectangle_sample(s, vec2<f32>(a.w, b.x)), s.solid_angle);
 }
 
-// in0 = (incoming.xyz, roughness), in1 = (omega.xyz, _) → out.x =
-// lobe_density(incoming, +y, roughness, omega)
+// in0 = (outgoing.xyz, α), in1 = (incident.xyz, _) → out.x =
+// ggx_eval(α, outgoing, +y, incident)
 @compute @workgroup_size(64)
-fn probe_lobe_density(@builtin(global_invocation_id) id: vec3<u32>) {
+fn probe_ggx_eval(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= item_count() { return; }
     let a = inputs[2u * i];
     let b = inputs[2u * i + 1u];
-    outputs[i] = vec4<f32>(lobe_density(a.xyz, vec3<f32>(0.0, 1.0, 0.0), a.w, b.xyz), 0.0, 0.0, 0.0);
+    outputs[i] = vec4<f32>(ggx_eval(a.w, a.xyz, vec3<f32>(0.0, 1.0, 0.0), b.xyz), 0.0, 0.0, 0.0);
 }

@@ -308,28 +308,74 @@ fn triangle_point(v0: vec3<f32>, e1: vec3<f32>, e2: vec3<f32>, u: vec2<f32>) -> 
     return v0 + e1 * (s * (1.0 - u.y)) + e2 * (s * u.y);
 }
 
-// ---- a reflective layer's lobe (tyndall::materials) ----
+// ---- a glossy layer's GGX lobe (tyndall::materials::Ggx) ----
 
-// The Phong exponent of a layer of roughness α: n = 2/α² − 2, at least 0
-// (tyndall::materials::surface's phong_exponent).
-fn phong_exponent(roughness: f32) -> f32 {
-    let r2 = max(roughness * roughness, 1e-6);
-    return max(2.0 / r2 - 2.0, 0.0);
+// The GGX distribution at a microfacet normal of cosine cos_h:
+// α²/(π·(cos²θ_h·(α² − 1) + 1)²).
+fn ggx_distribution(alpha: f32, cos_h: f32) -> f32 {
+    let a2 = alpha * alpha;
+    let d = cos_h * cos_h * (a2 - 1.0) + 1.0;
+    return a2 / (PI * d * d);
 }
 
-// The solid-angle density of a reflective layer's direction `omega` for a
-// ray travelling along `incoming` at unit `normal`: (n + 1)/(2π)·cosⁿ α, α
-// the angle between omega and the mirror direction (up to 90°), 0 below
-// the surface and for a mirror (tyndall::materials::lobe_density).
-fn lobe_density(incoming: vec3<f32>, normal: vec3<f32>, roughness: f32, omega: vec3<f32>) -> f32 {
-    if roughness <= 0.0 || dot(omega, normal) <= 0.0 {
+// Smith's Λ for a direction of cosine cos (> 0): (√(1 + α²·tan²θ) − 1)/2.
+fn ggx_lambda(alpha: f32, cos: f32) -> f32 {
+    let tan2 = max(1.0 - cos * cos, 0.0) / (cos * cos);
+    return 0.5 * (sqrt(1.0 + alpha * alpha * tan2) - 1.0);
+}
+
+// A direction towards the light for light leaving towards `outgoing` at
+// `normal`, for u ∈ [0, 1)²: a visible normal from its spherical cap,
+// `outgoing` reflected about it; the zero vector below the surface
+// (Ggx::sample).
+fn ggx_sample(alpha: f32, outgoing: vec3<f32>, normal: vec3<f32>, u: vec2<f32>) -> vec3<f32> {
+    let frame = orthonormal_pair(normal);
+    let o = vec3<f32>(dot(outgoing, frame[0]), dot(outgoing, frame[1]), dot(outgoing, normal));
+    let o_std = normalize(vec3<f32>(alpha * o.x, alpha * o.y, o.z));
+    let phi = 2.0 * PI * u.x;
+    let z = (1.0 - u.y) * (1.0 + o_std.z) - o_std.z;
+    let sin_t = sqrt(clamp(1.0 - z * z, 0.0, 1.0));
+    let h_std = vec3<f32>(sin_t * cos(phi), sin_t * sin(phi), z) + o_std;
+    let h_raw = vec3<f32>(alpha * h_std.x, alpha * h_std.y, max(h_std.z, 0.0));
+    if dot(h_raw, h_raw) <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let hl = normalize(h_raw);
+    let h = frame[0] * hl.x + frame[1] * hl.y + normal * hl.z;
+    let incident = 2.0 * dot(outgoing, h) * h - outgoing;
+    if dot(incident, normal) > 0.0 {
+        return incident;
+    }
+    return vec3<f32>(0.0);
+}
+
+// The single-scattering lobe's f·cos θ_i for reflectance 1:
+// D(h)·G₂/(4·cos θ_o), 0 below the surface (Ggx::eval).
+fn ggx_eval(alpha: f32, outgoing: vec3<f32>, normal: vec3<f32>, incident: vec3<f32>) -> f32 {
+    let cos_o = dot(outgoing, normal);
+    let cos_i = dot(incident, normal);
+    if cos_o <= 0.0 || cos_i <= 0.0 {
         return 0.0;
     }
-    let mirror = incoming - 2.0 * dot(incoming, normal) * normal;
-    let cos_a = dot(mirror, omega);
-    if cos_a <= 0.0 {
+    let sum = outgoing + incident;
+    if dot(sum, sum) <= 0.0 {
         return 0.0;
     }
-    let n = phong_exponent(roughness);
-    return (n + 1.0) / (2.0 * PI) * pow(cos_a, n);
+    let h = normalize(sum);
+    let g2 = 1.0 / (1.0 + ggx_lambda(alpha, cos_o) + ggx_lambda(alpha, cos_i));
+    return ggx_distribution(alpha, dot(h, normal)) * g2 / (4.0 * cos_o);
+}
+
+// A sample's weight for reflectance 1, G₂/G₁(o) (Ggx::weight).
+fn ggx_weight(alpha: f32, outgoing: vec3<f32>, normal: vec3<f32>, incident: vec3<f32>) -> f32 {
+    let lo = ggx_lambda(alpha, max(dot(outgoing, normal), 1e-7));
+    let li = ggx_lambda(alpha, max(dot(incident, normal), 1e-7));
+    return (1.0 + lo) / (1.0 + lo + li);
+}
+
+// A layer's reflectance f with its multiple scattering restored, its
+// single-scattering albedo e: f·(1 + f·(1 − e)/e)
+// (tyndall::materials::compensated).
+fn compensated(f: vec3<f32>, e: f32) -> vec3<f32> {
+    return f * (vec3<f32>(1.0) + f * ((1.0 - e) / e));
 }

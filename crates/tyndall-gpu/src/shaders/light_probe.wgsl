@@ -174,11 +174,12 @@ fn probe_in_scattered(@builtin(global_invocation_id) id: vec3<u32>) {
     probe_outputs[2u * i + 1u] = vec4<f32>(0.0);
 }
 
-// in0 = (x.xyz, roughness), in1 = (normal.xyz, specular), in2 =
-// (diffuse.rgb, tilt) → out0 = (direct_lighting(diffuse, specular (grey),
-// roughness, incoming, x, normal), _), seen along incoming = normalize(tilt·t
-// − normal), t the first of orthonormal_pair(normal); delta lights only
-// (an area light's points would draw random numbers)
+// in0 = (x.xyz, roughness), in1 = (normal.xyz, n + specular), in2 =
+// (diffuse.rgb, albedo) → out0 = (direct_lighting(diffuse, specular
+// (grey), roughness, albedo, incoming, x, normal), _), seen along
+// incoming = normalize((0.2 + 0.5·n)·t − normal), n an integer, t the
+// first of orthonormal_pair(normal); delta lights only (an area light's
+// points would draw random numbers)
 @compute @workgroup_size(64)
 fn probe_direct_lighting(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
@@ -186,8 +187,10 @@ fn probe_direct_lighting(@builtin(global_invocation_id) id: vec3<u32>) {
     let a = probe_inputs[3u * i];
     let b = probe_inputs[3u * i + 1u];
     let c = probe_inputs[3u * i + 2u];
-    let incoming = normalize(c.w * orthonormal_pair(b.xyz)[0] - b.xyz);
-    probe_outputs[2u * i] = vec4<f32>(direct_lighting(c.xyz, vec3<f32>(b.w), a.w, incoming, a.xyz, b.xyz), 0.0);
+    let tilt = 0.2 + 0.5 * floor(b.w);
+    let specular = b.w - floor(b.w);
+    let incoming = normalize(tilt * orthonormal_pair(b.xyz)[0] - b.xyz);
+    probe_outputs[2u * i] = vec4<f32>(direct_lighting(c.xyz, vec3<f32>(specular), a.w, c.w, incoming, a.xyz, b.xyz), 0.0);
     probe_outputs[2u * i + 1u] = vec4<f32>(0.0);
 }
 

@@ -36,6 +36,8 @@ struct Material {
     alpha: f32,
     color: vec4<f32>,
     specular: vec4<f32>,
+    // The GGX lobe's single-scattering albedo at cosines (k + 1)/16.
+    albedo: array<vec4<f32>, 4>,
 }
 
 // scene_buffers.rs's GpuLight, whose comment says which fields each

@@ -125,11 +125,11 @@ fn march_in_scattered_matches_rust() {
 /// seen from a tilted direction, with the scene's delta lights: each
 /// light's term within `light_arriving`'s tolerance plus cos θ's error
 /// over the direction's rounding δ (δ/cos θ relative) and, for the
-/// layer, `lobe_density`'s (as `formulas.rs` bounds it, plus the mirror
-/// direction's rounding, n·(δ + 8ε)·tan α); the sum's rounding 2nε for n
+/// layer, the GGX lobe's change over that rounding (measured: the Rust
+/// lobe at the light's direction turned by δ + 8ε each way) plus its own
+/// rounding (as `formulas.rs` bounds it); the sum's rounding 2nε for n
 /// terms. A receiver is left out when `comparable` leaves it out for some
-/// light, a light lies within 10⁻³ in cosine of its surface's plane, or
-/// of the lobe's edge.
+/// light, or a light lies within 10⁻³ in cosine of its surface's plane.
 #[test]
 fn direct_lighting_matches_rust() {
     let Some(f) = fixture_of("direct_lighting_matches_rust", &scene_text(false)) else {
@@ -139,8 +139,9 @@ fn direct_lighting_matches_rust() {
     let sigma_t = f64::from(f.scene.fog().expect("fog").sigma_t);
     let diffuse = Vec3::new(0.5, 0.7, 0.9);
     let normals = [Vec3::Y, -Vec3::Y, Vec3::new(0.6, 0.0, 0.8)];
-    // (x, normal, (specular, roughness), tilt of the arriving ray)
-    type Receiver = (Vec3, Vec3, (f32, f32), f32);
+    // (x, normal, (specular, roughness), n: the arriving ray's tilt
+    // 0.2 + 0.5·n, as the probe makes it)
+    type Receiver = (Vec3, Vec3, (f32, f32), u32);
     let receivers: Vec<Receiver> = cases(1, 3000)
         .into_iter()
         .map(|(_, x, _, i)| {
@@ -148,27 +149,31 @@ fn direct_lighting_matches_rust() {
                 0 => (0.4, 0.2 + 0.7 * ((i * 37 % 100) as f32 / 100.0)),
                 _ => (0.0, 0.0),
             };
-            let tilt = 0.2 + 1.5 * ((i * 53 % 100) as f32 / 100.0);
-            (x, normals[i % normals.len()], layer, tilt)
+            (x, normals[i % normals.len()], layer, (i * 53 % 4) as u32)
         })
         .collect();
+    let incoming_of = |normal: Vec3, n: u32| {
+        (normal.any_orthonormal_pair().0 * (0.2 + 0.5 * n as f32) - normal).normalize()
+    };
+    let albedo_of = |roughness: f32, incoming: Vec3, normal: Vec3| {
+        tyndall::materials::Ggx::new(roughness).map_or(1.0, |g| g.albedo(-incoming.dot(normal)))
+    };
     let items: Vec<_> = receivers
         .iter()
-        .map(|(x, n, (specular, roughness), tilt)| {
+        .map(|(x, normal, (specular, roughness), n)| {
+            let albedo = albedo_of(*roughness, incoming_of(*normal, *n), *normal);
             [
                 [x.x, x.y, x.z, *roughness],
-                [n.x, n.y, n.z, *specular],
-                [diffuse.x, diffuse.y, diffuse.z, *tilt],
+                [normal.x, normal.y, normal.z, *n as f32 + *specular],
+                [diffuse.x, diffuse.y, diffuse.z, albedo],
             ]
         })
         .collect();
     let out = evaluate_in_scene(&f.gpu, &f.march, SceneFormula::DirectLighting, &items)
         .expect("GPU evaluation");
     let (mut compared, mut lit, mut glossy) = (0, 0, 0);
-    'receivers: for ((x, normal, (specular, roughness), tilt), o) in receivers.iter().zip(&out) {
-        let incoming = (normal.any_orthonormal_pair().0 * *tilt - *normal).normalize();
-        let mirror = incoming - 2.0 * incoming.dot(*normal) * *normal;
-        let exponent = (2.0 / (roughness * roughness).max(1e-6) - 2.0).max(0.0);
+    'receivers: for ((x, normal, (specular, roughness), n), o) in receivers.iter().zip(&out) {
+        let incoming = incoming_of(*normal, *n);
         let mut bound = DVec3::ZERO;
         let mut terms = 0usize;
         for (l, light) in lights.iter().enumerate() {
@@ -201,23 +206,25 @@ fn direct_lighting_matches_rust() {
                 + 8.0 * EPS;
             bound += (arriving * diffuse / std::f32::consts::PI).as_dvec3() * cos * tolerance;
             if *specular > 0.0 {
-                let cos_a = f64::from(mirror.dot(inc.direction));
-                if cos_a.abs() < 1e-3 {
-                    continue 'receivers;
-                }
-                let density = f64::from(tyndall::materials::lobe_density(
-                    incoming,
-                    *normal,
-                    *roughness,
-                    inc.direction,
-                ));
-                let n = f64::from(exponent);
-                let tan_a = (1.0 - cos_a * cos_a).max(0.0).sqrt() / cos_a.abs();
-                let layer_tolerance = tolerance
-                    + (16.0 + 4.0 * n) * EPS
-                    + n * cos_a.abs().log2().abs() / 2_097_152.0
-                    + n * (delta + 8.0 * EPS) * tan_a;
-                bound += (arriving * *specular).as_dvec3() * density * layer_tolerance;
+                let layer = (Vec3::splat(*specular), *roughness);
+                let f = |w: Vec3| {
+                    f64::from(tyndall::materials::layer_eval(layer, incoming, *normal, w).x)
+                };
+                let value = f(inc.direction);
+                // The lobe's change over the direction's rounding, each
+                // way along two directions across it.
+                let turn = (delta + 8.0 * EPS) as f32;
+                let (a, b) = inc.direction.any_orthonormal_pair();
+                let change = [a, -a, b, -b]
+                    .into_iter()
+                    .map(|t| (f((inc.direction + t * turn).normalize()) - value).abs())
+                    .fold(0.0f64, f64::max);
+                let h = (inc.direction - incoming).normalize();
+                let r2 = f64::from(roughness * roughness);
+                let d = f64::from(h.dot(*normal)).powi(2) * (r2 - 1.0) + 1.0;
+                let own = 2.0 * (2.0 * (2.0 * 8.0 * EPS + EPS) / d + 16.0 * EPS);
+                bound +=
+                    (arriving.as_dvec3() * (value * (tolerance + own) + change)).max(DVec3::ZERO);
             }
             terms += 1;
         }

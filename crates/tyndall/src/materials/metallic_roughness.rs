@@ -88,8 +88,9 @@ mod tests {
 
     /// A coated surface's lobes: the choice of [`Surface::sample`] and of
     /// [`Surface::reflect_layers`] over `choice` ∈ [0, 1) gives each lobe
-    /// its luminance's share, so the weights' expectations are the
-    /// layers' reflectances summed — the albedo, which
+    /// its luminance's share, so the weights' expectations (of mirror
+    /// layers, whose weight is their reflectance) are the layers'
+    /// reflectances summed — the albedo, which
     /// [`MetallicRoughness::surface`] keeps: a clear coat of factor c takes
     /// `0.04·c` off the layers beneath and reflects it itself.
     #[test]
@@ -119,6 +120,17 @@ mod tests {
         ] {
             assert!((a - b).abs().max_element() < 1e-6, "{a} vs {b}");
         }
+        assert!((coated.roughness_of(Lobe::Coat) - 0.04).abs() < 1e-7);
+        // The lobes' choice and weights, on the same layers made mirrors
+        // (whose weight is their reflectance, whatever the direction).
+        let mirrors = Surface {
+            roughness: 0.0,
+            coat: Coat {
+                roughness: 0.0,
+                ..coated.coat
+            },
+            ..coated
+        };
         let n = Vec3::Y;
         let incoming = Vec3::new(0.3, -1.0, 0.2).normalize();
         let k = 10_000;
@@ -126,11 +138,12 @@ mod tests {
         let mut coat_share = 0.0;
         for i in 0..k {
             let choice = (i as f32 + 0.5) / k as f32;
-            // u = (1, 0): the glossy lobes' own mirror directions, above.
-            let s = coated.sample(incoming, n, choice, Vec2::X).unwrap();
+            let s = mirrors.sample(incoming, n, choice, Vec2::ZERO).unwrap();
             all += s.weight / k as f32;
             coat_share += f32::from(u8::from(s.lobe == Lobe::Coat)) / k as f32;
-            let r = coated.reflect_layers(incoming, n, choice, Vec2::X).unwrap();
+            let r = mirrors
+                .reflect_layers(incoming, n, choice, Vec2::ZERO)
+                .unwrap();
             assert_ne!(r.lobe, Lobe::Diffuse);
             reflected += r.weight / k as f32;
         }
@@ -143,10 +156,13 @@ mod tests {
             "{reflected}"
         );
         // Without a coat, the specular layer whatever the choice.
-        let r = uncoated
-            .reflect_layers(incoming, n, 0.999, Vec2::X)
+        let plain = Surface {
+            roughness: 0.0,
+            ..uncoated
+        };
+        let r = plain
+            .reflect_layers(incoming, n, 0.999, Vec2::ZERO)
             .unwrap();
         assert_eq!((r.lobe, r.weight), (Lobe::Specular, uncoated.specular));
-        assert!((coated.roughness_of(Lobe::Coat) - 0.04).abs() < 1e-7);
     }
 }

@@ -12,11 +12,15 @@
 
 mod dielectric;
 mod metallic_roughness;
+mod microfacet;
 mod surface;
 
 pub use dielectric::{dielectric_reflectance, dielectric_scatter, fresnel_dielectric};
 pub use metallic_roughness::{Clearcoat, MetallicRoughness};
-pub use surface::{Coat, Lobe, Surface, SurfaceSample, lobe_density, reflect_lobe};
+pub use microfacet::{
+    ALBEDO_COSINES, ALBEDO_ROUGHNESSES, Ggx, albedo_in_row, albedo_table, compensated,
+};
+pub use surface::{Coat, Lobe, Surface, SurfaceSample, layer_eval, reflect_layer};
 
 use crate::color::Rgb;
 use crate::glass::Glass;
