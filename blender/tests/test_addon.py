@@ -24,8 +24,9 @@ bpy = pytest.importorskip("bpy")
 from tyndall_blender import convert  # noqa: E402
 
 # The committed Cycles render's own error, relMSE(half0, half1)/4
-# (scenes/blender/README.md: 9.5·10⁻⁴ at 2048 spp).
-FOG_ROOM_CYCLES_ERROR = 9.5e-4
+# (scenes/blender/README.md, "Glossy layers and delta lights": 3.5·10⁻³
+# at 2048 spp, the lamps' glossy caustics off the metal box).
+FOG_ROOM_CYCLES_ERROR = 3.5e-3
 
 # The issue's allowance over both renders' own errors.
 SLACK = 5e-3

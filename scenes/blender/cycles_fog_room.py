@@ -57,11 +57,13 @@ Conventions and Cycles settings (as shared/peers/cycles_render.py):
     (roughness 0.2 → alpha 0.04, F82-tint Fresnel, multiscatter GGX);
     --metal glossy replaces it by a Glossy BSDF (multiscatter GGX, same
     roughness, colour = base colour, no Fresnel): constant reflectance, as
-    Tyndall's glossy surface;
+    Tyndall's glossy layer (also a GGX lobe, its multiple scattering
+    restored);
   * --glossy-sees-lamps 0 makes the point, spot and sun lights invisible
-    to glossy rays (Cycles' per-light ray visibility), which is Tyndall's
-    model: its reflective layer reflects what its reflected ray hits, never
-    the light of point, spot and directional lights.
+    to glossy rays (Cycles' per-light ray visibility), which was Tyndall's
+    model until its glossy layers became GGX lobes that reflect delta
+    lights by next event estimation (scenes/blender/README.md, "Glossy
+    layers and delta lights"); the default, 1, is Blender's.
 """
 import argparse
 import json
