@@ -119,11 +119,9 @@ fn blender_export_loads_with_blender_values() {
 fn a_blender_scene_renders_like_cycles_f12() {
     let dir = repo().join("scenes/gltf-samples");
     for name in ["box-floor", "glowing-box-floor"] {
-        renders_like_cycles(
-            name,
-            &dir.join(format!("{name}.glb")),
-            |i| dir.join(format!("{name}-cycles-half{i}.exr")),
-        );
+        renders_like_cycles(name, &dir.join(format!("{name}.glb")), |i| {
+            dir.join(format!("{name}-cycles-half{i}.exr"))
+        });
     }
 }
 
