@@ -124,18 +124,24 @@ impl Ggx {
     }
 
     /// The single-scattering lobe's directional albedo `E(cos θ_o)` for a
-    /// layer of reflectance 1, from [`albedo_table`]: bilinear in the
-    /// cosine (held at the first and last node beyond them) and the
-    /// roughness.
+    /// layer of reflectance 1, from the tabulated rows
+    /// ([`albedo_row_at`]): bilinear in the cosine (held at the first and
+    /// last node beyond them) and the roughness.
     #[inline]
     pub fn albedo(&self, cos_o: f32) -> f32 {
-        let table = albedo_table();
+        let (j, fj) = self.roughness_node();
+        let row = |j: usize| albedo_in_row(albedo_row_at(j), cos_o);
+        row(j) * (1.0 - fj) + row(j + 1) * fj
+    }
+
+    /// The roughness node below this lobe's α and the fraction of the way
+    /// to the next.
+    #[inline]
+    fn roughness_node(&self) -> (usize, f32) {
         let x = (self.alpha * (ALBEDO_ROUGHNESSES - 1) as f32)
             .clamp(0.0, (ALBEDO_ROUGHNESSES - 1) as f32);
         let j = (x as usize).min(ALBEDO_ROUGHNESSES - 2);
-        let fj = x - j as f32;
-        let row = |j: usize| albedo_in_row(&table[j], cos_o);
-        row(j) * (1.0 - fj) + row(j + 1) * fj
+        (j, x - j as f32)
     }
 
     /// The single-scattering albedo at this roughness at each tabulated
@@ -143,12 +149,9 @@ impl Ggx {
     /// [`Ggx::albedo`] does), for renderers that interpolate in the
     /// cosine alone (the GPU's materials).
     pub fn albedo_row(&self) -> [f32; ALBEDO_COSINES] {
-        let table = albedo_table();
-        let x = (self.alpha * (ALBEDO_ROUGHNESSES - 1) as f32)
-            .clamp(0.0, (ALBEDO_ROUGHNESSES - 1) as f32);
-        let j = (x as usize).min(ALBEDO_ROUGHNESSES - 2);
-        let fj = x - j as f32;
-        std::array::from_fn(|k| table[j][k] * (1.0 - fj) + table[j + 1][k] * fj)
+        let (j, fj) = self.roughness_node();
+        let (a, b) = (albedo_row_at(j), albedo_row_at(j + 1));
+        std::array::from_fn(|k| a[k] * (1.0 - fj) + b[k] * fj)
     }
 }
 
@@ -173,41 +176,39 @@ pub fn compensated(f: Rgb, e: f32) -> Rgb {
 }
 
 /// The directional albedo `E(cos θ_o, α)` of the single-scattering GGX
-/// lobe of reflectance 1, by roughness node (rows, α = j/31) and cosine
-/// node (columns, (k + 1)/16): each the mean sample weight `G₂/G₁` over a
-/// 16 × 512 midpoint grid of [`Ggx::sample`]'s numbers (0 where the
-/// direction falls below the surface, a cut across the second number,
-/// which the grid resolves to 1/1024) — the estimator of ∫f·cos dω with
-/// the lobe's own sampling. Computed once, on first use.
-pub fn albedo_table() -> &'static [[f32; ALBEDO_COSINES]; ALBEDO_ROUGHNESSES] {
-    static TABLE: OnceLock<[[f32; ALBEDO_COSINES]; ALBEDO_ROUGHNESSES]> = OnceLock::new();
-    TABLE.get_or_init(|| {
-        std::array::from_fn(|j| {
-            let alpha = j as f32 / (ALBEDO_ROUGHNESSES - 1) as f32;
-            std::array::from_fn(|k| match Ggx::new(alpha) {
-                None => 1.0,
-                Some(lobe) => {
-                    let cos = (k as f32 + 1.0) / ALBEDO_COSINES as f32;
-                    let outgoing = Vec3::new((1.0 - cos * cos).sqrt(), 0.0, cos);
-                    // The weight is smooth in u but for the cut at
-                    // the horizon, across u.y: fine in u.y, coarse in φ.
-                    const NX: usize = 16;
-                    const NY: usize = 512;
-                    let mut sum = 0.0f64;
-                    for a in 0..NX {
-                        for c in 0..NY {
-                            let u = Vec2::new(
-                                (a as f32 + 0.5) / NX as f32,
-                                (c as f32 + 0.5) / NY as f32,
-                            );
-                            if let Some(incident) = lobe.sample(outgoing, Vec3::Z, u) {
-                                sum += f64::from(lobe.weight(outgoing, Vec3::Z, incident));
-                            }
+/// lobe of reflectance 1 at roughness node `j` (α = j/31), at each cosine
+/// node ((k + 1)/16): each the mean sample weight `G₂/G₁` over a 16 × 512
+/// midpoint grid of [`Ggx::sample`]'s numbers (0 where the direction
+/// falls below the surface, a cut across the second number, which the
+/// grid resolves to 1/1024) — the estimator of ∫f·cos dω with the lobe's
+/// own sampling. Each row is computed once, on first use (a few
+/// milliseconds: a scene of one roughness needs two rows).
+pub fn albedo_row_at(j: usize) -> &'static [f32; ALBEDO_COSINES] {
+    static ROWS: [OnceLock<[f32; ALBEDO_COSINES]>; ALBEDO_ROUGHNESSES] =
+        [const { OnceLock::new() }; ALBEDO_ROUGHNESSES];
+    ROWS[j].get_or_init(|| {
+        let alpha = j as f32 / (ALBEDO_ROUGHNESSES - 1) as f32;
+        std::array::from_fn(|k| match Ggx::new(alpha) {
+            None => 1.0,
+            Some(lobe) => {
+                let cos = (k as f32 + 1.0) / ALBEDO_COSINES as f32;
+                let outgoing = Vec3::new((1.0 - cos * cos).sqrt(), 0.0, cos);
+                // The weight is smooth in u but for the cut at the
+                // horizon, across u.y: fine in u.y, coarse in φ.
+                const NX: usize = 16;
+                const NY: usize = 512;
+                let mut sum = 0.0f64;
+                for a in 0..NX {
+                    for c in 0..NY {
+                        let u =
+                            Vec2::new((a as f32 + 0.5) / NX as f32, (c as f32 + 0.5) / NY as f32);
+                        if let Some(incident) = lobe.sample(outgoing, Vec3::Z, u) {
+                            sum += f64::from(lobe.weight(outgoing, Vec3::Z, incident));
                         }
                     }
-                    (sum / (NX * NY) as f64) as f32
                 }
-            })
+                (sum / (NX * NY) as f64) as f32
+            }
         })
     })
 }
@@ -298,9 +299,8 @@ mod tests {
     /// `surface.rs`'s furnace test.)
     #[test]
     fn albedo_table_is_an_albedo() {
-        let table = albedo_table();
-        assert!(table[0].iter().all(|&e| e == 1.0));
-        for row in table {
+        assert!(albedo_row_at(0).iter().all(|&e| e == 1.0));
+        for row in (0..ALBEDO_ROUGHNESSES).map(albedo_row_at) {
             assert!(row.iter().all(|&e| e > 0.0 && e <= 1.0 + 1e-3), "{row:?}");
         }
         let smooth = Ggx::new(0.1).unwrap();

@@ -18,7 +18,7 @@ mod surface;
 pub use dielectric::{dielectric_reflectance, dielectric_scatter, fresnel_dielectric};
 pub use metallic_roughness::{Clearcoat, MetallicRoughness};
 pub use microfacet::{
-    ALBEDO_COSINES, ALBEDO_ROUGHNESSES, Ggx, albedo_in_row, albedo_table, compensated,
+    ALBEDO_COSINES, ALBEDO_ROUGHNESSES, Ggx, albedo_in_row, albedo_row_at, compensated,
 };
 pub use surface::{Coat, Lobe, Surface, SurfaceSample, layer_eval, reflect_layer};
 
