@@ -95,6 +95,10 @@ import bpy
 import numpy as np
 from mathutils import Matrix, Vector
 
+# The floor and Cycles' F12 settings are box_floor.py's (its docstring).
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from box_floor import add_floor, configure  # noqa: E402
+
 WIDTH, HEIGHT = 160, 120
 ASSET_CENTRE = Vector((0.0, 0.0, 0.8))
 EPSILON = 0.01
@@ -194,14 +198,7 @@ def build(asset, max_texture, out_dir, after_import=None):
     if any(o.type == "MESH" for o in bpy.context.scene.objects):
         info["normalise"] = normalise(top_level)
 
-    floor = bpy.data.materials.new("floor")
-    floor.use_nodes = True
-    p = floor.node_tree.nodes["Principled BSDF"]
-    p.inputs["Base Color"].default_value = (0.5, 0.5, 0.5, 1.0)
-    p.inputs["Roughness"].default_value = 1.0
-    p.inputs["Specular IOR Level"].default_value = 0.0
-    bpy.ops.mesh.primitive_plane_add(size=8, location=(0, 0, 0))
-    bpy.context.active_object.data.materials.append(floor)
+    add_floor()
 
     spot = bpy.data.lights.new("spot", "SPOT")
     spot.energy = 400.0
@@ -236,31 +233,6 @@ def build(asset, max_texture, out_dir, after_import=None):
     world.use_nodes = True
     world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
     return sc, info
-
-
-def configure(sc, bounces):
-    sc.render.engine = "CYCLES"
-    cy = sc.cycles
-    cy.device = "CPU"
-    cy.use_adaptive_sampling = False
-    cy.use_denoising = False
-    cy.sample_clamp_direct = 0.0
-    cy.sample_clamp_indirect = 0.0
-    cy.light_sampling_threshold = 0.0
-    cy.use_light_tree = False
-    cy.pixel_filter_type = "BOX"
-    for attr in ("max_bounces", "diffuse_bounces", "glossy_bounces",
-                 "transmission_bounces", "volume_bounces"):
-        setattr(cy, attr, bounces)
-    sc.render.resolution_x = WIDTH
-    sc.render.resolution_y = HEIGHT
-    sc.render.resolution_percentage = 100
-    sc.view_settings.view_transform = "Standard"
-    sc.view_settings.look = "None"
-    ims = sc.render.image_settings
-    ims.file_format = "OPEN_EXR"
-    ims.color_mode = "RGB"
-    ims.color_depth = "32"
 
 
 def render(sc, spp, seed, path):

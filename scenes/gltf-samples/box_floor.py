@@ -30,13 +30,9 @@ import os
 import bpy
 
 
-def build(asset):
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    sc = bpy.context.scene
-    bpy.ops.import_scene.gltf(filepath=asset)
-    for o in bpy.context.selected_objects:
-        if o.parent is None:
-            o.location.z += 0.5
+def add_floor():
+    """The 8 m grey floor at z = 0: Principled, base 0.5, roughness 1,
+    Specular IOR Level 0 (a Lambert surface)."""
     floor = bpy.data.materials.new("floor")
     floor.use_nodes = True
     p = floor.node_tree.nodes["Principled BSDF"]
@@ -45,6 +41,16 @@ def build(asset):
     p.inputs["Specular IOR Level"].default_value = 0.0
     bpy.ops.mesh.primitive_plane_add(size=8, location=(0, 0, 0))
     bpy.context.active_object.data.materials.append(floor)
+
+
+def build(asset):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sc = bpy.context.scene
+    bpy.ops.import_scene.gltf(filepath=asset)
+    for o in bpy.context.selected_objects:
+        if o.parent is None:
+            o.location.z += 0.5
+    add_floor()
 
     spot = bpy.data.lights.new("spot", "SPOT")
     spot.energy = 400.0
@@ -132,4 +138,5 @@ def main():
     print("wrote", args.out_dir)
 
 
-main()
+if __name__ == "__main__":
+    main()

@@ -166,6 +166,40 @@ pub fn uniform_cone_pdf_from_gap(one_minus_cos_max: f32) -> f32 {
     1.0 / (std::f32::consts::TAU * one_minus_cos_max)
 }
 
+/// For tests of densities and lobes: `∫ f(ω) dω` over the hemisphere
+/// about +y by the midpoint rule in cos θ and φ, `k × k` cells.
+#[cfg(test)]
+pub(crate) fn hemisphere_integral(k: usize, f: impl Fn(Vec3) -> f64) -> f64 {
+    let cell = 2.0 * std::f64::consts::PI / (k * k) as f64;
+    let mut total = 0.0;
+    for i in 0..k {
+        let cos = (i as f64 + 0.5) / k as f64;
+        let sin = (1.0 - cos * cos).sqrt();
+        for j in 0..k {
+            let phi = 2.0 * std::f64::consts::PI * (j as f64 + 0.5) / k as f64;
+            let omega = Vec3::new(
+                (sin * phi.cos()) as f32,
+                cos as f32,
+                (sin * phi.sin()) as f32,
+            );
+            total += f(omega) * cell;
+        }
+    }
+    total
+}
+
+/// For tests: point `i` of the R₂ sequence in [0, 1)² (Roberts 2018, the
+/// plastic number's Kronecker sequence), low-discrepancy in both numbers
+/// at once, where a grid's rows would fall together.
+#[cfg(test)]
+pub(crate) fn r2_point(i: usize) -> glam::Vec2 {
+    let g = 1.324_717_957_244_746_f64;
+    glam::Vec2::new(
+        (0.5 + i as f64 / g).fract() as f32,
+        (0.5 + i as f64 / (g * g)).fract() as f32,
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

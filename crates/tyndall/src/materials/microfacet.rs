@@ -216,6 +216,7 @@ pub fn albedo_row_at(j: usize) -> &'static [f32; ALBEDO_COSINES] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sampling::r2_point;
 
     /// The lobe's sampling and density agree, and its value is its
     /// density times its weight: for several roughnesses and views, 16384
@@ -236,12 +237,8 @@ mod tests {
                 let n = 128;
                 let mut rings = [0u32; 8];
                 let mut drawn = 0u32;
-                let g = 1.324_717_957_244_746_f64;
                 for i in 0..n * n {
-                    let u = Vec2::new(
-                        (0.5 + i as f64 / g).fract() as f32,
-                        (0.5 + i as f64 / (g * g)).fract() as f32,
-                    );
+                    let u = r2_point(i);
                     if let Some(d) = lobe.sample(outgoing, Vec3::Z, u) {
                         drawn += 1;
                         rings[((d.z * 8.0) as usize).min(7)] += 1;

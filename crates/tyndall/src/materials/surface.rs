@@ -355,6 +355,7 @@ impl Surface {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sampling::{hemisphere_integral, r2_point};
 
     #[test]
     fn mirror_reflects_about_normal() {
@@ -372,16 +373,9 @@ mod tests {
     fn rough_reflection_stays_near_mirror() {
         let s = Surface::layered(Rgb::ZERO, Rgb::ONE, 0.05);
         let mirror = Vec3::Y;
-        let g = 1.324_717_957_244_746_f64;
         let n = 4096;
         let near = (0..n)
-            .filter_map(|i| {
-                let u = Vec2::new(
-                    (0.5 + i as f64 / g).fract() as f32,
-                    (0.5 + i as f64 / (g * g)).fract() as f32,
-                );
-                s.reflect(-Vec3::Y, Vec3::Y, u)
-            })
+            .filter_map(|i| s.reflect(-Vec3::Y, Vec3::Y, r2_point(i)))
             .filter(|r| r.dot(mirror) > 17f32.to_radians().cos())
             .count();
         assert!(near as f64 > 0.89 * n as f64, "{near} of {n}");
@@ -402,19 +396,9 @@ mod tests {
             for view in [0.0f32, 60.0] {
                 let v = view.to_radians();
                 let incoming = Vec3::new(v.sin(), -v.cos(), 0.0);
-                let k = 500;
-                let mut total = 0.0f64;
-                for i in 0..k {
-                    let cos = (i as f32 + 0.5) / k as f32;
-                    let sin = (1.0 - cos * cos).sqrt();
-                    for j in 0..k {
-                        let phi = 2.0 * PI * (j as f32 + 0.5) / k as f32;
-                        let omega = Vec3::new(sin * phi.cos(), cos, sin * phi.sin());
-                        total +=
-                            f64::from(layer_eval((Rgb::ONE, roughness), incoming, normal, omega).x)
-                                * f64::from(2.0 * PI / (k * k) as f32);
-                    }
-                }
+                let total = hemisphere_integral(500, |omega| {
+                    f64::from(layer_eval((Rgb::ONE, roughness), incoming, normal, omega).x)
+                });
                 assert!(
                     (total - 1.0).abs() < 5e-3,
                     "α {roughness}, {view}°: ∫ = {total}"
@@ -474,18 +458,8 @@ mod tests {
                 < 1e-6
         );
         // ∫ pdf dω over the hemisphere (midpoint rule in cos θ and φ).
-        let k = 200;
-        let mut total = 0.0;
-        for i in 0..k {
-            let cos = (i as f32 + 0.5) / k as f32;
-            let sin = (1.0 - cos * cos).sqrt();
-            for j in 0..k {
-                let phi = 2.0 * PI * (j as f32 + 0.5) / k as f32;
-                let omega = Vec3::new(sin * phi.cos(), cos, sin * phi.sin());
-                total += s.pdf(n, omega) * (2.0 * PI / (k * k) as f32);
-            }
-        }
-        assert!((total - p_d).abs() < 1e-3, "{total} vs {p_d}");
+        let total = hemisphere_integral(200, |omega| f64::from(s.pdf(n, omega)));
+        assert!((total - f64::from(p_d)).abs() < 1e-3, "{total} vs {p_d}");
         assert_eq!(s.eval(n, -Vec3::Y), Rgb::ZERO);
         assert_eq!(Surface::diffuse(Rgb::ZERO).diffuse_probability(), None);
     }
