@@ -109,9 +109,9 @@ impl Surface {
     /// Continues a path by the reflective layers: the specular layer or
     /// the coat, chosen by `choice` with probability proportional to the
     /// luminance of each one's reflectance, its direction by
-    /// [`reflect_lobe`] from `u`. The weight is the chosen layer's
-    /// reflectance over its probability, so that its expectation is the
-    /// layers' sum. `None` if neither reflects or the direction falls
+    /// [`reflect_layer`] from `u`. The weight is the chosen layer's
+    /// ([`reflect_layer`]'s) over its probability, so that its expectation
+    /// is the layers' sum. `None` if neither reflects or the direction falls
     /// below the surface. Without a coat the specular layer is chosen
     /// whatever `choice` is.
     #[inline]
@@ -301,7 +301,7 @@ impl Surface {
     /// layer or coat — is chosen by `choice` with probability proportional
     /// to the luminance of its reflectance ([`Surface::diffuse_probability`]
     /// for the first), the direction from `u` (cosine-distributed, or by
-    /// [`reflect_lobe`] of the layer's roughness). `None` if the surface
+    /// [`reflect_layer`] of the layer's roughness). `None` if the surface
     /// reflects nothing or the reflected direction falls below it.
     #[inline]
     pub fn sample(
