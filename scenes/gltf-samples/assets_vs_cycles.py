@@ -95,9 +95,10 @@ import bpy
 import numpy as np
 from mathutils import Matrix, Vector
 
-# The floor and Cycles' F12 settings are box_floor.py's (its docstring).
+# The floor, the spot and Cycles' F12 settings are box_floor.py's (its
+# docstring).
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from box_floor import add_floor, configure  # noqa: E402
+from box_floor import add_floor, configure, hard_spot  # noqa: E402
 
 WIDTH, HEIGHT = 160, 120
 ASSET_CENTRE = Vector((0.0, 0.0, 0.8))
@@ -200,16 +201,7 @@ def build(asset, max_texture, out_dir, after_import=None):
 
     add_floor()
 
-    spot = bpy.data.lights.new("spot", "SPOT")
-    spot.energy = 400.0
-    spot.shadow_soft_size = 0.0
-    spot.use_soft_falloff = False
-    spot.spot_size = math.radians(50)
-    spot.spot_blend = 0.0
-    obj = bpy.data.objects.new("spot", spot)
-    obj.location = (1.5, -1.0, 3.0)
-    aim(obj, ASSET_CENTRE)
-    sc.collection.objects.link(obj)
+    aim(hard_spot(sc, (1.5, -1.0, 3.0)), ASSET_CENTRE)
 
     point = bpy.data.lights.new("point", "POINT")
     point.energy = 300.0

@@ -43,6 +43,21 @@ def add_floor():
     bpy.context.active_object.data.materials.append(floor)
 
 
+def hard_spot(sc, location):
+    """A hard spot at `location`, linked to `sc`: 400 W, 50° cone, blend
+    0, radius 0, soft falloff off; the caller turns it."""
+    spot = bpy.data.lights.new("spot", "SPOT")
+    spot.energy = 400.0
+    spot.shadow_soft_size = 0.0
+    spot.use_soft_falloff = False
+    spot.spot_size = math.radians(50)
+    spot.spot_blend = 0.0
+    obj = bpy.data.objects.new("spot", spot)
+    obj.location = location
+    sc.collection.objects.link(obj)
+    return obj
+
+
 def build(asset):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     sc = bpy.context.scene
@@ -52,16 +67,8 @@ def build(asset):
             o.location.z += 0.5
     add_floor()
 
-    spot = bpy.data.lights.new("spot", "SPOT")
-    spot.energy = 400.0
-    spot.shadow_soft_size = 0.0
-    spot.use_soft_falloff = False
-    spot.spot_size = math.radians(50)
-    spot.spot_blend = 0.0
-    obj = bpy.data.objects.new("spot", spot)
-    obj.location = (1.5, -1.0, 3.0)
-    obj.rotation_euler = (math.radians(30), 0, math.radians(50))
-    sc.collection.objects.link(obj)
+    spot = hard_spot(sc, (1.5, -1.0, 3.0))
+    spot.rotation_euler = (math.radians(30), 0, math.radians(50))
 
     cam_data = bpy.data.cameras.new("camera")
     cam_data.sensor_fit = "VERTICAL"

@@ -106,14 +106,7 @@ fn alpha_cutouts_are_holes_for_every_ray() {
     );
     assert!((guide.albedo - Rgb::splat(0.8)).abs().max_element() < 1e-6);
 
-    let maps = tyndall::RenderSettings {
-        visibility: tyndall::settings::VisibilityMode::Maps { resolution: 64 },
-        ..desc.settings
-    };
-    assert_eq!(
-        maps.validate(&desc.scene),
-        Err(tyndall::render::RenderError::CoverageNeedsShadowRays)
-    );
+    shadow_maps_are_refused(&desc);
 }
 
 /// `BLEND` is partial coverage: a ray meets the surface with probability
@@ -191,6 +184,11 @@ fn blend_covers_a_fraction_of_every_ray() {
         // Power: the one-number fault moves the mean by 0.011.
         assert!(stderr < 1.5e-3, "the test has no power: {stderr:.1e}");
     }
+    shadow_maps_are_refused(&desc);
+}
+
+/// Shadow maps, which do not see coverage, are refused for `desc`.
+fn shadow_maps_are_refused(desc: &common::Loaded) {
     let maps = tyndall::RenderSettings {
         visibility: tyndall::settings::VisibilityMode::Maps { resolution: 64 },
         ..desc.settings

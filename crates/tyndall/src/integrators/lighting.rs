@@ -233,7 +233,7 @@ pub(crate) fn media_transmittance(
 /// not count), where `w = weight(p_light, ω)` is the caller's MIS weight
 /// for the Lambertian lobe given the light sample's solid-angle density
 /// (`None` for delta lights) and unit direction ω towards it, and
-/// `f_layers` is the glossy layers' `f·cos θ` ([`Surface::layers_eval`])
+/// `f_layers` is the glossy layers' `f·cos θ` ([`Surface::glossy_toward`])
 /// for delta lights alone: their reflected rays find every other light,
 /// and no ray finds a delta light.
 #[allow(clippy::too_many_arguments)]
@@ -253,8 +253,12 @@ pub(crate) fn surface_direct_lighting<K: Keep>(
     weight: impl Fn(Option<f32>, Vec3) -> f32,
 ) -> Gathered<K> {
     let mut sum = Gathered::new();
-    let glossy = surface.has_glossy_layer();
-    if surface.diffuse == Rgb::ZERO && !glossy {
+    // The glossy layers as this viewer sees them, made once for every
+    // delta light (none on a surface without them).
+    let glossy = surface
+        .has_glossy_layer()
+        .then(|| surface.glossy_toward(incoming, normals.shading));
+    if surface.diffuse == Rgb::ZERO && glossy.is_none() {
         return sum;
     }
     for (index, chosen) in lights_at(scene, p, sampler) {
@@ -277,9 +281,10 @@ pub(crate) fn surface_direct_lighting<K: Keep>(
             tracker,
         );
         let lambert = surface.diffuse_brdf() * (cos * weight(p_light, incident.direction));
-        let f = match p_light {
-            None if glossy => {
-                lambert + surface.layers_eval(incoming, normals.shading, incident.direction)
+        let f = match (p_light, &glossy) {
+            (None, Some(layers)) => {
+                let omega = incident.direction;
+                lambert + layers.iter().flatten().map(|l| l.eval(omega)).sum::<Rgb>()
             }
             _ => lambert,
         };

@@ -88,30 +88,22 @@ impl Ggx {
     /// either direction is below the surface.
     #[inline]
     pub fn eval(&self, outgoing: Vec3, normal: Vec3, incident: Vec3) -> f32 {
-        let (cos_o, cos_i) = (outgoing.dot(normal), incident.dot(normal));
-        if cos_o <= 0.0 || cos_i <= 0.0 {
-            return 0.0;
-        }
-        let Some(h) = (outgoing + incident).try_normalize() else {
+        let Some((cos_o, cos_i, cos_h)) = pair_cosines(outgoing, normal, incident) else {
             return 0.0;
         };
         let g2 = 1.0 / (1.0 + self.lambda(cos_o) + self.lambda(cos_i));
-        self.distribution(h.dot(normal)) * g2 / (4.0 * cos_o)
+        self.distribution(cos_h) * g2 / (4.0 * cos_o)
     }
 
     /// The solid-angle density with which [`Ggx::sample`] draws
     /// `incident`: `G₁(o)·D(h)/(4·cos θ_o)`.
     #[inline]
     pub fn pdf(&self, outgoing: Vec3, normal: Vec3, incident: Vec3) -> f32 {
-        let (cos_o, cos_i) = (outgoing.dot(normal), incident.dot(normal));
-        if cos_o <= 0.0 || cos_i <= 0.0 {
-            return 0.0;
-        }
-        let Some(h) = (outgoing + incident).try_normalize() else {
+        let Some((cos_o, _, cos_h)) = pair_cosines(outgoing, normal, incident) else {
             return 0.0;
         };
         let g1 = 1.0 / (1.0 + self.lambda(cos_o));
-        g1 * self.distribution(h.dot(normal)) / (4.0 * cos_o)
+        g1 * self.distribution(cos_h) / (4.0 * cos_o)
     }
 
     /// A sample's weight for a layer of reflectance 1, `f·cos/pdf` =
@@ -153,6 +145,19 @@ impl Ggx {
         let (a, b) = (albedo_row_at(j), albedo_row_at(j + 1));
         std::array::from_fn(|k| a[k] * (1.0 - fj) + b[k] * fj)
     }
+}
+
+/// The cosines to `normal` of `outgoing`, `incident` and their half
+/// vector; `None` where either direction is below the surface (or they
+/// are opposite).
+#[inline]
+fn pair_cosines(outgoing: Vec3, normal: Vec3, incident: Vec3) -> Option<(f32, f32, f32)> {
+    let (cos_o, cos_i) = (outgoing.dot(normal), incident.dot(normal));
+    if cos_o <= 0.0 || cos_i <= 0.0 {
+        return None;
+    }
+    let h = (outgoing + incident).try_normalize()?;
+    Some((cos_o, cos_i, h.dot(normal)))
 }
 
 /// `row` (the albedo at the tabulated cosines) linearly interpolated at

@@ -20,7 +20,7 @@ pub use metallic_roughness::{Clearcoat, MetallicRoughness};
 pub use microfacet::{
     ALBEDO_COSINES, ALBEDO_ROUGHNESSES, Ggx, albedo_in_row, albedo_row_at, compensated,
 };
-pub use surface::{Coat, Lobe, Surface, SurfaceSample, layer_eval, reflect_layer};
+pub use surface::{Coat, GlossyLayer, Lobe, Surface, SurfaceSample, layer_eval, reflect_layer};
 
 use crate::color::Rgb;
 use crate::glass::Glass;

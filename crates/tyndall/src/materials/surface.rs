@@ -17,7 +17,7 @@ use std::f32::consts::{FRAC_1_PI, PI};
 /// course code base's model, which the paper's scenes use): they reflect
 /// what that ray sees (emitters, lit surfaces, fog); a glossy layer
 /// reflects delta lights by next event estimation too
-/// ([`Surface::layers_eval`]).
+/// ([`Surface::glossy_toward`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Surface {
     pub diffuse: Rgb,
@@ -166,24 +166,26 @@ impl Surface {
     }
 
     /// Whether a reflective layer is rough (glossy): the only kind whose
-    /// light from a delta light can be evaluated ([`Surface::layers_eval`]).
+    /// light from a delta light can be evaluated ([`Surface::glossy_toward`]).
     #[inline]
     pub fn has_glossy_layer(&self) -> bool {
         (self.roughness > 0.0 && self.specular.max_element() > 0.0)
             || (self.coat.roughness > 0.0 && self.coat.reflectance > 0.0)
     }
 
-    /// The reflective layers' `f·cos θ` for light arriving from unit
-    /// `omega` at a point seen by a ray travelling along `incoming`, with
-    /// unit `normal` facing it ([`layer_eval`] of each). Next event
-    /// estimation adds it for delta lights, which the layers' reflected
+    /// The glossy layers (specular, coat) as a point seen by a ray
+    /// travelling along `incoming`, with unit `normal` facing it, sees
+    /// them: their `f·cos θ` ([`GlossyLayer::eval`], summed), which next
+    /// event estimation adds for delta lights, that the layers' reflected
     /// rays can never reach; other lights the reflected ray finds, so
-    /// they are left to it. Mirrors (a delta lobe) give 0.
+    /// they are left to it. Mirrors (a delta lobe) are `None`.
     #[inline]
-    pub fn layers_eval(&self, incoming: Vec3, normal: Vec3, omega: Vec3) -> Rgb {
+    pub fn glossy_toward(&self, incoming: Vec3, normal: Vec3) -> [Option<GlossyLayer>; 2] {
         let coat = (Rgb::splat(self.coat.reflectance), self.coat.roughness);
-        layer_eval((self.specular, self.roughness), incoming, normal, omega)
-            + layer_eval(coat, incoming, normal, omega)
+        [
+            GlossyLayer::toward((self.specular, self.roughness), incoming, normal),
+            GlossyLayer::toward(coat, incoming, normal),
+        ]
     }
 
     /// The roughness of the layer `lobe` samples (0 for the Lambertian
@@ -223,26 +225,51 @@ pub fn reflect_layer(
     Some((direction, f * lobe.weight(outgoing, normal, direction)))
 }
 
-/// A glossy layer's `f·cos θ` for light arriving from unit `omega` at a
-/// point seen by a ray travelling along `incoming` ([`reflect_layer`]'s
-/// lobe: the compensated reflectance times [`Ggx::eval`]); 0 for a
-/// mirror, whose lobe is a delta.
-#[inline]
-pub fn layer_eval(
-    (reflectance, roughness): (Rgb, f32),
-    incoming: Vec3,
+/// A glossy layer as a point seen by a ray travelling along `incoming`
+/// sees it: its GGX lobe ([`reflect_layer`]'s) and its reflectance
+/// compensated at the lobe's albedo towards that viewer — what every
+/// light's evaluation at the point shares, made once.
+#[derive(Clone, Copy, Debug)]
+pub struct GlossyLayer {
+    lobe: Ggx,
+    reflectance: Rgb,
+    outgoing: Vec3,
     normal: Vec3,
-    omega: Vec3,
-) -> Rgb {
-    let Some(lobe) = Ggx::new(roughness) else {
-        return Rgb::ZERO;
-    };
-    let outgoing = -incoming;
-    let value = lobe.eval(outgoing, normal, omega);
-    if value <= 0.0 {
-        return Rgb::ZERO;
+}
+
+impl GlossyLayer {
+    /// The layer `(reflectance, roughness)` at unit `normal` seen along
+    /// `incoming`; `None` for a mirror, whose lobe is a delta.
+    #[inline]
+    pub fn toward(
+        (reflectance, roughness): (Rgb, f32),
+        incoming: Vec3,
+        normal: Vec3,
+    ) -> Option<Self> {
+        let lobe = Ggx::new(roughness)?;
+        let outgoing = -incoming;
+        Some(Self {
+            lobe,
+            reflectance: compensated(reflectance, lobe.albedo(outgoing.dot(normal))),
+            outgoing,
+            normal,
+        })
     }
-    compensated(reflectance, lobe.albedo(outgoing.dot(normal))) * value
+
+    /// Its `f·cos θ` for light arriving from unit `omega`: the compensated
+    /// reflectance times [`Ggx::eval`].
+    #[inline]
+    pub fn eval(&self, omega: Vec3) -> Rgb {
+        self.reflectance * self.lobe.eval(self.outgoing, self.normal, omega)
+    }
+}
+
+/// A glossy layer's `f·cos θ` for light arriving from unit `omega` at a
+/// point seen by a ray travelling along `incoming` ([`GlossyLayer::eval`]);
+/// 0 for a mirror.
+#[inline]
+pub fn layer_eval(layer: (Rgb, f32), incoming: Vec3, normal: Vec3, omega: Vec3) -> Rgb {
+    GlossyLayer::toward(layer, incoming, normal).map_or(Rgb::ZERO, |l| l.eval(omega))
 }
 
 /// The lobe of a [`Surface`] a sampled direction came from.
