@@ -143,7 +143,7 @@ fn rays(camera: &Camera, width: u32, height: u32) -> Vec<Ray> {
         for i in 0..width {
             let k = (j * width + i) as usize;
             let film = Vec2::new(i as f32 + spread(2 * k), j as f32 + spread(2 * k + 1));
-            out.push(camera.ray(film));
+            out.push(camera.ray(film, Vec2::ZERO));
         }
     }
     let axes = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
@@ -199,7 +199,7 @@ fn camera_rays_match_rust() {
         .expect("GPU evaluation");
     let (_, _, _, half_extent) = camera.frame();
     for (film, o) in films.iter().zip(&out) {
-        let rust = camera.ray(*film);
+        let rust = camera.ray(*film, Vec2::ZERO);
         let origin = Vec3::new(o[0][0], o[0][1], o[0][2]);
         let direction = Vec3::new(o[1][0], o[1][1], o[1][2]);
         assert_eq!(origin, rust.origin, "film {film}: the origin is copied");

@@ -156,7 +156,7 @@ fn singular_pixels(desc: &Loaded) -> Vec<bool> {
             Light::Spot(s) => s.position,
             _ => continue,
         };
-        let Some(projection) = camera.project(position) else {
+        let Some(projection) = camera.project(position, glam::Vec2::ZERO) else {
             continue;
         };
         let (px, py) = (

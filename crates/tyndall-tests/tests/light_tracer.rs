@@ -22,12 +22,18 @@ const SEEDS: u64 = 6;
 /// A spot shining down through where a sphere may be, onto a box of fog
 /// below it and a floor. The sphere (if any) is outside the fog.
 fn spot_scene(sphere: &str) -> Loaded {
+    spot_scene_seen_by(sphere, "")
+}
+
+/// [`spot_scene`] with `lens` added to its camera table.
+fn spot_scene_seen_by(sphere: &str, lens: &str) -> Loaded {
     scene(&format!(
         r#"
         [camera]
         position = [0, 1.2, 4]
         look_at = [0, 0.8, 0]
         fov_y_deg = 45
+        {lens}
         [render]
         integrator = "volpath"
         [fog]
@@ -127,7 +133,22 @@ fn assert_blocks_agree(what: &str, a: &[(f64, f64)], b: &[(f64, f64)]) {
 /// the connections and the light's emission are measured consistently.
 #[test]
 fn light_tracing_all_paths_matches_volpath() {
-    let desc = spot_scene("");
+    light_tracing_matches_volpath(&spot_scene(""));
+}
+
+/// The same through a thin lens focused in front of the fog: the
+/// connections' lens points and film positions (`Camera::project`) and
+/// the importance the derivation there keeps must measure what the camera
+/// rays through the lens measure, blur included.
+#[test]
+fn light_tracing_all_paths_matches_volpath_through_a_thin_lens() {
+    light_tracing_matches_volpath(&spot_scene_seen_by(
+        "",
+        "aperture_radius = 0.25\nfocus_distance = 2.5",
+    ));
+}
+
+fn light_tracing_matches_volpath(desc: &Loaded) {
     let camera = Camera::new(desc.scene.camera(), W, H);
     let traced = block_stats(|seed| {
         let paths = (W * H) as u64 * 256;
@@ -142,7 +163,7 @@ fn light_tracing_all_paths_matches_volpath() {
         );
         image
     });
-    let camera_paths = block_stats(volpath(&desc, 256));
+    let camera_paths = block_stats(volpath(desc, 256));
     assert_blocks_agree("light tracing vs volpath", &traced, &camera_paths);
 }
 

@@ -74,7 +74,7 @@ pub fn is_valid(camera: &CameraSpec) -> bool {
 mod tests {
     use super::*;
     use glam::Vec3;
-    use tyndall::camera::FieldOfView;
+    use tyndall::camera::{Aperture, FieldOfView};
 
     fn camera() -> CameraSpec {
         CameraSpec {
@@ -82,6 +82,7 @@ mod tests {
             look_at: Vec3::new(0.0, 1.0, 0.0),
             up: Vec3::Y,
             fov: FieldOfView::Vertical(40.0),
+            aperture: Aperture::Pinhole,
         }
     }
 

@@ -31,7 +31,7 @@ use tyndall_load::{demo, native};
 /// hit), which the step count divides; `None` without fog there.
 fn central_fog_length(scene: &Scene) -> Option<f32> {
     let camera = Camera::new(scene.camera(), 2, 2);
-    let ray = camera.ray(glam::Vec2::ONE);
+    let ray = camera.ray(glam::Vec2::ONE, glam::Vec2::ZERO);
     let t_hit = scene
         .geometry()
         .intersect(&ray, f32::INFINITY)

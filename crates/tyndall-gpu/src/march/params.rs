@@ -149,8 +149,13 @@ impl Params {
                 (ESTIMATOR_SINGLE, volume_samples)
             }
         };
-        let (forward, right, up, half_extent) =
-            Camera::new(scene.camera(), settings.width, settings.height).frame();
+        let camera = Camera::new(scene.camera(), settings.width, settings.height);
+        if camera.has_lens() {
+            return Err(GpuError::Unsupported(
+                "a thin-lens camera (depth of field: `aperture_radius`); the CPU renders it".into(),
+            ));
+        }
+        let (forward, right, up, half_extent) = camera.frame();
         let glass = scene.glass();
         let map_resolution = match settings.visibility {
             GpuVisibility::ShadowRays => 0,

@@ -40,7 +40,7 @@ use glam::{Mat4, Vec3};
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use tyndall::camera::{CameraSpec, FieldOfView};
+use tyndall::camera::{Aperture, CameraSpec, FieldOfView};
 use tyndall::color::Rgb;
 use tyndall::description::{LightDesc, Origin, SceneDesc, Sourced};
 use tyndall::lights::{DirectionalLight, PointLight, SpotLight, SpotProfile};
@@ -153,6 +153,7 @@ pub fn load_bytes(
         look_at: Vec3::ZERO,
         up: Vec3::Y,
         fov: FieldOfView::Vertical(DEFAULT_FOV_Y_DEG),
+        aperture: Aperture::Pinhole,
     };
     let mut desc = SceneDesc::new(Sourced::code(placeholder));
     let mut content = add_bytes_to_scene(path, bytes, base_dir, Mat4::IDENTITY, &mut desc)?;
@@ -468,6 +469,7 @@ fn view_of(bounds: Bounds) -> Option<CameraSpec> {
         look_at: center,
         up: Vec3::Y,
         fov: FieldOfView::Vertical(DEFAULT_FOV_Y_DEG),
+        aperture: Aperture::Pinhole,
     })
 }
 
@@ -591,6 +593,7 @@ impl GltfLoader<'_> {
                 look_at: position + forward.normalize(),
                 up: up.normalize(),
                 fov: FieldOfView::Vertical(fov_deg),
+                aperture: Aperture::Pinhole,
             },
             aspect,
             index: camera.index(),

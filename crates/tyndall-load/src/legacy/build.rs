@@ -12,7 +12,7 @@ use crate::source::{SceneError, SourceText};
 use glam::Vec3;
 use std::path::Path;
 use std::sync::Arc;
-use tyndall::camera::{CameraSpec, FieldOfView};
+use tyndall::camera::{Aperture, CameraSpec, FieldOfView};
 use tyndall::color::Rgb;
 use tyndall::description::{LightDesc, Origin, SceneDesc, Sourced};
 use tyndall::glass::{Glass, GlassModel};
@@ -193,6 +193,7 @@ fn default_camera(vertices: &[Vec3], spheres: &[SphereStatement]) -> CameraSpec 
         look_at: center,
         up: Vec3::Y,
         fov: FieldOfView::ShorterSide(20.0),
+        aperture: Aperture::Pinhole,
     }
 }
 

@@ -18,7 +18,7 @@
 
 use crate::source::{SceneError, SourceText};
 use glam::Vec3;
-use tyndall::camera::{CameraSpec, FieldOfView};
+use tyndall::camera::{Aperture, CameraSpec, FieldOfView};
 use tyndall::color::{Rgb, srgb_to_linear};
 use tyndall::limits;
 use tyndall::shapes::Sphere;
@@ -571,6 +571,7 @@ fn perspective_camera(p: &mut Parser, tok: Token) -> Result<CameraSpec, SceneErr
         look_at: look_at.ok_or_else(|| missing("point_of_interest"))?,
         up: up.ok_or_else(|| missing("up"))?,
         fov: FieldOfView::ShorterSide(angle.ok_or_else(|| missing("angle"))?),
+        aperture: Aperture::Pinhole,
     };
     spec.check().map_err(|m| p.error(Some(tok), m))?;
     Ok(spec)

@@ -16,7 +16,7 @@ use std::collections::BTreeMap;
 use std::ops::Range;
 use std::path::Path;
 use std::sync::Arc;
-use tyndall::camera::{CameraSpec, FieldOfView};
+use tyndall::camera::{Aperture, CameraSpec, FieldOfView};
 use tyndall::color::Rgb;
 use tyndall::description::{
     GlassSettings, GroupMember, MeshAttributes, Origin, SceneDesc, Sourced,
@@ -269,11 +269,30 @@ impl Loader<'_> {
     fn camera(&self, desc: &Spanned<CameraTable>) -> Result<CameraSpec, SceneError> {
         let span = desc.span();
         let c = desc.get_ref();
+        let position = Vec3::from_array(c.position);
+        let look_at = Vec3::from_array(c.look_at);
+        // A lens radius of 0 is a pinhole; the focus defaults to the
+        // look-at point's distance.
+        let aperture = match (c.aperture_radius, c.focus_distance) {
+            (None, Some(_)) => {
+                return Err(self.err(
+                    &span,
+                    "focus_distance",
+                    "`focus_distance` needs `aperture_radius` (a pinhole has no focus)",
+                ));
+            }
+            (None, None) | (Some(0.0), _) => Aperture::Pinhole,
+            (Some(radius), focus) => Aperture::ThinLens {
+                radius,
+                focus_distance: focus.unwrap_or_else(|| position.distance(look_at)),
+            },
+        };
         let spec = CameraSpec {
-            position: Vec3::from_array(c.position),
-            look_at: Vec3::from_array(c.look_at),
+            position,
+            look_at,
             up: self.direction(&span, "up", c.up)?,
             fov: FieldOfView::Vertical(c.fov_y_deg),
+            aperture,
         };
         Ok(spec)
     }

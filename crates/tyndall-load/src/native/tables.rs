@@ -76,6 +76,8 @@ pub(super) struct CameraTable {
     #[serde(default = "default_up")]
     pub(super) up: V3,
     pub(super) fov_y_deg: f32,
+    pub(super) aperture_radius: Option<f32>,
+    pub(super) focus_distance: Option<f32>,
 }
 
 pub(super) fn default_up() -> V3 {

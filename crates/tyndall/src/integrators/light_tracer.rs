@@ -236,7 +236,8 @@ impl Tracer<'_> {
                     phase,
                     arriving: ray.direction,
                 };
-                self.connect(x, &scatterer, beta, &mut tracker, splats, counts);
+                let lens = self.lens_sample(sampler);
+                self.connect(x, lens, &scatterer, beta, &mut tracker, splats, counts);
                 let (direction, _) = phase.sample(ray.direction, sampler.next_2d());
                 ray = Ray {
                     origin: x,
@@ -299,7 +300,8 @@ impl Tracer<'_> {
                     if surface.diffuse != Rgb::ZERO {
                         let normals = SurfaceNormals::flat(normal);
                         let diffuse = Scatterer::Surface { surface, normals };
-                        self.connect(p, &diffuse, beta, &mut tracker, splats, counts);
+                        let lens = self.lens_sample(sampler);
+                        self.connect(p, lens, &diffuse, beta, &mut tracker, splats, counts);
                     }
                     // Continue by the lobes, as `volpath` does.
                     if surface.diffuse_probability().is_none() {
@@ -331,21 +333,33 @@ impl Tracer<'_> {
         caustic || self.which == LightPaths::All
     }
 
-    /// Splats the light scattered at `x` towards the camera:
-    /// `β·f·T·W/d²`, f the phase function or `ρ/π·cos` towards the camera,
-    /// T everything between (thin glass, and the media by
-    /// [`media_transmittance`]; zero if blocked).
+    /// The lens point of a connection to the camera (none is drawn for a
+    /// pinhole, so pinhole renders keep their samples).
+    fn lens_sample(&self, sampler: &mut PixelSampler) -> Vec2 {
+        if self.camera.has_lens() {
+            sampler.next_2d()
+        } else {
+            Vec2::ZERO
+        }
+    }
+
+    /// Splats the light scattered at `x` towards the camera through the
+    /// lens point `lens` picks: `β·f·T·W/d²`, f the phase function or
+    /// `ρ/π·cos` towards the camera, T everything between (thin glass,
+    /// and the media by [`media_transmittance`]; zero if blocked), W and d
+    /// from [`Camera::project`].
     #[allow(clippy::too_many_arguments)]
     fn connect(
         &self,
         x: Vec3,
+        lens: Vec2,
         scatterer: &Scatterer,
         beta: Rgb,
         tracker: &mut VolumeTracker,
         splats: &mut Vec<Splat>,
         counts: &mut RayCounts,
     ) {
-        let Some(projection) = self.camera.project(x) else {
+        let Some(projection) = self.camera.project(x, lens) else {
             return;
         };
         let to_camera = projection.to_camera;

@@ -8,7 +8,7 @@
 //! at that key.
 
 use super::{DescError, LightDesc, MediumDesc, Origin, RegionDesc, SceneDesc, ShapeDesc};
-use crate::camera::FieldOfView;
+use crate::camera::{Aperture, FieldOfView};
 use crate::color::Rgb;
 use crate::limits;
 use crate::materials::{Material, Surface};
@@ -235,6 +235,16 @@ impl SceneDesc {
             FieldOfView::RANGE_DEG,
             FieldOfView::RANGE_WORDS,
         )?;
+        if let Aperture::ThinLens {
+            radius,
+            focus_distance,
+        } = camera.aperture
+        {
+            let lengths = (f32::MIN_POSITIVE, limits::MAX_COORDINATE);
+            let words = "a length > 0 within the coordinate limit";
+            item.number("aperture_radius", radius, lengths, words)?;
+            item.number("focus_distance", focus_distance, lengths, words)?;
+        }
         camera.check().or_else(|m| item.fail("look_at", m))
     }
 
