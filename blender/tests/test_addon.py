@@ -123,21 +123,23 @@ def shader_material(name, node_type, **inputs):
 
 
 def lamps_and_materials(texture_path):
-    """A room-less studio: a textured Lambert floor, a diffuse cube, a
-    rectangular area light, a sun, a point light, and an emissive card
-    seen from behind (Cycles' mesh emission is two-sided)."""
+    """A room-less studio: a Lambert floor (textured unless
+    `texture_path` is None), a diffuse cube, a rectangular area light, a
+    sun, a point light, and an emissive card seen from behind (Cycles'
+    mesh emission is two-sided)."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     sc = bpy.context.scene
-    bs.write_png_checker(texture_path)
     floor_mat = bpy.data.materials.new("floor")
     floor_mat.use_nodes = True
     nt = floor_mat.node_tree
     p = nt.nodes["Principled BSDF"]
     p.inputs["Specular IOR Level"].default_value = 0.0
-    tex = nt.nodes.new("ShaderNodeTexImage")
-    tex.image = bpy.data.images.load(texture_path)
-    tex.interpolation = "Linear"
-    nt.links.new(tex.outputs["Color"], p.inputs["Base Color"])
+    if texture_path is not None:
+        bs.write_png_checker(texture_path)
+        tex = nt.nodes.new("ShaderNodeTexImage")
+        tex.image = bpy.data.images.load(texture_path)
+        tex.interpolation = "Linear"
+        nt.links.new(tex.outputs["Color"], p.inputs["Base Color"])
     bpy.ops.mesh.primitive_plane_add(size=6, location=(0, 0, 0))
     bpy.context.active_object.data.materials.append(floor_mat)
 
@@ -338,3 +340,28 @@ def test_light_groups_are_passes_as_cycles_writes_them(out):
         ratio = tyndall[group].reshape(-1, 3).mean(0) / cycles[group].reshape(-1, 3).mean(0)
         print(f"light group {group}: means/Cycles {ratio}")
         assert np.all(np.abs(ratio - 1) < 0.01), f"{group}: pass means / Cycles' = {ratio}"
+
+
+def test_depth_of_field_renders_like_cycles(out):
+    """The lamps scene (its floor untextured) seen through a wide-open
+    lens (f/0.1 at 50 mm: a 25 cm aperture radius) focused on the cube by
+    its focus object: the add-on's thin lens against Cycles'. The same
+    render through a pinhole must fail the check, so the blur is what is
+    measured."""
+    lamps_and_materials(None)
+    sc = bpy.context.scene
+    sc.render.resolution_x, sc.render.resolution_y = 96, 72
+    dof = sc.camera.data.dof
+    dof.use_dof = True
+    dof.aperture_fstop = 0.1
+    dof.focus_object = bpy.data.objects["Cube"]
+    described = convert.describe(bpy.context.evaluated_depsgraph_get(), convert.Settings())
+    lens = described.scene["camera"]
+    assert abs(lens["aperture_radius"] - 0.25) < 1e-6, lens
+    cycles, cycles_error = cycles_pair(out, "dof", 256)
+    rel, own, _ = agree(tyndall_pair(out, "dof", 256), cycles, cycles_error, "depth of field")
+    dof.use_dof = False
+    pinhole = tyndall_pair(out, "pinhole", 256)
+    sharp = bs.rel_mse((pinhole[0] + pinhole[1]) / 2, cycles)
+    print(f"a pinhole against Cycles' depth of field: relMSE {sharp:.3g}")
+    assert sharp > own + cycles_error + SLACK, f"the pinhole passes too (relMSE {sharp})"

@@ -32,7 +32,9 @@ Units and conventions (each checked against Cycles by tests/):
   Scatter, Volume Absorption, their sum, or Principled Volume) is the
   homogeneous fog that fills all space.
 * The camera: perspective, its vertical field of view from the lens,
-  sensor and sensor fit.
+  sensor and sensor fit; with depth of field, a thin lens of radius
+  lens/(2·f-stop) focused at the focus distance (or the focus object's
+  distance along the view axis), as Cycles reads it.
 """
 
 from __future__ import annotations
@@ -174,8 +176,6 @@ class _Converter:
             raise ConversionError(
                 f"camera '{cam.name}': only perspective cameras are rendered (it is {data.type.lower()})"
             )
-        if data.dof.use_dof:
-            self.warn(f"camera '{cam.name}': depth of field is not rendered yet (a pinhole is)")
         if data.shift_x != 0.0 or data.shift_y != 0.0:
             self.warn(f"camera '{cam.name}': lens shift is ignored")
         r = self.scene.render
@@ -187,12 +187,37 @@ class _Converter:
         position = m[:3, 3]
         forward = -m[:3, 2]
         up = m[:3, 1]
-        return {
+        table = {
             "position": to_y_up(position),
             "look_at": to_y_up(position + forward),
             "up": to_y_up(up),
             "fov_y_deg": math.degrees(fov_y),
         }
+        if data.dof.use_dof:
+            table.update(self.thin_lens(cam, data, m))
+        return table
+
+    def thin_lens(self, cam, data, m: np.ndarray) -> Dict[str, float]:
+        """The camera table's lens keys for Blender's depth of field, as
+        Cycles reads it: aperture radius = lens/(2·f-stop) (lens in mm,
+        so ·10⁻³ m), the focus distance that of the focus object along the
+        view axis when there is one."""
+        dof = data.dof
+        radius = data.lens * 1e-3 / (2.0 * max(float(dof.aperture_fstop), 1e-5))
+        if dof.focus_object is not None:
+            target = _matrix(dof.focus_object.evaluated_get(self.depsgraph).matrix_world)[:3, 3]
+            axis = m[:3, 2] / np.linalg.norm(m[:3, 2])
+            focus = abs(float(np.dot(axis, m[:3, 3] - target)))
+        else:
+            focus = float(dof.focus_distance)
+        if focus <= 0.0:
+            self.warn(f"camera '{cam.name}': its focus distance is 0, so depth of field is left out")
+            return {}
+        if dof.aperture_blades >= 3:
+            self.warn(f"camera '{cam.name}': its {dof.aperture_blades}-blade aperture is rendered round")
+        if abs(float(dof.aperture_ratio) - 1.0) > 1e-6:
+            self.warn(f"camera '{cam.name}': its aperture ratio is ignored (a round aperture)")
+        return {"aperture_radius": radius, "focus_distance": focus}
 
     # -- meshes ------------------------------------------------------------
 
