@@ -98,6 +98,7 @@ class _Converter:
         self.material_keys: Dict[Optional[str], str] = {}
         self.shapes: List[Dict[str, Any]] = []
         self.lights: List[Dict[str, Any]] = []
+        self.media: List[Dict[str, Any]] = []
         # The view layer's light groups: Cycles renders only these.
         view_layer = getattr(depsgraph, "view_layer", None)
         self.light_groups = {g.name for g in getattr(view_layer, "lightgroups", ())}
@@ -129,7 +130,7 @@ class _Converter:
             elif obj.type == "LIGHT":
                 self.light_object(obj, matrix)
             elif obj.type == "VOLUME":
-                self.warn(f"object '{obj.name}': Volume objects are not converted yet; it is left out")
+                self.volume_object(obj, matrix)
         environment, fog = self.world()
         if environment is not None:
             group = self.light_group(self.scene.world, f"world '{self.scene.world.name}'")
@@ -145,6 +146,8 @@ class _Converter:
             scene["shapes"] = self.shapes
         if self.lights:
             scene["lights"] = self.lights
+        if self.media:
+            scene["media"] = self.media
         return Description(scene, self.warnings)
 
     def resolution(self) -> Tuple[int, int]:
@@ -440,6 +443,113 @@ class _Converter:
             )
         return float(socket.default_value)
 
+    # -- volume objects ----------------------------------------------------
+
+    def volume_object(self, obj, matrix: np.ndarray) -> None:
+        """A Volume object (an OpenVDB file, or a frame of a sequence as a
+        simulation cache writes them) shaded by a Principled Volume, as a
+        `[[media]]` volume with a "vdb" density (volpath renders it)."""
+        where = f"object '{obj.name}'"
+        grids = obj.data.grids
+        if not grids.load():
+            self.warn(f"{where}: its OpenVDB file could not be read ({grids.error_message}); it is left out")
+            return
+        path = os.path.abspath(grids.frame_filepath)
+        names = {grid.name for grid in grids}
+        material = obj.active_material
+        shading = self.volume_shading(material, where)
+        if shading is None:
+            return
+        grid = shading.pop("grid")
+        if grid not in names:
+            self.warn(f"{where}: its density attribute '{grid}' is not a grid of {path}; it is left out")
+            return
+        medium: Dict[str, Any] = {"density": "vdb", "file": path, "grid": grid}
+        medium.update(shading)
+        temperature = medium.get("temperature_grid")
+        if temperature is not None and temperature not in names:
+            self.warn(f"{where}: its temperature attribute '{temperature}' is not a grid of {path}; no blackbody emission")
+            for key in ("temperature_grid", "temperature_scale", "blackbody_law", "blackbody_intensity", "blackbody_tint"):
+                medium.pop(key, None)
+        emission = medium.get("emission_grid")
+        if emission is not None and emission not in names:
+            self.warn(f"{where}: its emission attribute '{emission}' is not a grid of {path}; no emission")
+            medium.pop("emission_grid")
+            medium.pop("emission")
+        medium.update(self.placement(where, matrix))
+        self.media.append(medium)
+
+    def volume_shading(self, material, where: str) -> Optional[Dict[str, Any]]:
+        """The medium keys of a volume material's Principled Volume (no
+        material: Cycles' default volume, a Principled Volume with its
+        defaults), with "grid" the density attribute; None if it cannot
+        be rendered (warned)."""
+        if material is None:
+            return {"grid": "density", "sigma_t": 1.0, "albedo": 0.5, "g": 0.0}
+        where = f"material '{material.name}'"
+        output = material.node_tree.get_output_node("CYCLES") if material.node_tree is not None else None
+        volume = output.inputs["Volume"] if output is not None else None
+        if volume is None or not volume.is_linked:
+            self.warn(f"{where}: it has no volume shader; the volume is left out")
+            return None
+        node = volume.links[0].from_node
+        if node.bl_idname != "ShaderNodeVolumePrincipled":
+            self.warn(f"{where}: the {node.bl_label} volume node is not supported (use Principled Volume); the volume is left out")
+            return None
+        inputs = node.inputs
+        density = self.value(material, inputs["Density"])
+        c = np.array(self.colour(material, inputs["Color"]))
+        a = np.array(self.colour(material, inputs["Absorption Color"]))
+        sigma_t = density * (c + principled_absorption(c, a))
+        albedo = np.divide(c * density, sigma_t, out=np.zeros(3), where=sigma_t > 0)
+        table: Dict[str, Any] = {
+            "grid": inputs["Density Attribute"].default_value or "density",
+            "sigma_t": [float(x) for x in sigma_t],
+            "albedo": [float(x) for x in np.clip(albedo, 0.0, 1.0)],
+            "g": self.value(material, inputs["Anisotropy"]),
+        }
+        if inputs["Color Attribute"].default_value:
+            self.warn(f"{where}: its colour attribute '{inputs['Color Attribute'].default_value}' is ignored")
+        strength = inputs["Emission Strength"]
+        emission_colour = self.colour(material, inputs["Emission Color"])
+        if strength.is_linked:
+            source = strength.links[0].from_node
+            if source.bl_idname == "ShaderNodeAttribute" and source.attribute_name:
+                # Cycles: j = attribute × Emission Color per unit length.
+                table["emission"] = emission_colour
+                table["emission_grid"] = source.attribute_name
+            else:
+                self.warn(f"{where}: the {source.bl_label} node into Emission Strength is not supported; no emission")
+        elif strength.default_value > 0.0:
+            self.warn(
+                f"{where}: a constant Emission Strength is not rendered (drive it by a grid's Attribute node)"
+            )
+        intensity = self.value(material, inputs["Blackbody Intensity"])
+        if intensity > 0.0:
+            table["temperature_grid"] = inputs["Temperature Attribute"].default_value or "temperature"
+            table["temperature_scale"] = self.value(material, inputs["Temperature"])
+            table["blackbody_law"] = "cycles"
+            table["blackbody_intensity"] = min(1.0, intensity)
+            table["blackbody_tint"] = self.colour(material, inputs["Blackbody Tint"])
+        return table
+
+    def placement(self, where: str, matrix: np.ndarray) -> Dict[str, Any]:
+        """A medium's `translate`, `scale` and `rotate_deg` for the object
+        transform `matrix` after Blender's Z-up to Tyndall's Y-up."""
+        linear = Z_UP_TO_Y_UP @ matrix[:3, :3]
+        scale = np.linalg.norm(linear, axis=0)
+        rotation = linear / scale
+        if np.linalg.det(rotation) < 0:
+            scale[0] = -scale[0]
+            rotation[:, 0] = -rotation[:, 0]
+        if np.abs(rotation.T @ rotation - np.eye(3)).max() > 1e-4:
+            self.warn(f"{where}: its transform shears; it is placed by the nearest scale and rotation")
+        return {
+            "translate": to_y_up(matrix[:3, 3]),
+            "scale": [float(x) for x in scale],
+            "rotate_deg": [math.degrees(a) for a in euler_xyz(rotation)],
+        }
+
     # -- lights ------------------------------------------------------------
 
     def light_object(self, obj, matrix: np.ndarray) -> None:
@@ -607,8 +717,7 @@ class _Converter:
             a = colour("Absorption Color")
             if float(inputs["Emission Strength"].default_value) > 0 or float(inputs["Blackbody Intensity"].default_value) > 0:
                 self.warn(f"{where}: the World volume's emission is not rendered")
-            sigma_a = density * np.maximum(1.0 - c, 0.0) * np.maximum(1.0 - a, 0.0)
-            return c * density, sigma_a, float(inputs["Anisotropy"].default_value)
+            return c * density, principled_absorption(c, a) * density, float(inputs["Anisotropy"].default_value)
         if node.bl_idname == "ShaderNodeAddShader":
             parts = [s.links[0].from_node for s in inputs if s.is_linked]
             total_s, total_a, weighted_g = zero.copy(), zero.copy(), 0.0
@@ -623,6 +732,28 @@ class _Converter:
             return total_s, total_a, g
         self.warn(f"{where}: the {node.bl_label} volume node is not supported; no fog")
         return None
+
+
+def principled_absorption(colour: np.ndarray, absorption_colour: np.ndarray) -> np.ndarray:
+    """Principled Volume's absorption per unit density, as Cycles' kernel
+    computes it (svm_node_principled_volume): max(1 − c, 0)·max(1 − √a, 0)
+    for Color c and Absorption Color a."""
+    root = np.sqrt(np.maximum(absorption_colour, 0.0))
+    return np.maximum(1.0 - colour, 0.0) * np.maximum(1.0 - root, 0.0)
+
+
+def euler_xyz(rotation: np.ndarray) -> Tuple[float, float, float]:
+    """Angles (α, β, γ) in radians with rotation = Rz(γ)·Ry(β)·Rx(α): X
+    first, as Tyndall's `rotate_deg` applies them."""
+    beta = math.asin(max(-1.0, min(1.0, -float(rotation[2, 0]))))
+    if abs(float(rotation[2, 0])) < 1.0 - 1e-9:
+        alpha = math.atan2(float(rotation[2, 1]), float(rotation[2, 2]))
+        gamma = math.atan2(float(rotation[1, 0]), float(rotation[0, 0]))
+    else:
+        # Gimbal lock: only α ∓ γ is defined; take γ = 0.
+        alpha = math.atan2(-float(rotation[1, 2]), float(rotation[1, 1]))
+        gamma = 0.0
+    return alpha, beta, gamma
 
 
 # The names a Tyndall light group may take (docs/scene-format.md).
