@@ -25,19 +25,6 @@ from make_fog_room import light as lamp  # noqa: E402,F401
 from side_by_side import read_exr  # noqa: E402,F401
 
 
-def write_float_image(path, rgb, file_format):
-    """Writes H×W×3 linear `rgb` (row 0 at the top) as OPEN_EXR or HDR."""
-    h, w, _ = rgb.shape
-    image = bpy.data.images.new(os.path.basename(path), w, h, alpha=True, float_buffer=True)
-    pixels = np.ones((h, w, 4), np.float32)
-    pixels[:, :, :3] = rgb[::-1]
-    image.pixels.foreach_set(pixels.ravel())
-    image.filepath_raw = path
-    image.file_format = file_format
-    image.save()
-    bpy.data.images.remove(image)
-
-
 def render(out_dir, name, animation=False):
     """Renders the current scene with its engine to OUT_DIR/NAME.exr
     (float32 RGB) and returns the image; with `animation`, every frame

@@ -6,6 +6,14 @@ Blender add-on's tests (blender/tests)."""
 import bpy
 
 
+def set_present(owner, **values):
+    """Sets each of `values` that `owner` has: Cycles 4.5 and 5.0 differ
+    (5.0 has no `feature_set`, and finds homogeneous volumes itself)."""
+    for name, value in values.items():
+        if hasattr(owner, name):
+            setattr(owner, name, value)
+
+
 def unbiased(sc, spp, bounces, threads):
     """Cycles on the CPU with `spp` samples a pass, `bounces` for every
     kind of bounce (0: direct light and single scattering), `threads`
@@ -14,7 +22,7 @@ def unbiased(sc, spp, bounces, threads):
     sc.render.engine = "CYCLES"
     cy = sc.cycles
     cy.device = "CPU"
-    cy.feature_set = "SUPPORTED"
+    set_present(cy, feature_set="SUPPORTED")
     cy.shading_system = False
     cy.samples = spp
     cy.use_animated_seed = False
@@ -77,5 +85,5 @@ def world_fog(sc, density, albedo, g):
         links.new(absorb.outputs[0], add.inputs[1])
         links.new(add.outputs[0], nodes["World Output"].inputs["Volume"])
         world.cycles.volume_sampling = "MULTIPLE_IMPORTANCE"
-        world.cycles.homogeneous_volume = True
+        set_present(world.cycles, homogeneous_volume=True)
     return world

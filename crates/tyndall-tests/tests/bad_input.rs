@@ -70,15 +70,26 @@ fn bad_thin_lens() {
     for (lens, line, key) in [
         ("aperture_radius = -0.1", 5, "aperture_radius"),
         ("aperture_radius = nan", 5, "aperture_radius"),
-        ("aperture_radius = 0.1\nfocus_distance = 0", 6, "focus_distance"),
-        ("aperture_radius = 0.1\nfocus_distance = inf", 6, "focus_distance"),
+        (
+            "aperture_radius = 0.1\nfocus_distance = 0",
+            6,
+            "focus_distance",
+        ),
+        (
+            "aperture_radius = 0.1\nfocus_distance = inf",
+            6,
+            "focus_distance",
+        ),
         ("focus_distance = 3", 5, "needs `aperture_radius`"),
     ] {
         let e = native_error(&GOOD.replace("fov_y_deg = 40", &format!("fov_y_deg = 40\n{lens}")));
         assert_error(&e, line, key);
     }
     // A radius of 0 is a pinhole, whatever the focus.
-    let pinhole = GOOD.replace("fov_y_deg = 40", "fov_y_deg = 40\naperture_radius = 0\nfocus_distance = 2");
+    let pinhole = GOOD.replace(
+        "fov_y_deg = 40",
+        "fov_y_deg = 40\naperture_radius = 0\nfocus_distance = 2",
+    );
     common::parse_native(&SourceText::new("scene.toml", &pinhole)).expect("a pinhole");
 }
 

@@ -118,7 +118,10 @@ fn a_sphere_before_the_focus_blurs_into_its_circle_of_confusion() {
             }
         }
     }
-    assert!(plateau >= 20 && outside > 3000 && inside > 300, "{plateau} {outside} {inside}");
+    assert!(
+        plateau >= 20 && outside > 3000 && inside > 300,
+        "{plateau} {outside} {inside}"
+    );
     // Each sample is L or 0 (a Bernoulli draw of the share p), so the
     // plateau's mean has a relative standard error of at most
     // √((1 − p)/(p·n)) over its n = pixels·spp samples (stratified lens

@@ -293,8 +293,8 @@ impl Camera {
                 origin + d * (focus_distance / z) - self.position
             }
         };
-        let plane = Vec2::new(on_plane.dot(self.right), on_plane.dot(self.up))
-            / on_plane.dot(self.forward);
+        let plane =
+            Vec2::new(on_plane.dot(self.right), on_plane.dot(self.up)) / on_plane.dot(self.forward);
         let ndc = Vec2::new(plane.x / self.half_extent.x, -plane.y / self.half_extent.y);
         let film = (ndc + Vec2::ONE) * 0.5 * self.resolution;
         if !(film.cmpge(Vec2::ZERO).all() && film.cmplt(self.resolution).all()) {
@@ -371,7 +371,10 @@ mod tests {
             }
         }
         assert!((integral - 1.0).abs() < 1e-3, "{integral}");
-        assert!(cam.project(Vec3::new(0.3, 1.0, 6.0), Vec2::ZERO).is_none(), "behind");
+        assert!(
+            cam.project(Vec3::new(0.3, 1.0, 6.0), Vec2::ZERO).is_none(),
+            "behind"
+        );
     }
 
     /// Through a thin lens, `project` inverts `ray` for every lens point;
@@ -405,7 +408,11 @@ mod tests {
                 assert!(ray.origin.distance(Vec3::new(0.0, 1.0, 5.0)) <= radius * 1.0001);
                 for t in [2.5, 7.0] {
                     let p = cam.project(ray.at(t), lens).unwrap();
-                    assert!((p.film - film).length() < 2e-3, "{film} {lens} → {}", p.film);
+                    assert!(
+                        (p.film - film).length() < 2e-3,
+                        "{film} {lens} → {}",
+                        p.film
+                    );
                     assert!((p.distance - t).abs() < 1e-4);
                     assert!((p.to_camera + ray.direction).length() < 1e-5);
                 }
@@ -425,7 +432,10 @@ mod tests {
         let pixel_on_focus_plane = 2.0 * focus * 20f32.to_radians().tan() / 100.0;
         let expected = 2.0 * radius * (z - focus).abs() / z / pixel_on_focus_plane;
         let measured = (right - left).length();
-        assert!((measured - expected).abs() < 1e-3 * expected, "{measured} vs {expected}");
+        assert!(
+            (measured - expected).abs() < 1e-3 * expected,
+            "{measured} vs {expected}"
+        );
         assert!(
             Aperture::ThinLens {
                 radius: 0.0,
