@@ -503,3 +503,38 @@ def test_a_moved_and_scaled_volume_object_renders_the_same(out):
     # mean's: the expected relMSE between them is 3·own. Twice that
     # bounds the estimate's own scatter; a misplaced flame is ~1.
     assert rel <= 2 * 3 * own, f"relMSE {rel} over 6 × {own}"
+
+
+def test_an_object_without_a_material_renders_as_cycles_default(out):
+    """A plane with no material under a point light. Cycles' default
+    surface is a grey Diffuse BSDF up to Blender 4.5 and a default
+    Principled BSDF from 5.0 (their means differ by 4 %). In the running
+    Blender, Cycles renders the bare plane exactly as the plane with that
+    material, and so must the add-on (the same image). How Tyndall's
+    principled material differs from Cycles' Principled BSDF (2 % here,
+    Fresnel at normal incidence only) is another matter, measured in
+    scenes/gltf-samples; in Blender 4.5 the plane is also checked against
+    Cycles."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sc = bpy.context.scene
+    bpy.ops.mesh.primitive_plane_add(size=6)
+    plane = bpy.context.active_object
+    bs.lamp(sc, "POINT", "key", 60.0, (-1.0, -1.0, 2.0), shadow_soft_size=0.0)
+    bs.camera(sc, (0, -5, 3), (math.radians(60), 0, 0), 50.0)
+    sc.world = None
+    sc.render.resolution_x, sc.render.resolution_y = 32, 24
+    bare_cycles, cycles_error = cycles_pair(out, "bare", 64)
+    bare_tyndall = tyndall_pair(out, "bare", 16)
+    if bpy.app.version < (5, 0, 0):
+        default = shader_material("default", "ShaderNodeBsdfDiffuse", Color=(0.8, 0.8, 0.8, 1))
+        agree(bare_tyndall, bare_cycles, cycles_error, "no material, Blender 4.5")
+    else:
+        default = bpy.data.materials.new("default")
+        default.use_nodes = True
+    plane.data.materials.append(default)
+    dressed_cycles, _ = cycles_pair(out, "dressed", 64)
+    dressed_tyndall = tyndall_pair(out, "dressed", 16)
+    print(f"Blender {bpy.app.version_string}: Cycles bare/dressed relMSE {bs.rel_mse(bare_cycles, dressed_cycles):.3g}")
+    assert bs.rel_mse(bare_cycles, dressed_cycles) < 1e-12, "Cycles' default surface is not that material"
+    for bare, dressed in zip(bare_tyndall, dressed_tyndall):
+        assert np.array_equal(bare, dressed), "the add-on's default surface is not Blender's"

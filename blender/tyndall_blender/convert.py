@@ -86,8 +86,9 @@ def _matrix(m) -> np.ndarray:
 
 
 class _Converter:
-    def __init__(self, depsgraph, settings: Settings):
+    def __init__(self, depsgraph, settings: Settings, blender_version: Tuple[int, int, int]):
         self.depsgraph = depsgraph
+        self.blender_version = blender_version
         # The scene as evaluated at the depsgraph's frame (animated
         # cameras, lights and World values).
         self.scene = depsgraph.scene_eval
@@ -318,7 +319,7 @@ class _Converter:
     def material_table(self, material) -> Dict[str, Any]:
         grey = {"type": "diffuse", "reflectance": 0.8}
         if material is None:
-            return grey
+            return default_surface(self.blender_version)
         if not material.use_nodes or material.node_tree is None:
             return {"type": "diffuse", "reflectance": [float(c) for c in material.diffuse_color[:3]]}
         output = material.node_tree.get_output_node("CYCLES") or material.node_tree.get_output_node("ALL")
@@ -734,6 +735,17 @@ class _Converter:
         return None
 
 
+def default_surface(blender_version: Tuple[int, int, int]) -> Dict[str, Any]:
+    """The material Cycles gives an object without one: a Diffuse BSDF of
+    0.8 up to Blender 4.5, a default Principled BSDF from Blender 5.0
+    (base colour 0.8, roughness 0.5, IOR 1.5, Specular IOR Level 0.5:
+    F0 = 0.04·2·0.5); tests/test_addon.py checks it against Cycles."""
+    if blender_version < (5, 0, 0):
+        return {"type": "diffuse", "reflectance": 0.8}
+    r0 = ((1.5 - 1.0) / (1.5 + 1.0)) ** 2
+    return {"type": "principled", "base_color": 0.8, "metallic": 0.0, "roughness": 0.5, "f0": r0 * 2.0 * 0.5}
+
+
 def principled_absorption(colour: np.ndarray, absorption_colour: np.ndarray) -> np.ndarray:
     """Principled Volume's absorption per unit density, as Cycles' kernel
     computes it (svm_node_principled_volume): max(1 − c, 0)·max(1 − √a, 0)
@@ -784,4 +796,6 @@ def describe(depsgraph, settings: Settings) -> Description:
 
     Raises ConversionError for a scene that cannot be rendered (no
     camera, a camera that is not perspective)."""
-    return _Converter(depsgraph, settings).describe()
+    import bpy
+
+    return _Converter(depsgraph, settings, tuple(bpy.app.version)).describe()
