@@ -538,3 +538,81 @@ def test_an_object_without_a_material_renders_as_cycles_default(out):
     assert bs.rel_mse(bare_cycles, dressed_cycles) < 1e-12, "Cycles' default surface is not that material"
     for bare, dressed in zip(bare_tyndall, dressed_tyndall):
         assert np.array_equal(bare, dressed), "the add-on's default surface is not Blender's"
+
+
+def quad_object(name, corners, material):
+    """A one-quad mesh object through four corners (Blender coordinates)."""
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata([tuple(c) for c in corners], [], [(0, 1, 2, 3)])
+    mesh.materials.append(material)
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def stained_glass_window():
+    """A wall at y = 1 with a 1.2 m square window of four coloured panes
+    (Transparent BSDFs), a low sun behind it throwing their colours into
+    World fog and onto a floor, seen from inside."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sc = bpy.context.scene
+    grey = shader_material("wall", "ShaderNodeBsdfDiffuse", Color=(0.6, 0.6, 0.6, 1))
+    bpy.ops.mesh.primitive_plane_add(size=8, location=(0, -2, 0))
+    bpy.context.active_object.data.materials.append(grey)
+    # The wall around the hole x ∈ [−0.6, 0.6], z ∈ [0.8, 2.0].
+    for name, (x0, x1, z0, z1) in {
+        "below": (-4, 4, 0, 0.8),
+        "above": (-4, 4, 2.0, 4),
+        "left": (-4, -0.6, 0.8, 2.0),
+        "right": (0.6, 4, 0.8, 2.0),
+    }.items():
+        quad_object(name, [(x0, 1, z0), (x1, 1, z0), (x1, 1, z1), (x0, 1, z1)], grey)
+    colours = [(0.9, 0.15, 0.1), (0.1, 0.3, 0.9), (0.95, 0.8, 0.1), (0.1, 0.8, 0.25)]
+    for i, colour in enumerate(colours):
+        x0, z0 = -0.6 + 0.6 * (i % 2), 0.8 + 0.6 * (i // 2)
+        pane = shader_material(f"pane{i}", "ShaderNodeBsdfTransparent", Color=(*colour, 1))
+        quad_object(f"pane{i}", [(x0, 1, z0), (x0 + 0.6, 1, z0), (x0 + 0.6, 1, z0 + 0.6), (x0, 1, z0 + 0.6)], pane)
+    # From behind the wall (+y), 35° above the horizon, down into the room.
+    bs.lamp(sc, "SUN", "sun", 4.0, (0, 5, 5), rotation=(math.radians(-55), 0, math.radians(180)), angle=0.0)
+    bs.world_fog(sc, 0.08, 0.9, 0.3)
+    bs.camera(sc, (2.2, -4.0, 1.6), (math.radians(85), 0, math.radians(30)), 24.0)
+    sc.render.resolution_x, sc.render.resolution_y = 64, 48
+
+
+def test_a_stained_glass_window_renders_like_cycles(out):
+    """Sunlight through four coloured panes into World fog (the issue's
+    stained-glass scene): coloured shafts in the fog and coloured patches
+    on the floor, with the add-on and with Cycles."""
+    stained_glass_window()
+    described = convert.describe(bpy.context.evaluated_depsgraph_get(), convert.Settings())
+    assert not described.warnings, described.warnings
+    cycles, cycles_error = cycles_pair(out, "stained-glass", 512)
+    agree(tyndall_pair(out, "stained-glass", 128), cycles, cycles_error, "stained glass")
+
+
+def test_sun_and_sky_through_fog_render_like_cycles(out):
+    """A blue sky (the World's Background) and a sun over a floor and a
+    cube in World fog: the sky's light scattered in the fog and the sun's
+    shaft past the cube, with the add-on and with Cycles."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sc = bpy.context.scene
+    bpy.ops.mesh.primitive_plane_add(size=20)
+    bpy.context.active_object.data.materials.append(
+        shader_material("ground", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.45, 0.4, 1))
+    )
+    bpy.ops.mesh.primitive_cube_add(size=1.2, location=(0.3, 0.5, 0.6))
+    bpy.context.active_object.data.materials.append(
+        shader_material("block", "ShaderNodeBsdfDiffuse", Color=(0.7, 0.7, 0.7, 1))
+    )
+    bs.lamp(sc, "SUN", "sun", 3.0, (0, 0, 5), rotation=(math.radians(50), 0, math.radians(-30)), angle=0.0)
+    world = bs.world_fog(sc, 0.06, 0.85, 0.2)
+    background = world.node_tree.nodes["Background"]
+    background.inputs["Color"].default_value = (0.35, 0.55, 1.0, 1)
+    background.inputs["Strength"].default_value = 0.8
+    world.cycles.sampling_method = "AUTOMATIC"
+    bs.camera(sc, (0, -6, 1.5), (math.radians(82), 0, 0), 28.0)
+    sc.render.resolution_x, sc.render.resolution_y = 64, 48
+    described = convert.describe(bpy.context.evaluated_depsgraph_get(), convert.Settings())
+    assert not described.warnings, described.warnings
+    cycles, cycles_error = cycles_pair(out, "sun-sky-fog", 256)
+    agree(tyndall_pair(out, "sun-sky-fog", 64), cycles, cycles_error, "sun and sky through fog")

@@ -233,3 +233,68 @@ fn bad_inline_meshes_are_errors_at_their_key() {
         "only a `triangles` shape with `uvs` can carry",
     );
 }
+
+/// A medium whose region is a cube written into the scene (`mesh = {
+/// positions, indices }`, as the Blender add-on gives a mesh filled by a
+/// volume material): non-scattering fog before an emissive wall, seen
+/// along rays whose chords through the cube the test finds by slabs. The
+/// radiance is `L·exp(−σt·ℓ)`; `volpath` samples free flights, so within
+/// 5 standard errors.
+#[test]
+fn a_medium_fills_an_inline_mesh() {
+    let (lo, hi) = (Vec3::new(-1.0, -1.0, -3.5), Vec3::new(1.0, 1.0, -1.5));
+    let corner = |i: usize| {
+        Vec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        )
+    };
+    let positions: Vec<String> = (0..8)
+        .map(|i| {
+            let c = corner(i);
+            format!("{}, {}, {}", c.x, c.y, c.z)
+        })
+        .collect();
+    // Two triangles per face of the cube (vertex i has bit 0 for x, 1
+    // for y, 2 for z).
+    let indices = "0,1,3, 0,3,2, 4,6,7, 4,7,5, 0,4,5, 0,5,1, 2,3,7, 2,7,6, 0,2,6, 0,6,4, 1,5,7, 1,7,3";
+    let desc = common::scene(&format!(
+        r#"
+        [camera]
+        position = [0, 0, 0]
+        look_at = [0, 0, -1]
+        fov_y_deg = 30
+        [render]
+        integrator = "volpath"
+        [[media]]
+        sigma_t = 0.6
+        albedo = 0.0
+        mesh = {{ positions = [{}], indices = [{indices}] }}
+        [materials.glow]
+        type = "emissive"
+        radiance = [2.0, 3.0, 4.0]
+        [[shapes]]
+        type = "quad"
+        corners = [[-10, -10, -5], [10, -10, -5], [10, 10, -5], [-10, 10, -5]]
+        material = "glow"
+        "#,
+        positions.join(", ")
+    ));
+    for direction in [Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.3, 0.1, -1.0)] {
+        let ray = Ray::new(Vec3::ZERO, direction);
+        // The chord by slabs: the overlap of the three axes' intervals.
+        let d = ray.direction;
+        let (t0, t1) = (lo / d, hi / d);
+        let enter = t0.min(t1).max_element();
+        let exit = t0.max(t1).min_element();
+        let chord = (exit - enter).max(0.0);
+        assert!(chord > 1.5, "{chord}");
+        let expected = Rgb::new(2.0, 3.0, 4.0) * (-0.6 * chord).exp();
+        let (mean, stderr) = common::estimate_ray(&desc, IntegratorKind::Volpath, 0.1, ray, 4096);
+        assert!(
+            (mean - expected).abs().cmple(5.0 * stderr + 1e-5).all(),
+            "{direction}: {mean} ± {stderr} vs {expected} (chord {chord})"
+        );
+    }
+}

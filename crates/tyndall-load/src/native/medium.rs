@@ -4,7 +4,7 @@
 //! from a temperature grid: docs/physics.md §2.5).
 
 use super::Loader;
-use super::tables::MediumTable;
+use super::tables::{MediumMesh, MediumTable};
 use crate::source::SceneError;
 use glam::Vec3;
 use serde_spanned::Spanned;
@@ -26,7 +26,8 @@ impl Loader<'_> {
         let placement = (m.translate, m.scale, m.rotate_deg);
         let placed = m.translate.is_some() || m.scale.is_some() || m.rotate_deg.is_some();
         let kind = m.density.as_deref().unwrap_or("uniform");
-        if m.mesh.is_none() && placed && kind != "vdb" {
+        let mesh_file = matches!(m.mesh, Some(MediumMesh::File(_)));
+        if !mesh_file && placed && kind != "vdb" {
             let key = if m.translate.is_some() {
                 "translate"
             } else if m.scale.is_some() {
@@ -37,7 +38,7 @@ impl Loader<'_> {
             return Err(self.err(
                 &span,
                 key,
-                format!("`{key}` places a `mesh` or a \"vdb\" density; this medium has neither"),
+                format!("`{key}` places a `mesh` file or a \"vdb\" density; this medium has neither (an inline `mesh` is in world coordinates)"),
             ));
         }
         // An OpenVDB grid, placed: its index-to-world transform, then the
@@ -90,8 +91,11 @@ impl Loader<'_> {
                 return Err(self.err(&span, "mesh", "give a medium a `box` or a `mesh`, not both"));
             }
             (Some(b), None) => RegionDesc::Box(self.bounds(&span, "box", b.min, b.max)?),
-            (None, Some(file)) => {
+            (None, Some(MediumMesh::File(file))) => {
                 RegionDesc::Mesh(self.mesh(&span, "mesh", file, placement)?.triangles)
+            }
+            (None, Some(MediumMesh::Inline(table))) => {
+                RegionDesc::Mesh(self.region_triangles(&span, table)?)
             }
             (None, None) => match &vdb {
                 Some((grid, world)) => {

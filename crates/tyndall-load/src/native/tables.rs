@@ -47,7 +47,7 @@ pub(super) struct MediumTable {
     pub(super) g: f32,
     #[serde(rename = "box")]
     pub(super) bounds: Option<BoxTable>,
-    pub(super) mesh: Option<String>,
+    pub(super) mesh: Option<MediumMesh>,
     pub(super) translate: Option<V3>,
     pub(super) scale: Option<ColorValue>,
     pub(super) rotate_deg: Option<V3>,
@@ -222,6 +222,24 @@ pub(super) enum ShapeTable {
     Box(BoxShapeTable),
     Mesh(MeshTable),
     Triangles(TrianglesTable),
+}
+
+/// A medium's `mesh` region: a Wavefront .obj file, or a closed mesh
+/// given in the scene itself as flat arrays (as `triangles` shapes give
+/// theirs), in world coordinates.
+#[derive(Deserialize)]
+#[serde(untagged)]
+pub(super) enum MediumMesh {
+    File(String),
+    Inline(InlineMeshTable),
+}
+
+/// `mesh = { positions = [...], indices = [...] }`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct InlineMeshTable {
+    pub(super) positions: Vec<f32>,
+    pub(super) indices: Vec<u32>,
 }
 
 /// `type = "triangles"`: a mesh given in the scene itself, as flat

@@ -4,7 +4,7 @@
 
 use super::Loader;
 use super::principled::BaseColorTexture;
-use super::tables::TrianglesTable;
+use super::tables::{InlineMeshTable, TrianglesTable};
 use crate::mesh::MAX_TRIANGLES;
 use crate::source::SceneError;
 use glam::{Vec2, Vec3};
@@ -12,6 +12,15 @@ use std::ops::Range;
 use tyndall::description::{MeshAttributes, MetallicRoughnessMap, SurfaceTexture};
 use tyndall::limits::check_coordinates;
 use tyndall::shapes::Triangle;
+
+/// The flat arrays of a mesh written into the scene (see
+/// [`Loader::triangles`]).
+struct TriangleArrays<'a> {
+    positions: &'a [f32],
+    indices: &'a [u32],
+    normals: Option<&'a [f32]>,
+    uvs: Option<&'a [f32]>,
+}
 
 impl Loader<'_> {
     /// The triangles of a `triangles` table spanning `span` and their
@@ -27,7 +36,6 @@ impl Loader<'_> {
         table: &TrianglesTable,
         texture: Option<BaseColorTexture>,
     ) -> Result<(Vec<Triangle>, MeshAttributes), SceneError> {
-        let fail = |key: &str, m: String| self.err(span, key, m);
         let TrianglesTable {
             positions,
             indices,
@@ -35,6 +43,44 @@ impl Loader<'_> {
             uvs,
             ..
         } = table;
+        let arrays = TriangleArrays {
+            positions,
+            indices,
+            normals: normals.as_deref(),
+            uvs: uvs.as_deref(),
+        };
+        self.triangle_arrays(span, arrays, texture)
+    }
+
+    /// The triangles of a medium's inline `mesh` region (no attributes).
+    pub(super) fn region_triangles(
+        &mut self,
+        span: &Range<usize>,
+        table: &InlineMeshTable,
+    ) -> Result<Vec<Triangle>, SceneError> {
+        let arrays = TriangleArrays {
+            positions: &table.positions,
+            indices: &table.indices,
+            normals: None,
+            uvs: None,
+        };
+        Ok(self.triangle_arrays(span, arrays, None)?.0)
+    }
+
+    /// [`Self::triangles`] from the arrays themselves.
+    fn triangle_arrays(
+        &mut self,
+        span: &Range<usize>,
+        arrays: TriangleArrays,
+        texture: Option<BaseColorTexture>,
+    ) -> Result<(Vec<Triangle>, MeshAttributes), SceneError> {
+        let fail = |key: &str, m: String| self.err(span, key, m);
+        let TriangleArrays {
+            positions,
+            indices,
+            normals,
+            uvs,
+        } = arrays;
         if positions.len() % 3 != 0 {
             return Err(fail(
                 "positions",
@@ -60,7 +106,7 @@ impl Loader<'_> {
                 format!("at most {MAX_TRIANGLES} triangles are supported"),
             ));
         }
-        let per_vertex = |key: &str, values: &Option<Vec<f32>>, n: usize| match values {
+        let per_vertex = |key: &str, values: Option<&[f32]>, n: usize| match values {
             Some(v) if v.len() != n * vertices => Err(fail(
                 key,
                 format!(
