@@ -31,6 +31,10 @@ Units and conventions (each checked against Cycles by tests/):
   Environment Texture) is the environment light; its volume (Volume
   Scatter, Volume Absorption, their sum, or Principled Volume) is the
   homogeneous fog that fills all space.
+* Volume objects (OpenVDB files, the current frame of a sequence) with a
+  Principled Volume become `[[media]]` with a "vdb" density; meshes whose
+  material links its Volume output are filled by a homogeneous medium of
+  that shader (the mesh is its region).
 * The camera: perspective, its vertical field of view from the lens,
   sensor and sensor fit; with depth of field, a thin lens of radius
   lens/(2·f-stop) focused at the focus distance (or the focus object's
@@ -274,8 +278,13 @@ class _Converter:
         materials = [slot.material for slot in obj.material_slots] or [None]
         for slot in np.unique(slots):
             material = materials[min(int(slot), len(materials) - 1)]
-            key, textured = self.material(material, obj)
             chosen = corners[slots == slot].reshape(-1)
+            surface, volume = shader_outputs(material)
+            if volume is not None:
+                self.mesh_volume(obj, material, volume, positions[chosen], vertices[chosen])
+            if volume is not None and not surface:
+                continue
+            key, textured = self.material(material, obj)
             shape: Dict[str, Any] = {
                 "type": "triangles",
                 "positions": positions[chosen].astype(np.float32).reshape(-1),
@@ -293,6 +302,41 @@ class _Converter:
                 key = self.untextured(key)
                 shape["material"] = key
             self.shapes.append(shape)
+
+    def mesh_volume(self, obj, material, node, positions: np.ndarray, vertices: np.ndarray) -> None:
+        """The medium a volume shader `node` of `material` fills the mesh
+        of `obj` with (its triangles' world `positions`, their Blender
+        vertex numbers `vertices`): homogeneous, as Cycles renders a
+        mesh's volume (no attributes: density 1)."""
+        where = f"object '{obj.name}'"
+        emission = [0.0, 0.0, 0.0]
+        coefficients = self.volume_coefficients(f"material '{material.name}'", node, emission)
+        if coefficients is None:
+            return
+        sigma_s, sigma_a, g = coefficients
+        sigma_t = sigma_s + sigma_a
+        if float(sigma_t.max()) <= 0.0 and not any(emission):
+            return
+        # Inside is found by counting crossings: every edge must join two
+        # triangles.
+        edges = np.sort(vertices.reshape(-1, 3)[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+        _, counts = np.unique(edges, axis=0, return_counts=True)
+        if np.any(counts != 2):
+            self.warn(f"{where}: its volume needs a closed mesh (an edge has {int(counts[counts != 2][0])} faces); it is left out")
+            return
+        albedo = np.divide(sigma_s, sigma_t, out=np.zeros(3), where=sigma_t > 0)
+        medium: Dict[str, Any] = {
+            "sigma_t": [float(x) for x in sigma_t],
+            "albedo": [float(x) for x in np.clip(albedo, 0.0, 1.0)],
+            "g": float(max(-0.999, min(0.999, g))),
+            "mesh": {
+                "positions": positions.astype(np.float32).reshape(-1),
+                "indices": np.arange(len(positions), dtype=np.int64),
+            },
+        }
+        if any(emission):
+            medium["emission"] = emission
+        self.media.append(medium)
 
     def untextured(self, key: str) -> str:
         """The key of material `key` without its base colour texture."""
@@ -681,7 +725,7 @@ class _Converter:
 
     def world_fog(self, world, node) -> Optional[Dict[str, Any]]:
         """The homogeneous fog of the World's volume shader."""
-        coefficients = self.volume_coefficients(world, node)
+        coefficients = self.volume_coefficients(f"world '{world.name}'", node)
         if coefficients is None:
             return None
         sigma_s, sigma_a, g = coefficients
@@ -697,9 +741,11 @@ class _Converter:
         albedo = [float(x) for x in np.clip(sigma_s / grey, 0.0, 1.0)]
         return {"sigma_t": grey, "albedo": albedo, "g": g}
 
-    def volume_coefficients(self, world, node):
-        """(σs, σa, g) of a volume shader node tree, per unit length."""
-        where = f"world '{world.name}'"
+    def volume_coefficients(self, where: str, node, emission: Optional[List[float]] = None):
+        """(σs, σa, g) of a volume shader node tree, per unit length; `where`
+        names its owner in warnings. Principled Volumes' emission (Emission
+        Strength × Color, constant: a mesh's volume has no attributes) is
+        added to `emission` when given, else warned about."""
         inputs = node.inputs
         zero = np.zeros(3)
 
@@ -716,14 +762,26 @@ class _Converter:
             density = float(inputs["Density"].default_value)
             c = colour("Color")
             a = colour("Absorption Color")
-            if float(inputs["Emission Strength"].default_value) > 0 or float(inputs["Blackbody Intensity"].default_value) > 0:
-                self.warn(f"{where}: the World volume's emission is not rendered")
+            strength = float(inputs["Emission Strength"].default_value)
+            if emission is not None and strength > 0:
+                glow = colour("Emission Color") * strength
+                for k in range(3):
+                    emission[k] += float(glow[k])
+            elif strength > 0:
+                self.warn(f"{where}: the volume's emission is not rendered")
+            if float(inputs["Blackbody Intensity"].default_value) > 0:
+                self.warn(f"{where}: the volume's blackbody emission is not rendered (it has no temperature grid)")
             return c * density, principled_absorption(c, a) * density, float(inputs["Anisotropy"].default_value)
+        if node.bl_idname == "ShaderNodeEmission" and emission is not None:
+            glow = colour("Color") * float(inputs["Strength"].default_value)
+            for k in range(3):
+                emission[k] += float(glow[k])
+            return zero, zero, 0.0
         if node.bl_idname == "ShaderNodeAddShader":
             parts = [s.links[0].from_node for s in inputs if s.is_linked]
             total_s, total_a, weighted_g = zero.copy(), zero.copy(), 0.0
             for part in parts:
-                c = self.volume_coefficients(world, part)
+                c = self.volume_coefficients(where, part, emission)
                 if c is None:
                     return None
                 total_s = total_s + c[0]
@@ -733,6 +791,19 @@ class _Converter:
             return total_s, total_a, g
         self.warn(f"{where}: the {node.bl_label} volume node is not supported; no fog")
         return None
+
+
+def shader_outputs(material) -> Tuple[bool, Any]:
+    """Whether `material` has a surface (no material, or one without
+    nodes, has Cycles' default surface) and the shader node linked to its
+    Volume output (None if unlinked)."""
+    if material is None or not material.use_nodes or material.node_tree is None:
+        return True, None
+    output = material.node_tree.get_output_node("CYCLES") or material.node_tree.get_output_node("ALL")
+    if output is None:
+        return True, None
+    volume = output.inputs["Volume"]
+    return output.inputs["Surface"].is_linked, volume.links[0].from_node if volume.is_linked else None
 
 
 def default_surface(blender_version: Tuple[int, int, int]) -> Dict[str, Any]:
