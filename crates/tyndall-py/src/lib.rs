@@ -48,11 +48,19 @@ fn load(path: PathBuf, two_sided: bool, frame: Option<u32>) -> PyResult<NativeSc
 }
 
 /// Parses a native scene from TOML text; `path` names it in errors and
-/// anchors relative paths (its folder); file sequences at `frame`.
+/// anchors relative paths (its folder); file sequences at `frame`;
+/// `arrays`, little-endian 32-bit numbers, are the text's `"@array:K"`
+/// (`native::parse_with_arrays`).
 #[pyfunction]
-#[pyo3(signature = (text, path, frame = None))]
-fn parse_toml(text: String, path: PathBuf, frame: Option<u32>) -> PyResult<NativeScene> {
-    let desc = native::parse_frame(&SourceText::new(path, text), frame).map_err(value_error)?;
+#[pyo3(signature = (text, path, frame = None, arrays = Vec::new()))]
+fn parse_toml(
+    text: String,
+    path: PathBuf,
+    frame: Option<u32>,
+    arrays: Vec<Vec<u8>>,
+) -> PyResult<NativeScene> {
+    let desc = native::parse_with_arrays(&SourceText::new(path, text), frame, &arrays)
+        .map_err(value_error)?;
     NativeScene::new(desc)
 }
 

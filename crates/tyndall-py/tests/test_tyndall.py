@@ -216,6 +216,51 @@ def test_a_mesh_in_numpy_arrays_reads_as_the_same_lists():
     assert arrays.tobytes() == lists.tobytes()
 
 
+def test_large_mesh_arrays_go_beside_the_text_and_read_the_same():
+    """A floor of 2·24² triangles as NumPy arrays (past the size that
+    `from_dict` hands over as bytes beside the TOML text, "@array:K")
+    renders to the bit as the same numbers in Python lists (written as
+    text), and so does the scene after a pickle round trip (the recipe
+    keeps the arrays)."""
+    import pickle
+
+    n = 24
+    xs = np.linspace(-2, 2, n + 1, dtype=np.float32)
+    grid = np.stack(np.meshgrid(xs, xs, indexing="ij"), -1).reshape(-1, 2)
+    positions = np.zeros((len(grid), 3), np.float32)
+    positions[:, 0], positions[:, 2] = grid[:, 0], grid[:, 1]
+    positions[:, 1] = 0.05 * np.sin(3 * grid[:, 0]) * np.cos(2 * grid[:, 1])
+    i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    a = (i * (n + 1) + j).ravel()
+    quads = np.stack([a, a + 1, a + n + 2, a, a + n + 2, a + n + 1], -1)
+    indices = quads.reshape(-1).astype(np.int64)
+    normals = np.tile(np.array([0, 1, 0], np.float32), len(grid))
+
+    def scene(p, i, nrm):
+        return tyndall.Scene.from_dict(
+            {
+                "camera": {"position": [0, 3, 4], "look_at": [0, 0, 0], "fov_y_deg": 50.0},
+                "materials": {"floor": {"type": "principled", "base_color": 0.7}},
+                "shapes": [{"type": "triangles", "positions": p, "indices": i, "normals": nrm, "material": "floor"}],
+                "lights": [{"type": "point", "position": [0, 2, 0], "intensity": 3.0}],
+            }
+        )
+
+    beside = scene(positions.reshape(-1), indices, normals)
+    assert '"@array:0"' in beside._recipe[1] and len(beside._recipe[4]) == 3
+    arrays = beside.render(width=16, height=12, spp=2)
+    lists = scene(positions.reshape(-1).tolist(), indices.tolist(), normals.tolist()).render(width=16, height=12, spp=2)
+    assert arrays.max() > 0
+    assert arrays.tobytes() == lists.tobytes()
+    again = pickle.loads(pickle.dumps(beside)).render(width=16, height=12, spp=2)
+    assert again.tobytes() == arrays.tobytes()
+    # An index past the vertices is still an error naming the key.
+    bad = indices.copy()
+    bad[7] = len(grid)
+    with pytest.raises(ValueError, match="indices"):
+        scene(positions.reshape(-1), bad, normals)
+
+
 def test_frame_picks_the_file_of_a_sequence(tmp_path):
     """A cache's `####` sequence: `frame=` picks the file (issue 21); a
     missing frame, or the file of a frame that is not there, is a

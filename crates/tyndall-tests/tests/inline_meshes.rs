@@ -195,6 +195,25 @@ fn bad_inline_meshes_are_errors_at_their_key() {
         "positions",
         "vertex 0",
     );
+    // Arrays given beside the text: none is given here.
+    let beside = base
+        .lines()
+        .map(|l| match l.starts_with("positions =") {
+            true => "positions = \"@array:0\"",
+            false => l,
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    at(
+        beside.clone(),
+        "positions",
+        "names array 0, and 0 were given",
+    );
+    at(
+        beside.replace("\"@array:0\"", "\"array 0\""),
+        "positions",
+        "give numbers, or \"@array:K\"",
+    );
     at(
         text("type = \"principled\"\nbase_color = 0.5\nmetallic = 2"),
         "metallic",
@@ -258,7 +277,8 @@ fn a_medium_fills_an_inline_mesh() {
         .collect();
     // Two triangles per face of the cube (vertex i has bit 0 for x, 1
     // for y, 2 for z).
-    let indices = "0,1,3, 0,3,2, 4,6,7, 4,7,5, 0,4,5, 0,5,1, 2,3,7, 2,7,6, 0,2,6, 0,6,4, 1,5,7, 1,7,3";
+    let indices =
+        "0,1,3, 0,3,2, 4,6,7, 4,7,5, 0,4,5, 0,5,1, 2,3,7, 2,7,6, 0,2,6, 0,6,4, 1,5,7, 1,7,3";
     let desc = common::scene(&format!(
         r#"
         [camera]

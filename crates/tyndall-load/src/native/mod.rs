@@ -62,6 +62,21 @@ pub fn parse(source: &SourceText) -> Result<SceneDesc, SceneError> {
 /// [`parse`], with the scene's file sequences read at `frame`; a frame
 /// that no file uses is reported in the warnings.
 pub fn parse_frame(source: &SourceText, frame: Option<u32>) -> Result<SceneDesc, SceneError> {
+    parse_with_arrays(source, frame, &[])
+}
+
+/// [`parse_frame`], with `arrays` given beside the text: where a flat
+/// array of numbers is expected (a `triangles` shape's `positions`,
+/// `indices`, `normals`, `uvs`, a medium's inline `mesh`), the string
+/// `"@array:K"` stands for `arrays[K]`, little-endian 32-bit numbers
+/// (floats; unsigned integers for `indices`). A program that builds
+/// scenes in memory (`tyndall.Scene.from_dict`) hands over large meshes
+/// this way instead of writing every number as text.
+pub fn parse_with_arrays(
+    source: &SourceText,
+    frame: Option<u32>,
+    arrays: &[Vec<u8>],
+) -> Result<SceneDesc, SceneError> {
     let file: SceneFile = toml::from_str(&source.text).map_err(|e| {
         let offset = e.span().map_or(0, |s| s.start);
         locate_parse_error(source, offset, e.message().trim_end())
@@ -73,6 +88,7 @@ pub fn parse_frame(source: &SourceText, frame: Option<u32>) -> Result<SceneDesc,
         frame,
         frame_used: std::cell::Cell::new(false),
         base_textures: BTreeMap::new(),
+        arrays,
     }
     .build(file)?;
     if let Some(e) = source.locate_all(&desc.errors()) {
@@ -94,6 +110,8 @@ struct Loader<'a> {
     frame_used: std::cell::Cell<bool>,
     /// The base colour textures of principled materials, by material.
     base_textures: BTreeMap<MaterialId, principled::BaseColorTexture>,
+    /// The arrays given beside the text ([`parse_with_arrays`]).
+    arrays: &'a [Vec<u8>],
 }
 
 impl Loader<'_> {

@@ -238,8 +238,45 @@ pub(super) enum MediumMesh {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct InlineMeshTable {
-    pub(super) positions: Vec<f32>,
-    pub(super) indices: Vec<u32>,
+    pub(super) positions: NumberArray<f32>,
+    pub(super) indices: NumberArray<u32>,
+}
+
+/// A flat array of numbers: written in the text, or `"@array:K"`, the
+/// K-th array given beside the text ([`super::parse_with_arrays`]).
+pub(super) enum NumberArray<T> {
+    Inline(Vec<T>),
+    Beside(String),
+}
+
+impl<'de, T: Deserialize<'de>> Deserialize<'de> for NumberArray<T> {
+    /// A sequence or a string, each read as such, so a bad element is
+    /// named as serde names it ("invalid type: string "x", expected f32").
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Visitor<T>(std::marker::PhantomData<T>);
+        impl<'de, T: Deserialize<'de>> serde::de::Visitor<'de> for Visitor<T> {
+            type Value = NumberArray<T>;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str(
+                    "a flat array of numbers, or \"@array:K\" for an array given beside the text",
+                )
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<Self::Value, A::Error> {
+                let mut values = Vec::with_capacity(seq.size_hint().unwrap_or(0));
+                while let Some(v) = seq.next_element()? {
+                    values.push(v);
+                }
+                Ok(NumberArray::Inline(values))
+            }
+            fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<Self::Value, E> {
+                Ok(NumberArray::Beside(name.to_owned()))
+            }
+        }
+        deserializer.deserialize_any(Visitor(std::marker::PhantomData))
+    }
 }
 
 /// `type = "triangles"`: a mesh given in the scene itself, as flat
@@ -247,12 +284,12 @@ pub(super) struct InlineMeshTable {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct TrianglesTable {
-    pub(super) positions: Vec<f32>,
-    pub(super) indices: Vec<u32>,
+    pub(super) positions: NumberArray<f32>,
+    pub(super) indices: NumberArray<u32>,
     #[serde(default)]
-    pub(super) normals: Option<Vec<f32>>,
+    pub(super) normals: Option<NumberArray<f32>>,
     #[serde(default)]
-    pub(super) uvs: Option<Vec<f32>>,
+    pub(super) uvs: Option<NumberArray<f32>>,
     pub(super) material: String,
     /// The light group the emitter is in (AOV `light_groups`).
     #[serde(default)]

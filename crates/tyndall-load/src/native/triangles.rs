@@ -4,14 +4,32 @@
 
 use super::Loader;
 use super::principled::BaseColorTexture;
-use super::tables::{InlineMeshTable, TrianglesTable};
+use super::tables::{InlineMeshTable, NumberArray, TrianglesTable};
 use crate::mesh::MAX_TRIANGLES;
 use crate::source::SceneError;
 use glam::{Vec2, Vec3};
+use std::borrow::Cow;
 use std::ops::Range;
 use tyndall::description::{MeshAttributes, MetallicRoughnessMap, SurfaceTexture};
 use tyndall::limits::check_coordinates;
 use tyndall::shapes::Triangle;
+
+/// A 32-bit number from its four little-endian bytes.
+trait FromLittleEndian {
+    fn from_le_bytes(bytes: [u8; 4]) -> Self;
+}
+
+impl FromLittleEndian for f32 {
+    fn from_le_bytes(bytes: [u8; 4]) -> Self {
+        f32::from_le_bytes(bytes)
+    }
+}
+
+impl FromLittleEndian for u32 {
+    fn from_le_bytes(bytes: [u8; 4]) -> Self {
+        u32::from_le_bytes(bytes)
+    }
+}
 
 /// The flat arrays of a mesh written into the scene (see
 /// [`Loader::triangles`]).
@@ -43,13 +61,74 @@ impl Loader<'_> {
             uvs,
             ..
         } = table;
+        let positions = self.numbers(span, "positions", positions)?;
+        let indices = self.numbers(span, "indices", indices)?;
+        let normals = normals
+            .as_ref()
+            .map(|n| self.numbers(span, "normals", n))
+            .transpose()?;
+        let uvs = uvs
+            .as_ref()
+            .map(|u| self.numbers(span, "uvs", u))
+            .transpose()?;
         let arrays = TriangleArrays {
-            positions,
-            indices,
+            positions: &positions,
+            indices: &indices,
             normals: normals.as_deref(),
             uvs: uvs.as_deref(),
         };
         self.triangle_arrays(span, arrays, texture)
+    }
+
+    /// The numbers of a flat array, written in the text or given beside
+    /// it (`"@array:K"`, [`super::parse_with_arrays`]); `key` names it in
+    /// errors.
+    fn numbers<'t, T: Copy + FromLittleEndian>(
+        &self,
+        span: &Range<usize>,
+        key: &str,
+        array: &'t NumberArray<T>,
+    ) -> Result<Cow<'t, [T]>, SceneError> {
+        let name = match array {
+            NumberArray::Inline(values) => return Ok(Cow::Borrowed(values)),
+            NumberArray::Beside(name) => name,
+        };
+        let index = name
+            .strip_prefix("@array:")
+            .and_then(|k| k.parse::<usize>().ok())
+            .ok_or_else(|| {
+                self.err(
+                    span,
+                    key,
+                    format!("`{key}` is a string \"{name}\": give numbers, or \"@array:K\" for an array given beside the text"),
+                )
+            })?;
+        let bytes = self.arrays.get(index).ok_or_else(|| {
+            self.err(
+                span,
+                key,
+                format!(
+                    "`{key}` names array {index}, and {} were given",
+                    self.arrays.len()
+                ),
+            )
+        })?;
+        if bytes.len() % 4 != 0 {
+            return Err(self.err(
+                span,
+                key,
+                format!(
+                    "array {index} holds {} bytes, not whole 32-bit numbers",
+                    bytes.len()
+                ),
+            ));
+        }
+        Ok(Cow::Owned(
+            bytes
+                .chunks_exact(4)
+                .map(|c| T::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                .collect(),
+        ))
     }
 
     /// The triangles of a medium's inline `mesh` region (no attributes).
@@ -58,9 +137,11 @@ impl Loader<'_> {
         span: &Range<usize>,
         table: &InlineMeshTable,
     ) -> Result<Vec<Triangle>, SceneError> {
+        let positions = self.numbers(span, "positions", &table.positions)?;
+        let indices = self.numbers(span, "indices", &table.indices)?;
         let arrays = TriangleArrays {
-            positions: &table.positions,
-            indices: &table.indices,
+            positions: &positions,
+            indices: &indices,
             normals: None,
             uvs: None,
         };

@@ -41,8 +41,8 @@ __all__ = ["AOVS", "Scene", "load", "demo", "merge_parts", "write_exr", "write_p
 PathLike = Union[str, "os.PathLike[str]"]
 
 # How a scene was made, enough to make it again in another process:
-# ("load", absolute path, two_sided, frame), ("toml", text, name, frame)
-# or ("demo",).
+# ("load", absolute path, two_sided, frame), ("toml", text, name, frame,
+# arrays) or ("demo",).
 Recipe = Tuple[Any, ...]
 
 
@@ -51,7 +51,7 @@ def _build(recipe: Recipe) -> "_tyndall.NativeScene":
     if kind == "load":
         return _tyndall.load(recipe[1], recipe[2], recipe[3])
     if kind == "toml":
-        return _tyndall.parse_toml(recipe[1], recipe[2], recipe[3])
+        return _tyndall.parse_toml(recipe[1], recipe[2], recipe[3], recipe[4])
     if kind == "demo":
         return _tyndall.demo()
     raise ValueError(f"not a scene recipe: {recipe!r}")
@@ -96,12 +96,14 @@ class Scene:
         (``"fluid_data_####.vdb"``) is read at ``frame``. Errors raise
         ``ValueError`` naming the key path, e.g. ``lights[0].cutoff_deg``.
         """
-        text, paths = _to_toml(description)
+        arrays: List[bytes] = []
+        text, paths = _to_toml(description, arrays)
         folder = os.path.abspath(os.fspath(base_dir)) if base_dir is not None else os.getcwd()
         name = os.path.join(folder, "<dict>")
         try:
             frame = _frame(frame)
-            return cls(_tyndall.parse_toml(text, name, frame), ("toml", text, name, frame))
+            native = _tyndall.parse_toml(text, name, frame, arrays)
+            return cls(native, ("toml", text, name, frame, arrays))
         except ValueError as e:
             raise ValueError(_name_key_path(str(e), name, paths)) from None
 
@@ -377,7 +379,33 @@ def _number(v: Union[int, float]) -> str:
     return repr(v)
 
 
-def _value(v: Any, path: str) -> str:
+# The mesh arrays `from_dict` hands over as bytes beside the text
+# (native::parse_with_arrays), not as numbers written out: float32 for
+# these keys, uint32 for `indices`. Shorter arrays are written as text.
+_FLOAT_ARRAYS = ("positions", "normals", "uvs")
+_ARRAY_BESIDE_MIN = 64
+
+
+def _array_beside(v: Any, path: str, arrays: Optional[List[bytes]]) -> Optional[str]:
+    """`"@array:K"` for a mesh array of NumPy numbers that goes beside the
+    text (appended to `arrays`), else None."""
+    if arrays is None or not isinstance(v, np.ndarray) or v.ndim != 1 or len(v) < _ARRAY_BESIDE_MIN:
+        return None
+    key = path.rsplit(".", 1)[-1]
+    if key in _FLOAT_ARRAYS and v.dtype.kind in "iuf":
+        data = np.ascontiguousarray(v, dtype="<f4").tobytes()
+    elif key == "indices" and v.dtype.kind in "iu" and v.min() >= 0 and v.max() < 2**32:
+        data = np.ascontiguousarray(v, dtype="<u4").tobytes()
+    else:
+        return None
+    arrays.append(data)
+    return json.dumps(f"@array:{len(arrays) - 1}")
+
+
+def _value(v: Any, path: str, arrays: Optional[List[bytes]] = None) -> str:
+    beside = _array_beside(v, path, arrays)
+    if beside is not None:
+        return beside
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, (int, float)):
@@ -385,7 +413,7 @@ def _value(v: Any, path: str) -> str:
     if isinstance(v, str):
         return json.dumps(v)
     if isinstance(v, Mapping):
-        items = ", ".join(f"{_key(k, path)} = {_value(x, f'{path}.{k}')}" for k, x in v.items())
+        items = ", ".join(f"{_key(k, path)} = {_value(x, f'{path}.{k}', arrays)}" for k, x in v.items())
         return "{" + items + "}"
     if isinstance(v, np.ndarray) and v.ndim == 1 and v.dtype.kind in "iuf":
         # Flat numeric arrays (a mesh's `positions`, `indices`): written
@@ -406,8 +434,9 @@ def _is_table_list(v: Any) -> bool:
     return isinstance(v, (list, tuple)) and len(v) > 0 and all(isinstance(x, Mapping) for x in v)
 
 
-def _to_toml(description: Mapping[str, Any]) -> Tuple[str, List[str]]:
-    """TOML text for a scene dict, and the key path of each of its lines."""
+def _to_toml(description: Mapping[str, Any], arrays: Optional[List[bytes]] = None) -> Tuple[str, List[str]]:
+    """TOML text for a scene dict, and the key path of each of its lines;
+    with `arrays`, large mesh arrays go there instead (`_array_beside`)."""
     if not isinstance(description, Mapping):
         raise ValueError("Scene.from_dict: the description must be a dict")
     lines: List[str] = []
@@ -422,7 +451,7 @@ def _to_toml(description: Mapping[str, Any]) -> Tuple[str, List[str]]:
         for k, v in d.items():
             if not isinstance(v, Mapping) and not _is_table_list(v):
                 p = f"{path}.{k}" if path else str(k)
-                emit(f"{_key(k, path)} = {_value(v, p)}", p)
+                emit(f"{_key(k, path)} = {_value(v, p, arrays)}", p)
         for k, v in d.items():
             p = f"{path}.{k}" if path else str(k)
             h = f"{header}.{_key(k, path)}" if header else _key(k, path)
