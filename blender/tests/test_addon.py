@@ -658,3 +658,25 @@ def test_sun_and_sky_through_fog_render_like_cycles(out):
     assert not described.warnings, described.warnings
     cycles, cycles_error = cycles_pair(out, "sun-sky-fog", 256)
     agree(tyndall_pair(out, "sun-sky-fog", 64), cycles, cycles_error, "sun and sky through fog")
+
+
+def test_a_volume_sequence_reads_the_frames_file(out):
+    """A Volume object reading a numbered file sequence, as a simulation
+    cache is written (fluid_data_0001.vdb, …; an imported Mantaflow cache
+    is one): at each frame the medium reads that frame's file."""
+    import shutil
+
+    fire = os.path.join(bs.REPO, "scenes", "fire", "fire.vdb")
+    for frame in (1, 2):
+        shutil.copy(fire, os.path.join(out, f"fluid_data_{frame:04d}.vdb"))
+    fire_volume()
+    sc = bpy.context.scene
+    volume = bpy.data.objects["vol0"].data
+    volume.filepath = os.path.join(out, "fluid_data_0001.vdb")
+    volume.is_sequence = True
+    volume.frame_start, volume.frame_duration = 1, 2
+    for frame in (1, 2):
+        sc.frame_set(frame)
+        described = convert.describe(bpy.context.evaluated_depsgraph_get(), convert.Settings())
+        (medium,) = described.scene["media"]
+        assert os.path.basename(medium["file"]) == f"fluid_data_{frame:04d}.vdb", medium["file"]

@@ -499,7 +499,10 @@ class _Converter:
         if not grids.load():
             self.warn(f"{where}: its OpenVDB file could not be read ({grids.error_message}); it is left out")
             return
-        path = os.path.abspath(grids.frame_filepath)
+        import bpy
+
+        # The frame's file, a blend-relative path ("//…") made absolute.
+        path = os.path.abspath(bpy.path.abspath(grids.frame_filepath))
         names = {grid.name for grid in grids}
         material = obj.active_material
         shading = self.volume_shading(material, where)
@@ -547,8 +550,13 @@ class _Converter:
         a = np.array(self.colour(material, inputs["Absorption Color"]))
         sigma_t = density * (c + principled_absorption(c, a))
         albedo = np.divide(c * density, sigma_t, out=np.zeros(3), where=sigma_t > 0)
+        grid = inputs["Density Attribute"].default_value
+        if not grid:
+            # Cycles then fills the grids' bounds with the constant Density.
+            self.warn(f"{where}: a Principled Volume without a Density Attribute is not rendered on a Volume object")
+            return None
         table: Dict[str, Any] = {
-            "grid": inputs["Density Attribute"].default_value or "density",
+            "grid": grid,
             "sigma_t": [float(x) for x in sigma_t],
             "albedo": [float(x) for x in np.clip(albedo, 0.0, 1.0)],
             "g": self.value(material, inputs["Anisotropy"]),

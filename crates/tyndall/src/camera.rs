@@ -183,11 +183,6 @@ impl Camera {
         self.aperture != Aperture::Pinhole
     }
 
-    /// The camera's aperture.
-    pub fn aperture(&self) -> Aperture {
-        self.aperture
-    }
-
     /// The point of the lens that `u ∈ [0, 1)²` picks, uniformly over the
     /// lens's area (the camera's position for a pinhole).
     #[inline]
