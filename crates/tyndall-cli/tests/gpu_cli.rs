@@ -53,28 +53,6 @@ fn flags_the_gpu_cannot_honour_are_errors_naming_them() {
     }
 }
 
-/// A thin-lens camera is refused by name (the GPU builds pinhole rays).
-#[test]
-fn a_thin_lens_is_refused_naming_it() {
-    let text = std::fs::read_to_string(repo().join("scenes/fig07-spot-sphere.toml")).unwrap();
-    let text = text.replacen("fov_y_deg", "aperture_radius = 0.05\nfov_y_deg", 1);
-    let scene = temp("gpu-thin-lens.toml");
-    std::fs::write(&scene, text).unwrap();
-    let out = temp("gpu-thin-lens.png");
-    let o = tyndall(&[
-        "render",
-        scene.to_str().unwrap(),
-        "--gpu",
-        "--integrator",
-        "single",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert!(!o.status.success());
-    assert!(stderr(&o).contains("aperture_radius"), "{}", stderr(&o));
-    assert!(!out.exists(), "an image was written");
-}
-
 #[test]
 fn renders_the_demo_on_the_gpu() {
     for integrator in ["march", "single"] {

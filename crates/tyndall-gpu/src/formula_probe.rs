@@ -252,8 +252,8 @@ pub enum SceneFormula {
     /// then `0`. For scenes of delta lights (an area light's points draw
     /// random numbers).
     DirectLighting,
-    /// `camera_ray(film)`: input `[film.xy, _, _], _, _`; output
-    /// `[origin.xyz, _], [direction.xyz, _]`.
+    /// `camera_ray(film, lens)`: input `[film.xy, lens.xy], _, _`;
+    /// output `[origin.xyz, _], [direction.xyz, _]`.
     CameraRay,
     /// `fog_interval(ray, t0, t1)`: input `[origin.xyz, t0],
     /// [direction.xyz, t1], _`; output `[a, b, 1, _]`, or 0 where the

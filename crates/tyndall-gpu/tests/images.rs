@@ -220,6 +220,19 @@ fn fig07_interleaved_long_step_matches_cpu_march() {
     gpu_matches_cpu("fig07-spot-sphere interleaved", desc, IntegratorKind::March);
 }
 
+/// Fig. 7 through a thin lens focused before the sphere (the sphere and
+/// the spot's beam blurred): the GPU's lens rays (`camera_ray`'s lens
+/// point and plane of focus) against the CPU's.
+#[test]
+fn fig07_through_a_thin_lens_matches_cpu_single() {
+    let mut desc = load("fig07-spot-sphere.toml");
+    desc.camera.value.aperture = tyndall::camera::Aperture::ThinLens {
+        radius: 0.25,
+        focus_distance: 3.0,
+    };
+    gpu_matches_cpu("fig07-thin-lens", desc, IntegratorKind::Single);
+}
+
 #[test]
 fn fig07_spot_sphere_single_matches_cpu_single() {
     gpu_matches_cpu(

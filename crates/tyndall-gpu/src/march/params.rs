@@ -11,7 +11,7 @@ use crate::scene_buffers::SceneBuffers;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use tyndall::Scene;
-use tyndall::camera::Camera;
+use tyndall::camera::{Aperture, Camera};
 use tyndall::glass::GlassModel;
 use tyndall::settings::MAX_MARCH_STEPS;
 
@@ -59,7 +59,9 @@ macro_rules! uniform_block {
 uniform_block! {
     /// The uniform block of the march kernels (`params` in the WGSL).
     struct Params {
+        /// (position.xyz, thin lens radius; 0 for a pinhole)
         camera_position: [f32; 4] => "vec4<f32>",
+        /// (forward.xyz, the lens's focus distance)
         camera_forward: [f32; 4] => "vec4<f32>",
         camera_right: [f32; 4] => "vec4<f32>",
         camera_up: [f32; 4] => "vec4<f32>",
@@ -149,21 +151,24 @@ impl Params {
                 (ESTIMATOR_SINGLE, volume_samples)
             }
         };
-        let camera = Camera::new(scene.camera(), settings.width, settings.height);
-        if camera.has_lens() {
-            return Err(GpuError::Unsupported(
-                "a thin-lens camera (depth of field: `aperture_radius`); the CPU renders it".into(),
-            ));
-        }
-        let (forward, right, up, half_extent) = camera.frame();
+        let (forward, right, up, half_extent) =
+            Camera::new(scene.camera(), settings.width, settings.height).frame();
+        // A thin lens rides in the position's and the view direction's w.
+        let (lens_radius, focus_distance) = match scene.camera().aperture {
+            Aperture::Pinhole => (0.0, 0.0),
+            Aperture::ThinLens {
+                radius,
+                focus_distance,
+            } => (radius, focus_distance),
+        };
         let glass = scene.glass();
         let map_resolution = match settings.visibility {
             GpuVisibility::ShadowRays => 0,
             GpuVisibility::Maps { resolution } => resolution,
         };
         let mut params = Self {
-            camera_position: v4(scene.camera().position, 0.0),
-            camera_forward: v4(forward, 0.0),
+            camera_position: v4(scene.camera().position, lens_radius),
+            camera_forward: v4(forward, focus_distance),
             camera_right: v4(right, 0.0),
             camera_up: v4(up, 0.0),
             half_extent_resolution: [

@@ -142,14 +142,50 @@ fn radiance(first: Ray, stratum: u32, strata: u32) -> vec3<f32> {
     return result;
 }
 
-// The camera ray through film position `film` (in pixels, y down).
-// Mirrors tyndall::camera::Camera::ray.
-fn camera_ray(film: vec2<f32>) -> Ray {
+// A point uniformly distributed on the unit disk from u in [0, 1)²:
+// Shirley and Chiu's concentric map. Mirrors
+// tyndall::sampling::concentric_disk.
+fn concentric_disk(u: vec2<f32>) -> vec2<f32> {
+    let o = 2.0 * u - vec2<f32>(1.0);
+    if o.x == 0.0 && o.y == 0.0 {
+        return vec2<f32>(0.0);
+    }
+    let quarter = 0.25 * PI;
+    var r: f32;
+    var phi: f32;
+    if abs(o.x) > abs(o.y) {
+        r = o.x;
+        phi = quarter * (o.y / o.x);
+    } else {
+        r = o.y;
+        phi = 2.0 * quarter - quarter * (o.x / o.y);
+    }
+    return r * vec2<f32>(cos(phi), sin(phi));
+}
+
+// Whether the camera is a thin lens (camera_position.w its radius,
+// camera_forward.w its focus distance; a pinhole has radius 0).
+fn has_lens() -> bool {
+    return params.camera_position.w > 0.0;
+}
+
+// The camera ray through film position `film` (in pixels, y down) and
+// the lens point `lens` in [0, 1)² picks (ignored by a pinhole): from the
+// lens point to where the pinhole ray meets the plane of focus. Mirrors
+// tyndall::camera::Camera::ray.
+fn camera_ray(film: vec2<f32>, lens: vec2<f32>) -> Ray {
     let ndc = 2.0 * film / params.half_extent_resolution.zw - vec2<f32>(1.0);
-    let direction = normalize(params.camera_forward.xyz
+    let pinhole = params.camera_forward.xyz
         + params.camera_right.xyz * (ndc.x * params.half_extent_resolution.x)
-        - params.camera_up.xyz * (ndc.y * params.half_extent_resolution.y));
-    return Ray(params.camera_position.xyz, direction);
+        - params.camera_up.xyz * (ndc.y * params.half_extent_resolution.y);
+    if !has_lens() {
+        return Ray(params.camera_position.xyz, normalize(pinhole));
+    }
+    let p = params.camera_position.w * concentric_disk(lens);
+    let origin = params.camera_position.xyz + params.camera_right.xyz * p.x
+        + params.camera_up.xyz * p.y;
+    let focus = params.camera_position.xyz + pinhole * params.camera_forward.w;
+    return Ray(origin, normalize(focus - origin));
 }
 
 // Marks an invocation outside the image.
@@ -176,9 +212,14 @@ fn march_frame(@builtin(global_invocation_id) id: vec3<u32>) {
     leading_used = 0u;
     // The film position, uniform over the pixel (a box filter).
     let film = vec2<f32>(f32(id.x) + next_1d(), f32(id.y) + next_1d());
+    // A lens point only for a lens: pinhole frames keep their numbers.
+    var lens = vec2<f32>(0.5);
+    if has_lens() {
+        lens = vec2<f32>(next_1d(), next_1d());
+    }
     let n = max(params.interleave, 1u);
     let stratum = interleaved_stratum(id.xy, n);
-    let l = radiance(camera_ray(film), stratum, n * n);
+    let l = radiance(camera_ray(film, lens), stratum, n * n);
     accumulation[index] += vec4<f32>(l, 1.0);
     fog_accumulation[index] += vec4<f32>(fog_radiance, first_depth);
 }

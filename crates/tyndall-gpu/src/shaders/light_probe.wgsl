@@ -99,13 +99,13 @@ fn probe_light_arriving(@builtin(global_invocation_id) id: vec3<u32>) {
     probe_outputs[2u * i + 1u] = vec4<f32>(0.0);
 }
 
-// in0 = (film.xy, _, _) → out0 = (origin, _), out1 = (direction, _) of
-// camera_ray(film)
+// in0 = (film.xy, lens.xy) → out0 = (origin, _), out1 = (direction, _)
+// of camera_ray(film, lens)
 @compute @workgroup_size(64)
 fn probe_camera_ray(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= probe_count() { return; }
-    let ray = camera_ray(probe_inputs[3u * i].xy);
+    let ray = camera_ray(probe_inputs[3u * i].xy, probe_inputs[3u * i].zw);
     probe_outputs[2u * i] = vec4<f32>(ray.origin, 0.0);
     probe_outputs[2u * i + 1u] = vec4<f32>(ray.direction, 0.0);
 }
