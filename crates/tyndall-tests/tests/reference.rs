@@ -55,7 +55,7 @@ fn integrators_converge_to_references() {
 /// `volpath` against the multiple-scattering references (Mitsuba 3,
 /// scenes/reference/REFERENCE-README.md): surface interreflection in a Cornell-like
 /// box (unlimited, and one indirect bounce), a fog-filled room
-/// (unlimited, and two scattering events), and a sphere and block under
+/// (unlimited, two scattering events, and in chromatic fog), and a sphere and block under
 /// uniform and mapped skies with and without fog; and against Cycles 5 on an
 /// emitting, scattering flame (scenes/reference/fire-cycles/).
 ///
@@ -80,6 +80,9 @@ fn volpath_converges_to_multiple_scattering_references() {
         ("cornell-surfaces-depth3", Some(2), 16),
         ("fog-room-multi", None, 16),
         ("fog-room-depth2", Some(2), 16),
+        // The same room in chromatic fog (σt and albedo per channel:
+        // spectral tracking's throughput-weighted channel choices).
+        ("fog-room-chromatic", None, 16),
         // Lit only by Mitsuba's `constant` and `envmap` environments, with
         // and without a box of fog (scenes/reference/environment/).
         ("environment/env-constant", None, 16),
