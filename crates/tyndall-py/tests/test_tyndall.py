@@ -216,6 +216,30 @@ def test_a_mesh_in_numpy_arrays_reads_as_the_same_lists():
     assert arrays.tobytes() == lists.tobytes()
 
 
+def test_numpy_scalars_read_as_plain_numbers():
+    """NumPy scalars anywhere in a description (np.float64 is a float
+    subclass whose repr in NumPy 2 is "np.float64(…)"; np.float32 and
+    np.int64 are not Python numbers) read as the plain numbers do."""
+
+    def scene(number, integer):
+        return tyndall.Scene.from_dict(
+            {
+                "camera": {"position": [0, 3, 4], "look_at": [0, 0, 0], "fov_y_deg": number(50.0)},
+                "render": {"width": integer(16), "height": integer(12), "spp": integer(2)},
+                "materials": {"floor": {"type": "diffuse", "reflectance": [number(0.7), number(0.5), number(0.3)]}},
+                "shapes": [
+                    {"type": "quad", "corners": [[-2, 0, -2], [-2, 0, 2], [2, 0, 2], [2, 0, -2]], "material": "floor"}
+                ],
+                "lights": [{"type": "point", "position": [0, number(2.0), 0], "intensity": [number(3.0)] * 3}],
+            }
+        )
+
+    plain = scene(float, int).render()
+    assert plain.max() > 0
+    for number in (np.float64, np.float32):
+        assert scene(number, np.int64).render().tobytes() == plain.tobytes()
+
+
 def test_large_mesh_arrays_go_beside_the_text_and_read_the_same():
     """A floor of 2·24² triangles as NumPy arrays (past the size that
     `from_dict` hands over as bytes beside the TOML text, "@array:K")

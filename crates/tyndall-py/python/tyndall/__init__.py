@@ -371,7 +371,10 @@ def _key(k: Any, path: str) -> str:
 
 def _number(v: Union[int, float]) -> str:
     if isinstance(v, int):
-        return str(v)
+        return str(int(v))
+    # As a plain float: NumPy 2 writes its float64 (a float subclass) as
+    # "np.float64(…)".
+    v = float(v)
     if math.isnan(v):
         return "nan"
     if math.isinf(v):
@@ -422,10 +425,13 @@ def _value(v: Any, path: str, arrays: Optional[List[bytes]] = None) -> str:
         if v.dtype == np.float32:
             return "[" + ", ".join(map("{:.9g}".format, v.tolist())) + "]"
         return "[" + ", ".join(map(_number, v.tolist())) + "]"
+    if isinstance(v, np.generic) or (isinstance(v, np.ndarray) and v.ndim == 0):
+        # NumPy scalars (which have `tolist` and `ndim` too) as Python's.
+        return _value(v.item(), path)
     if isinstance(v, (list, tuple)) or (hasattr(v, "tolist") and hasattr(v, "ndim")):
         seq = v.tolist() if hasattr(v, "tolist") else v
         return "[" + ", ".join(_value(x, f"{path}[{i}]") for i, x in enumerate(seq)) + "]"
-    if hasattr(v, "item"):  # NumPy scalars
+    if hasattr(v, "item"):  # other array libraries' scalars
         return _value(v.item(), path)
     raise ValueError(f"Scene.from_dict: {path}: {type(v).__name__} is not a scene value")
 
