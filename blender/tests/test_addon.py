@@ -621,7 +621,7 @@ def test_a_stained_glass_window_renders_like_cycles(out):
     assert not described.warnings, described.warnings
     assert len(described.scene["media"]) == 1 and "mesh" in described.scene["media"][0]
     cycles, cycles_error = cycles_pair(out, "stained-glass", 256)
-    agree(tyndall_pair(out, "stained-glass", 64), cycles, cycles_error, "stained glass")
+    agree(tyndall_pair(out, "stained-glass", 256), cycles, cycles_error, "stained glass")
 
 
 def test_sun_and_sky_through_fog_render_like_cycles(out):
