@@ -2,6 +2,7 @@
 
 use crate::footprint::RayCone;
 use crate::ray::Ray;
+use crate::sampler::PixelSampler;
 use crate::sampling::concentric_disk;
 use glam::{Vec2, Vec3};
 
@@ -176,11 +177,22 @@ impl Camera {
     }
 
     /// Whether rays start at a point of a lens, so [`Self::ray`] and
-    /// [`Self::project`] use their `lens` sample (a pinhole ignores it,
-    /// and callers draw none, so pinhole images keep their samples).
+    /// [`Self::project`] use their `lens` sample (a pinhole ignores it).
     #[inline]
     pub fn has_lens(&self) -> bool {
         self.aperture != Aperture::Pinhole
+    }
+
+    /// The lens sample for [`Self::ray`] or [`Self::project`]: two numbers
+    /// of `sampler` through a lens, none for a pinhole (so pinhole images
+    /// keep their samples).
+    #[inline]
+    pub fn lens_sample(&self, sampler: &mut PixelSampler) -> Vec2 {
+        if self.has_lens() {
+            sampler.next_2d()
+        } else {
+            Vec2::ZERO
+        }
     }
 
     /// The point of the lens that `u ∈ [0, 1)²` picks, uniformly over the

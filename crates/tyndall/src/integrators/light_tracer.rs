@@ -236,7 +236,7 @@ impl Tracer<'_> {
                     phase,
                     arriving: ray.direction,
                 };
-                let lens = self.lens_sample(sampler);
+                let lens = self.camera.lens_sample(sampler);
                 self.connect(x, lens, &scatterer, beta, &mut tracker, splats, counts);
                 let (direction, _) = phase.sample(ray.direction, sampler.next_2d());
                 ray = Ray {
@@ -300,7 +300,7 @@ impl Tracer<'_> {
                     if surface.diffuse != Rgb::ZERO {
                         let normals = SurfaceNormals::flat(normal);
                         let diffuse = Scatterer::Surface { surface, normals };
-                        let lens = self.lens_sample(sampler);
+                        let lens = self.camera.lens_sample(sampler);
                         self.connect(p, lens, &diffuse, beta, &mut tracker, splats, counts);
                     }
                     // Continue by the lobes, as `volpath` does.
@@ -331,16 +331,6 @@ impl Tracer<'_> {
     /// before it, which the camera paths estimate.
     fn scattering_allowed(&self, caustic: bool) -> bool {
         caustic || self.which == LightPaths::All
-    }
-
-    /// The lens point of a connection to the camera (none is drawn for a
-    /// pinhole, so pinhole renders keep their samples).
-    fn lens_sample(&self, sampler: &mut PixelSampler) -> Vec2 {
-        if self.camera.has_lens() {
-            sampler.next_2d()
-        } else {
-            Vec2::ZERO
-        }
     }
 
     /// Splats the light scattered at `x` towards the camera through the

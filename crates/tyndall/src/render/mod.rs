@@ -339,11 +339,7 @@ impl CameraPass<'_> {
             let index = y as u64 * full_width + x as u64;
             let mut sampler = PixelSampler::new(self.settings.seed, index, self.s);
             let film = Vec2::new(x as f32, y as f32) + sampler.next_2d();
-            let lens = if self.camera.has_lens() {
-                sampler.next_2d()
-            } else {
-                Vec2::ZERO
-            };
+            let lens = self.camera.lens_sample(&mut sampler);
             let ray = self.camera.ray(film, lens);
             let cone = Some(self.camera.cone(ray.direction, self.cone_scale));
             let pixel = PixelPosition { x, y };
