@@ -394,6 +394,19 @@ impl Volume {
         self.sigma_t * density
     }
 
+    /// σt per channel where the volume is homogeneous and does not emit:
+    /// its extinction is that constant throughout its region, so its
+    /// transmittance over a chord of length ℓ is `exp(−σt·ℓ)` in closed
+    /// form and its free flights can be drawn without tracking
+    /// ([`super::tracking`]). `None` for a density field or an emitting
+    /// volume (whose emission tracking must find at its tentative
+    /// collisions).
+    #[inline]
+    pub fn uniform_extinction(&self) -> Option<Rgb> {
+        (matches!(self.density, Density::Uniform) && self.emission.is_none())
+            .then_some(self.sigma_t)
+    }
+
     /// The largest extinction in any channel anywhere in the volume.
     pub fn max_extinction(&self) -> f32 {
         let peak = self.majorants.max.iter().copied().fold(0.0, f32::max);
