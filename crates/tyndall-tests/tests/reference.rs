@@ -80,9 +80,12 @@ fn volpath_converges_to_multiple_scattering_references() {
         ("cornell-surfaces-depth3", Some(2), 16),
         ("fog-room-multi", None, 16),
         ("fog-room-depth2", Some(2), 16),
-        // The same room in chromatic fog (σt and albedo per channel:
-        // spectral tracking's throughput-weighted channel choices).
+        // The same room in chromatic fog (σt and albedo per channel: a
+        // uniform volume's closed-form flights by spectral MIS).
         ("fog-room-chromatic", None, 16),
+        // The Cornell box in dense fog filling all space (issue 25's
+        // cornell-fog-multi: long paths at albedo 0.95).
+        ("cornell-fog-multi", None, 16),
         // Lit only by Mitsuba's `constant` and `envmap` environments, with
         // and without a box of fog (scenes/reference/environment/).
         ("environment/env-constant", None, 16),
