@@ -184,7 +184,11 @@ fn tree_and_every_light_agree_in_volpath() {
 }
 
 /// `volpath` with a medium: the tree's choice also at its collisions.
+/// Every light at 256 spp too: the medium's collisions move half the time
+/// to equiangular samples towards a light chosen uniformly, whose
+/// estimate under the truss is skewed at 32 spp (one region 6.8 σ off
+/// there, within σ at 256), as `single`'s is at 16.
 #[test]
 fn tree_and_every_light_agree_in_a_medium() {
-    check(IntegratorKind::Volpath, true, (64, 36), (32, 256));
+    check(IntegratorKind::Volpath, true, (64, 36), (256, 256));
 }

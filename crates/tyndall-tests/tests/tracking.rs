@@ -14,7 +14,7 @@ use glam::{UVec3, Vec3};
 use tyndall::Rgb;
 use tyndall::media::grid::VoxelGrid;
 use tyndall::media::noise::SmokeNoise;
-use tyndall::media::tracking::{Collision, VolumeTracker};
+use tyndall::media::tracking::{Collision, FlightOptions, VolumeTracker};
 use tyndall::media::volume::{Density, MeshRegion, Volume, VolumeRegion};
 use tyndall::phase::PhaseFunction;
 use tyndall::ray::Ray;
@@ -70,7 +70,14 @@ fn check_estimators(what: &str, volumes: &[Volume], ray: &Ray, t1: f32, exact: R
     assert_close(&format!("{what}: ratio tracking"), ratio, exact);
     let delta = mean_and_stderr(|| {
         let mut throughput = Rgb::ONE;
-        match tracker.sample_collision(volumes, ray, 0.0, t1, &mut throughput, None) {
+        match tracker.sample_collision(
+            volumes,
+            ray,
+            0.0,
+            t1,
+            &mut throughput,
+            FlightOptions::default(),
+        ) {
             Collision::Escaped => throughput,
             _ => Rgb::ZERO,
         }
@@ -214,7 +221,7 @@ fn free_flight_distances_follow_beer_lambert() {
             0.0,
             10.0,
             &mut throughput,
-            None,
+            FlightOptions::default(),
         ) {
             Collision::Scatter { t, .. } => {
                 assert_eq!(throughput, Rgb::ONE, "grey tracking never reweights");
@@ -249,9 +256,11 @@ fn free_flight_distances_follow_beer_lambert() {
 /// throughput), and that of the flights that escape is `β·e^{−σt·ℓ}`.
 /// Two overlapping chromatic volumes (a box inside one filling all space)
 /// with unequal albedos and an uneven incoming throughput; the same
-/// volumes drawn as uniform (closed-form flights by spectral MIS) and as
-/// constant voxel grids (spectral tracking) must both match. Eight bins
-/// along the box's chord, per volume, within 5 standard errors.
+/// volumes drawn as uniform (closed-form flights by spectral MIS), as
+/// uniform with the flights also aimed at a point beside the box
+/// (equiangular sampling mixed in), and with the box a constant voxel
+/// grid (spectral tracking there) must all match. Eight bins along the
+/// box's chord, per volume, within 5 standard errors.
 #[test]
 fn scattering_in_uniform_media_matches_closed_form() {
     let outer_sigma = Rgb::new(0.45, 0.3, 0.15);
@@ -306,28 +315,40 @@ fn scattering_in_uniform_media_matches_closed_form() {
     exact.push(between(0.0, a, outer_sigma * outer_albedo, outer_sigma));
     exact.push(between(b, end, outer_sigma * outer_albedo, outer_sigma));
     exact.push(beta * (-depth(end)).exp());
-    for grid in [false, true] {
+    let aim = Vec3::new(0.4, 0.9, 0.1);
+    for (label, grid, aim) in [
+        ("closed-form flights", false, None),
+        ("closed-form flights aimed at a point", false, Some(aim)),
+        ("tracking", true, None),
+    ] {
         let volumes = make(grid);
-        let mut tracker = VolumeTracker::new(RandomStream::new(if grid { 5 } else { 6 }));
+        let mut tracker = VolumeTracker::new(RandomStream::new(5 + grid as u64));
         let mut sums = vec![(glam::DVec3::ZERO, glam::DVec3::ZERO); exact.len()];
         for _ in 0..N {
             let mut throughput = beta;
-            let slot =
-                match tracker.sample_collision(&volumes, &ray, 0.0, end, &mut throughput, None) {
-                    Collision::Scatter { t, volume } if t < a => {
-                        assert_eq!(volume, 0, "only the outer volume is before the box");
-                        2 * bins
-                    }
-                    Collision::Scatter { t, volume } if t >= b => {
-                        assert_eq!(volume, 0, "only the outer volume is past the box");
-                        2 * bins + 1
-                    }
-                    Collision::Scatter { t, volume } => {
-                        2 * (((t - a) / width) as usize).min(bins - 1) + volume
-                    }
-                    Collision::Escaped => 2 * bins + 2,
-                    Collision::Absorbed => continue,
-                };
+            let options = FlightOptions { emitted: None, aim };
+            let slot = match tracker.sample_collision(
+                &volumes,
+                &ray,
+                0.0,
+                end,
+                &mut throughput,
+                options,
+            ) {
+                Collision::Scatter { t, volume } if t < a => {
+                    assert_eq!(volume, 0, "only the outer volume is before the box");
+                    2 * bins
+                }
+                Collision::Scatter { t, volume } if t >= b => {
+                    assert_eq!(volume, 0, "only the outer volume is past the box");
+                    2 * bins + 1
+                }
+                Collision::Scatter { t, volume } => {
+                    2 * (((t - a) / width) as usize).min(bins - 1) + volume
+                }
+                Collision::Escaped => 2 * bins + 2,
+                Collision::Absorbed => continue,
+            };
             let e = throughput.as_dvec3();
             sums[slot].0 += e;
             sums[slot].1 += e * e;
@@ -337,11 +358,6 @@ fn scattering_in_uniform_media_matches_closed_form() {
             let mean = sum / n;
             let stderr =
                 ((sum2 / n - mean * mean).max(glam::DVec3::ZERO) / (n - 1.0)).map(f64::sqrt);
-            let label = if grid {
-                "tracking"
-            } else {
-                "closed-form flights"
-            };
             assert_close(
                 &format!("{label}, slot {slot}"),
                 (mean.as_vec3(), stderr.as_vec3()),

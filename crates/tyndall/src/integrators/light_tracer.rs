@@ -31,7 +31,7 @@ use crate::exact_sum::ExactRgb;
 use crate::footprint::Footprint;
 use crate::materials::{Material, SurfaceEvent};
 use crate::media::free_flight;
-use crate::media::tracking::{Collision, VolumeTracker};
+use crate::media::tracking::{Collision, FlightOptions, VolumeTracker};
 use crate::phase::PhaseFunction;
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
@@ -425,7 +425,14 @@ fn medium_event<'s>(
         free_flight(fog.sigma_t, a, b, u).map(|t| (t, fog))
     });
     let t_end = fog_event.map_or(t_hit, |(t, _)| t);
-    match tracker.sample_collision(&scene.volumes, ray, 0.0, t_end, beta, None) {
+    match tracker.sample_collision(
+        &scene.volumes,
+        ray,
+        0.0,
+        t_end,
+        beta,
+        FlightOptions::default(),
+    ) {
         Collision::Scatter { t, volume } => MediumEvent::Scatter(t, &scene.volumes[volume].phase),
         Collision::Absorbed => MediumEvent::Absorbed,
         Collision::Escaped => match fog_event {

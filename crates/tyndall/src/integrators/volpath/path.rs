@@ -23,7 +23,7 @@ use crate::integrators::{
 use crate::light_groups::LightGroup;
 use crate::materials::{Lobe, Surface, SurfaceEvent};
 use crate::media::emitters::HitWeighting;
-use crate::media::tracking::{Collision, VolumeTracker};
+use crate::media::tracking::{Collision, FlightOptions, VolumeTracker};
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
@@ -116,6 +116,9 @@ struct PathContext<'a, K: Keep> {
     connections: bool,
     /// Whether any volume emits.
     emissive: bool,
+    /// Whether flights aim at lights: the scene has lights and uniform
+    /// volumes, whose flights can be drawn towards them.
+    aims: bool,
 }
 
 impl<'a, K: Keep> PathContext<'a, K> {
@@ -136,6 +139,11 @@ impl<'a, K: Keep> PathContext<'a, K> {
             max_events: integrator.max_depth.min(MAX_PATH_EVENTS),
             connections: integrator.light_subpaths.connect(),
             emissive: scene.volumes.iter().any(|v| v.is_emissive()),
+            aims: !scene.lights.is_empty()
+                && scene
+                    .volumes
+                    .iter()
+                    .any(|v| v.uniform_extinction().is_some()),
             sampler,
             counts,
         }
@@ -262,18 +270,38 @@ impl<'a, K: Keep> PathContext<'a, K> {
             }),
             _ => None,
         };
+        let aim = self.aim();
         let collision = self.tracker.sample_collision(
             &scene.volumes,
             &state.ray,
             0.0,
             t_end,
             &mut state.throughput,
-            self.emissive.then_some((&mut emitted, weighting)),
+            FlightOptions {
+                emitted: self.emissive.then_some((&mut emitted, weighting)),
+                aim,
+            },
         );
         // Emitting media are in no light group.
         self.radiance
             .add(state.history.component(), LightGroup::OTHER, emitted);
         collision
+    }
+
+    /// A point on a light for the segment's flight through uniform
+    /// volumes to aim at ([`FlightOptions::aim`]): a light chosen
+    /// uniformly, its position or a uniform point on it; `None` for a
+    /// distant light, and without uniform volumes (which take no random
+    /// numbers for it).
+    fn aim(&mut self) -> Option<Vec3> {
+        if !self.aims {
+            return None;
+        }
+        let lights = &self.scene.lights;
+        let u = self.sampler.next_1d();
+        let point = self.sampler.next_2d();
+        let index = ((u * lights.len() as f32) as usize).min(lights.len() - 1);
+        lights[index].sample_point(point).map(|p| p.position)
     }
 
     /// A real scattering event at `t` in volume `volume`: NEE towards the
