@@ -4,6 +4,8 @@ haze (issue 23), and the two gobo images it uses.
 
     python3 scenes/rig/make_stage_rig.py            # scenes/stage-rig.toml (64 spots) and the gobos
     python3 scenes/rig/make_stage_rig.py 1024 OUT   # the 1024-spot version, to OUT
+    python3 scenes/rig/make_stage_rig.py --neutral 64 OUT.json
+        # the same heads in shared/peers' renderer-neutral format, for Mitsuba and Cycles
 
 The rig is an n × n grid of moving heads 8 m above a 20 m × 12 m stage,
 each aimed at its own point of the floor in a fan, alternating 3200 K
@@ -12,8 +14,16 @@ star) turned per head; the haze is a fog box over the stage. The 1024-spot
 rig has the same total power split over 16× the heads, so its image is
 of the same brightness. Pure Python (zlib for the PNGs), so CI needs
 nothing else.
+
+The neutral scene (`volbench-scene/1`, ../shared/peers/FORMAT.md) is what
+other renderers can read of the rig: the same heads, cones and total
+power, but white (no colour temperature), without gobos, and with the
+haze filling all space (the format's one global medium) instead of a box;
+shared/peers' `to_tyndall.py` translates it back for Tyndall, so all three
+render the same scene.
 """
 
+import json
 import math
 import os
 import struct
@@ -97,7 +107,27 @@ def rig(n):
         'material = "backdrop"',
         "",
     ]
-    # The rig's total intensity is the same for every n.
+    for k, position, target, cutoff, intensity in heads(n):
+        lines += [
+            "[[lights]]",
+            'type = "spot"',
+            f"position = [{position[0]:.3f}, {position[1]:.1f}, {position[2]:.3f}]",
+            f"look_at = [{target[0]:.3f}, {target[1]:.1f}, {target[2]:.3f}]",
+            f"cutoff_deg = {cutoff:.2f}",
+            'profile = "hard"',
+            f"intensity = {intensity:.4f}",
+            f"temperature_k = {3200 if k % 2 == 0 else 5600}",
+            f'gobo = "rig/{"breakup" if (k // 2) % 2 == 0 else "star"}.png"',
+            f"gobo_rotate_deg = {(37 * k) % 360}",
+            "",
+        ]
+    return "\n".join(lines)
+
+
+def heads(n):
+    """The n × n heads: (index, position, aim point, cone half-angle in
+    degrees, intensity in W/sr), the rig's total intensity the same for
+    every n."""
     intensity = 40.0 * 64 / (n * n)
     for i in range(n):
         for j in range(n):
@@ -107,23 +137,50 @@ def rig(n):
             # Each head aimed in a fan across the floor.
             tx = 0.6 * x + 2.5 * math.sin(1.7 * k)
             tz = 0.5 * z + 2.0 * math.cos(1.3 * k)
-            lines += [
-                "[[lights]]",
-                'type = "spot"',
-                f"position = [{x:.3f}, 8.0, {z:.3f}]",
-                f"look_at = [{tx:.3f}, 0.0, {tz:.3f}]",
-                f"cutoff_deg = {10.0 + 4.0 * ((k * 7) % 5) / 4:.2f}",
-                'profile = "hard"',
-                f"intensity = {intensity:.4f}",
-                f"temperature_k = {3200 if k % 2 == 0 else 5600}",
-                f'gobo = "rig/{"breakup" if (k // 2) % 2 == 0 else "star"}.png"',
-                f"gobo_rotate_deg = {(37 * k) % 360}",
-                "",
-            ]
-    return "\n".join(lines)
+            cutoff = 10.0 + 4.0 * ((k * 7) % 5) / 4
+            yield k, (x, 8.0, z), (tx, 0.0, tz), cutoff, intensity
+
+
+def neutral_rig(n, width=320, height=180):
+    """The rig as a `volbench-scene/1` scene (module doc: what differs)."""
+    diffuse = lambda r: {"type": "diffuse", "reflectance": [r, r, r]}
+    lights = []
+    for k, position, target, cutoff, intensity in heads(n):
+        # Rounded as the TOML rounds them, so both scenes hold the same heads.
+        p = [round(c, 3) for c in position]
+        direction = [round(t, 3) - q for t, q in zip(target, p)]
+        lights.append({"name": f"head{k}", "type": "spot", "position": p, "direction": direction,
+                       "cutoff_deg": round(cutoff, 2), "intensity": [round(intensity, 4)] * 3})
+    return {
+        "format": "volbench-scene/1",
+        "name": f"stage-rig-{n * n}",
+        "description": f"The stage rig of issue 23 ({n * n} hard spots in haze over a stage, "
+        "scenes/rig/make_stage_rig.py) as other renderers read it: white, no gobos, the haze everywhere. "
+        "Single scattering (max_depth 2).",
+        "camera": {"position": [0.0, 3.5, 17.0], "look_at": [0.0, 3.0, 0.0], "up": [0, 1, 0],
+                   "fov_y_deg": 50.0, "width": width, "height": height},
+        "medium": {"sigma_t": 0.04, "albedo": [0.9, 0.9, 0.9], "g": 0.3},
+        "shapes": [
+            {"name": "stage", "type": "quad",
+             "corners": [[-10, 0, -6], [-10, 0, 6], [10, 0, 6], [10, 0, -6]], "material": diffuse(0.35)},
+            {"name": "backdrop", "type": "quad",
+             "corners": [[-10, 0, -6], [10, 0, -6], [10, 9, -6], [-10, 9, -6]], "material": diffuse(0.2)},
+        ],
+        "lights": lights,
+        "render": {"max_depth": 2},
+    }
 
 
 def main():
+    if len(sys.argv) == 4 and sys.argv[1] == "--neutral":
+        spots = int(sys.argv[2])
+        n = math.isqrt(spots)
+        if n * n != spots:
+            sys.exit(f"the rig is a square grid: {spots} is not a square")
+        with open(sys.argv[3], "w") as f:
+            json.dump(neutral_rig(n), f, indent=1)
+        print(f"wrote {sys.argv[3]} ({spots} spots, neutral)")
+        return
     spots = int(sys.argv[1]) if len(sys.argv) > 1 else 64
     n = math.isqrt(spots)
     if n * n != spots:
