@@ -280,6 +280,121 @@ fn point_light_gives_each_files_candela_at_its_angles() {
     }
 }
 
+/// A glTF file in `dir` holding a camera and one light of `kind` (with
+/// `fields`, JSON members after its type) at a node turned −90° about x,
+/// so that its −z is −y.
+fn gltf_with_light(
+    dir: &std::path::Path,
+    file: &str,
+    kind: &str,
+    fields: &str,
+) -> std::path::PathBuf {
+    let half = std::f64::consts::FRAC_1_SQRT_2;
+    let gltf = format!(
+        r#"{{"asset": {{"version": "2.0"}},
+  "extensionsUsed": ["KHR_lights_punctual"],
+  "extensions": {{"KHR_lights_punctual": {{"lights": [{{"type": "{kind}", {fields}}}]}}}},
+  "cameras": [{{"type": "perspective", "perspective": {{"yfov": 0.7, "znear": 0.01}}}}],
+  "scene": 0, "scenes": [{{"nodes": [0, 1]}}],
+  "nodes": [{{"translation": [0.5, 3, -1], "rotation": [{r}, 0, 0, {half}],
+    "extensions": {{"KHR_lights_punctual": {{"light": 0}}}}}},
+    {{"translation": [0, 1, 6], "camera": 0}}]}}"#,
+        r = -half,
+    );
+    let path = dir.join(file);
+    std::fs::write(&path, gltf).expect("write the glTF");
+    path
+}
+
+/// A glTF point light whose `extras` name a file (beside the glTF, turned
+/// 30°) is the file's luminaire with its nadir along the light's −z (here
+/// −y). Its `intensity` in candela is the profile's peak: set to the
+/// file's largest candela, every tabulated direction must give the file's
+/// own number.
+#[test]
+fn gltf_point_light_takes_the_profile_its_extras_name() {
+    let dir = std::env::temp_dir().join(format!("tyndall-gltf-ies-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    for (name, _) in FILES {
+        let table = read_table(name);
+        let peak = table
+            .candela
+            .iter()
+            .flatten()
+            .fold(0.0f64, |m, &c| m.max(c))
+            * table.scale;
+        std::fs::copy(luminaire_file(name), dir.join("profile.ies")).expect("copy the file");
+        let fields = format!(
+            r#""intensity": {peak}, "extras": {{"ies": "profile.ies", "ies_rotate_deg": 30}}"#
+        );
+        let path = gltf_with_light(&dir, &format!("{name}.gltf"), "point", &fields);
+        let loaded = common::load_gltf(&path).expect("the glTF loads");
+        let light = &loaded.scene.lights()[0];
+        check_tabulated_angles(
+            light,
+            Vec3::new(0.5, 3.0, -1.0),
+            DVec3::NEG_Y,
+            30.0,
+            &table,
+            181.0,
+        );
+    }
+}
+
+/// Bad profile extras on a glTF light: an error naming the file and the
+/// element (and the IES file's own place), never a panic.
+#[test]
+fn gltf_profile_extras_are_checked() {
+    let dir = std::env::temp_dir().join(format!("tyndall-gltf-bad-ies-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    std::fs::write(
+        dir.join("short.ies"),
+        "IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 3\n",
+    )
+    .expect("write a bad file");
+    let cases = [
+        (
+            "point",
+            r#""extras": {"ies": 5}"#,
+            "lights[0].extras.ies: must be a string",
+        ),
+        (
+            "point",
+            r#""extras": {"ies": "a.ies", "ies_rotate_deg": 400}"#,
+            "lights[0].extras.ies_rotate_deg: must be an angle",
+        ),
+        (
+            "point",
+            r#""extras": {"ies_rotate_deg": 10}"#,
+            "there is no `ies`",
+        ),
+        (
+            "point",
+            r#""extras": {"ies": "missing.ies"}"#,
+            "missing.ies",
+        ),
+        ("point", r#""extras": {"ies": "short.ies"}"#, "short.ies:"),
+        (
+            "directional",
+            r#""extras": {"ies": "short.ies"}"#,
+            "a measured profile needs a point or spot light",
+        ),
+    ];
+    for (i, (kind, fields, expected)) in cases.iter().enumerate() {
+        let path = gltf_with_light(&dir, &format!("bad{i}.gltf"), kind, fields);
+        match common::load_gltf(&path) {
+            Ok(_) => panic!("case {i} ({fields}) loaded"),
+            Err(e) => {
+                let message = e.to_string();
+                assert!(
+                    message.contains(expected) && message.contains(&format!("bad{i}.gltf")),
+                    "case {i}: {message}"
+                );
+            }
+        }
+    }
+}
+
 /// A spot's cone bounds the profile: inside a hard cone the light is the
 /// file's, outside nothing.
 #[test]

@@ -43,7 +43,7 @@ use std::sync::Arc;
 use tyndall::camera::{Aperture, CameraSpec, FieldOfView};
 use tyndall::color::Rgb;
 use tyndall::description::{LightDesc, Origin, SceneDesc, Sourced};
-use tyndall::lights::{DirectionalLight, PointLight, SpotLight, SpotProfile};
+use tyndall::lights::{DirectionalLight, Luminaire, PointLight, SpotLight, SpotProfile};
 use tyndall::materials::MaterialId;
 use tyndall::settings::{IntegratorKind, MAX_IMAGE_SIDE};
 use tyndall::shapes::Bounds;
@@ -403,6 +403,7 @@ pub fn add_bytes_to_scene(
         camera: None,
         bounds: Bounds::EMPTY,
         skipped_degenerate: 0,
+        light_profiles: outline.light_profiles.clone(),
     };
     for ext in document.extensions_used() {
         if !HANDLED_EXTENSIONS.contains(&ext) {
@@ -494,6 +495,8 @@ struct GltfLoader<'a> {
     camera: Option<GltfCamera>,
     bounds: Bounds,
     skipped_degenerate: usize,
+    /// Each light's measured profile named in its `extras`, if any.
+    light_profiles: Vec<Option<validate::ProfileRef>>,
 }
 
 impl GltfLoader<'_> {
@@ -602,7 +605,11 @@ impl GltfLoader<'_> {
     }
 
     /// A KHR_lights_punctual light at its node: position `M·0`, direction
-    /// `M·(0, 0, −1)` (the light's −z).
+    /// `M·(0, 0, −1)` (the light's −z). A point or spot light whose
+    /// `extras` name an `.ies` file ([`validate::ProfileRef`]) takes that
+    /// measured profile with its nadir along the light's −z, as the native
+    /// format's `ies` key does; the light's `intensity` (cd) is then the
+    /// profile's peak.
     fn light(
         &mut self,
         light: &::gltf::khr_lights_punctual::Light,
@@ -630,13 +637,36 @@ impl GltfLoader<'_> {
         }
         let position = world.transform_point3(Vec3::ZERO);
         let direction = world.transform_vector3(Vec3::NEG_Z);
-        let needs_direction = !matches!(light.kind(), Kind::Point);
+        let measured = self.light_profiles.get(light.index()).cloned().flatten();
+        let needs_direction = !matches!(light.kind(), Kind::Point) || measured.is_some();
         if needs_direction && !(direction.length_squared() > 0.0 && direction.is_finite()) {
             return Err(self.err(&element, "the light's node transform has no direction"));
         }
+        let luminaire = match (measured, light.kind()) {
+            (Some(_), Kind::Directional) => {
+                return Err(self.err(
+                    &format!("{element}.extras.ies"),
+                    "a measured profile needs a point or spot light",
+                ));
+            }
+            (Some(profile), _) => {
+                let path = match self.base {
+                    Some(base) => base.join(&profile.file),
+                    None => PathBuf::from(&profile.file),
+                };
+                let measured = crate::ies::load(&path)
+                    .map_err(|e| self.err(&format!("{element}.extras.ies"), e))?;
+                Some(Luminaire::new(
+                    measured.profile,
+                    direction.normalize(),
+                    profile.rotate_deg,
+                ))
+            }
+            (None, _) => None,
+        };
         Ok(match light.kind() {
             Kind::Point => LightDesc::Point(PointLight {
-                luminaire: None,
+                luminaire,
                 position,
                 intensity: color * candela_to_watts_per_sr(intensity),
             }),
@@ -665,7 +695,7 @@ impl GltfLoader<'_> {
                 };
                 LightDesc::Spot(SpotLight {
                     gobo: None,
-                    luminaire: None,
+                    luminaire,
                     position,
                     direction: direction.normalize(),
                     cos_cutoff: outer_cone_angle.cos(),

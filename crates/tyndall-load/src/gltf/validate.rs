@@ -46,6 +46,19 @@ pub(super) struct Outline {
     /// Each mesh's cost per instance: vertices read (the primitives'
     /// `POSITION` counts) and triangles made (index or vertex count / 3).
     pub mesh_cost: Vec<(u64, u64)>,
+    /// Each KHR_lights_punctual light's measured profile, if its `extras`
+    /// name one.
+    pub light_profiles: Vec<Option<ProfileRef>>,
+}
+
+/// A measured (IES LM-63) profile a light's `extras` name, as the native
+/// format's `ies` and `ies_rotate_deg` keys do: `"extras": {"ies":
+/// "file.ies", "ies_rotate_deg": 30}` (the path relative to the glTF
+/// file; the turn in degrees, in [−360, 360], 0 if absent).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct ProfileRef {
+    pub file: String,
+    pub rotate_deg: f32,
 }
 
 /// Bytes of one component of `componentType` (§3.6.2.2, table of
@@ -492,6 +505,7 @@ pub(super) fn check(root: &Value, bin_len: Option<u64>) -> Checked<Outline> {
         )?,
         None => &[],
     };
+    let mut light_profiles = Vec::with_capacity(lights.len());
     for (i, light) in lights.iter().enumerate() {
         let element = format!("KHR_lights_punctual.lights[{i}]");
         let light = object(light, &element)?;
@@ -500,6 +514,7 @@ pub(super) fn check(root: &Value, bin_len: Option<u64>) -> Checked<Outline> {
         {
             return Err(problem(&element, "a spot light needs its \"spot\" object"));
         }
+        light_profiles.push(profile_ref(light.get("extras"), &element)?);
     }
 
     // Meshes (§3.7.2).
@@ -685,7 +700,43 @@ pub(super) fn check(root: &Value, bin_len: Option<u64>) -> Checked<Outline> {
         node_mesh,
         roots,
         mesh_cost,
+        light_profiles,
     })
+}
+
+/// The measured profile a light's `extras` name ([`ProfileRef`]); extras
+/// that are not an object, or hold neither key, name none.
+fn profile_ref(extras: Option<&Value>, element: &str) -> Checked<Option<ProfileRef>> {
+    let Some(Value::Object(extras)) = extras else {
+        return Ok(None);
+    };
+    let rotate_deg = match extras.get("ies_rotate_deg") {
+        None => 0.0,
+        Some(v) => match v.as_f64() {
+            Some(r) if (-360.0..=360.0).contains(&r) => r as f32,
+            _ => {
+                return Err(problem(
+                    format!("{element}.extras.ies_rotate_deg"),
+                    "must be an angle in [−360°, 360°]",
+                ));
+            }
+        },
+    };
+    match extras.get("ies") {
+        None if extras.contains_key("ies_rotate_deg") => Err(problem(
+            format!("{element}.extras.ies_rotate_deg"),
+            "turns what `ies` names, and there is no `ies`",
+        )),
+        None => Ok(None),
+        Some(Value::String(file)) => Ok(Some(ProfileRef {
+            file: file.clone(),
+            rotate_deg,
+        })),
+        Some(_) => Err(problem(
+            format!("{element}.extras.ies"),
+            "must be a string naming an .ies file",
+        )),
+    }
 }
 
 /// Checks every textureInfo under `value` (an object under a key ending
