@@ -6,7 +6,7 @@ use crate::accel::Hit;
 use crate::color::Rgb;
 use crate::footprint::{Footprint, RayCone};
 use crate::materials::{Interface, dielectric_scatter};
-use crate::media::transmittance;
+use crate::media::chromatic_transmittance;
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
@@ -61,11 +61,7 @@ impl SolidDepth {
             return Rgb::ONE;
         }
         let sigma = self.absorptions[(self.depth as usize - 1).min(MAX_NESTED_SOLIDS - 1)];
-        Rgb::new(
-            transmittance(sigma.x, distance),
-            transmittance(sigma.y, distance),
-            transmittance(sigma.z, distance),
-        )
+        chromatic_transmittance(sigma, distance)
     }
 }
 

@@ -98,6 +98,17 @@ pub fn free_flight(sigma_t: f32, a: f32, b: f32, u: f32) -> Option<f32> {
     (t < b).then_some(t)
 }
 
+/// Beer–Lambert transmittance per channel, [`transmittance`] of each of
+/// `sigma_t`'s channels over `distance`.
+#[inline]
+pub fn chromatic_transmittance(sigma_t: Rgb, distance: f32) -> Rgb {
+    Rgb::new(
+        transmittance(sigma_t.x, distance),
+        transmittance(sigma_t.y, distance),
+        transmittance(sigma_t.z, distance),
+    )
+}
+
 /// Beer–Lambert transmittance `exp(−σt·d)` of a homogeneous medium; exact
 /// 1 for σt = 0 even over an infinite distance.
 #[inline]

@@ -58,6 +58,7 @@
 
 use super::emitters::HitWeighting;
 use super::volume::{MajorantSegment, RegionScratch, Volume};
+use super::{chromatic_transmittance, free_flight};
 use crate::color::Rgb;
 use crate::ray::Ray;
 use crate::sampler::RandomStream;
@@ -139,7 +140,7 @@ impl VolumeTracker {
         for index in 0..self.segments.len() {
             let segment = self.segments[index];
             if let Some(sigma_t) = uniform_extinction(volumes, segment.mask) {
-                estimate *= beer_lambert(sigma_t, segment.t1 - segment.t0);
+                estimate *= chromatic_transmittance(sigma_t, segment.t1 - segment.t0);
                 continue;
             }
             if !segment.t1.is_finite() {
@@ -244,25 +245,18 @@ impl VolumeTracker {
                     // Which volume scatters: the same weighted shares. If
                     // rounding leaves `pick` past the last share, the last
                     // volume that scatters takes it.
-                    let mut pick = u * norm;
-                    let (mut chosen, mut last) = (None, None);
-                    for_each_volume(volumes, segment.mask, |i, v| {
-                        let s = v.extinction_at(ray.at(t)) * v.albedo;
-                        let share = (beta * s).element_sum();
-                        if share > 0.0 {
-                            last = Some((i, s, share));
-                            if chosen.is_none() && pick < share {
-                                chosen = last;
-                            }
-                            pick -= share;
-                        }
+                    let (chosen, last) = scatterer(volumes, segment.mask, beta, u * norm, |v| {
+                        v.extinction_at(x) * v.albedo
                     });
                     // u < p_scatter, so some volume scatters here.
-                    let Some((volume, s, share)) = chosen.or(last) else {
+                    let Some(chosen) = chosen.or(last) else {
                         return Collision::Absorbed;
                     };
-                    *throughput *= s * (norm / (majorant * share));
-                    return Collision::Scatter { t, volume };
+                    *throughput *= chosen.sigma_s * (norm / (majorant * chosen.share));
+                    return Collision::Scatter {
+                        t,
+                        volume: chosen.index,
+                    };
                 } else if u < p_scatter + p_null {
                     *throughput *= sigma_n / (majorant * p_null);
                 } else {
@@ -311,17 +305,19 @@ impl VolumeTracker {
         // probability w_c = β_c/Σβ.
         let w = beta / total;
         let rate = sigma_t[pick_channel(w, self.rng.next_f32())];
-        let s = if rate > 0.0 {
-            -(1.0 - self.rng.next_f32()).ln() / rate
-        } else {
-            f32::INFINITY
+        let u = self.rng.next_f32();
+        let flight = (rate > 0.0)
+            .then(|| free_flight(rate, 0.0, length, u))
+            .flatten();
+        let escape = || {
+            let t = chromatic_transmittance(sigma_t, length);
+            (t, (w * t).element_sum())
         };
-        let escape = beer_lambert(sigma_t, length);
-        let p_escape = (w * escape).element_sum();
-        if s >= length {
-            *throughput *= escape / p_escape;
+        let Some(s) = flight else {
+            let (t, p_escape) = escape();
+            *throughput *= t / p_escape;
             return Collision::Escaped;
-        }
+        };
         // A collision: with probability p_aim it moves to an equiangular
         // sample of the piece, so collisions have the density
         // (1 − p_aim)·p_d(s) + p_aim·(1 − P_escape)·p_e(s), and escapes
@@ -334,7 +330,7 @@ impl VolumeTracker {
         };
         // A real collision at s: volume i scatters with probability
         // ⟨β·σs_i·T(s)⟩/⟨β·σt·T(s)⟩, else the flight is absorbed.
-        let bt = beta * beer_lambert(sigma_t, s);
+        let bt = beta * chromatic_transmittance(sigma_t, s);
         let collide = (bt * sigma_t).element_sum();
         // Where the transmittance has fallen below f32's normal range (an
         // equiangular sample far out on an endless ray) the flight carries
@@ -343,20 +339,16 @@ impl VolumeTracker {
             return Collision::Absorbed;
         }
         let pdf = (1.0 - p_aim) * collide / total
-            + equiangular.map_or(0.0, |e| p_aim * (1.0 - p_escape) * e.pdf(segment.t0 + s));
-        let mut pick = self.rng.next_f32() * collide;
-        let mut chosen = None;
-        for_each_volume(volumes, segment.mask, |i, v| {
-            let sigma_s = v.sigma_t * v.albedo;
-            let share = (bt * sigma_s).element_sum();
-            if chosen.is_none() && share > 0.0 {
-                if pick < share {
-                    chosen = Some((i, sigma_s, share));
-                }
-                pick -= share;
-            }
-        });
-        let Some((volume, sigma_s, share)) = chosen else {
+            + equiangular.map_or(0.0, |e| p_aim * (1.0 - escape().1) * e.pdf(segment.t0 + s));
+        // Past the last share, `pick` falls in the absorption's.
+        let pick = self.rng.next_f32() * collide;
+        let (chosen, _) = scatterer(volumes, segment.mask, bt, pick, |v| v.sigma_t * v.albedo);
+        let Some(ScatteringVolume {
+            index: volume,
+            sigma_s,
+            share,
+        }) = chosen
+        else {
             return Collision::Absorbed;
         };
         *throughput = bt * sigma_s * (collide / share / pdf);
@@ -451,16 +443,46 @@ fn uniform_extinction(volumes: &[Volume], mask: u32) -> Option<Rgb> {
     sigma_t
 }
 
-/// Beer–Lambert transmittance per channel over `length`, each channel by
-/// [`super::transmittance`] (exactly 1 without extinction, even over an
-/// infinite length).
+/// A volume that may scatter at a collision: its index, its σs there and
+/// its share `⟨β·σs⟩` of the collision.
+#[derive(Clone, Copy)]
+struct ScatteringVolume {
+    index: usize,
+    sigma_s: Rgb,
+    share: f32,
+}
+
+/// A volume in `mask` chosen to scatter with probability proportional to
+/// its share `⟨β·σs_i⟩` (`sigma_s` gives its σs_i there): the first whose
+/// share holds `pick` once the shares before it are taken off, if `pick`
+/// is below their sum; and the last volume with a share at all, which
+/// takes what rounding leaves past the final share where the caller knows
+/// some volume scatters.
 #[inline]
-fn beer_lambert(sigma_t: Rgb, length: f32) -> Rgb {
-    Rgb::new(
-        super::transmittance(sigma_t.x, length),
-        super::transmittance(sigma_t.y, length),
-        super::transmittance(sigma_t.z, length),
-    )
+fn scatterer(
+    volumes: &[Volume],
+    mask: u32,
+    beta: Rgb,
+    mut pick: f32,
+    sigma_s: impl Fn(&Volume) -> Rgb,
+) -> (Option<ScatteringVolume>, Option<ScatteringVolume>) {
+    let (mut chosen, mut last) = (None, None);
+    for_each_volume(volumes, mask, |index, v| {
+        let sigma_s = sigma_s(v);
+        let share = (beta * sigma_s).element_sum();
+        if share > 0.0 {
+            last = Some(ScatteringVolume {
+                index,
+                sigma_s,
+                share,
+            });
+            if chosen.is_none() && pick < share {
+                chosen = last;
+            }
+            pick -= share;
+        }
+    });
+    (chosen, last)
 }
 
 /// Summed extinction of the volumes in `mask` at `ray.at(t)`.
