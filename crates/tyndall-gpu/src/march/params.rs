@@ -115,10 +115,13 @@ pub(crate) fn wgsl_prelude() -> String {
          const MAX_OPTICAL_DEPTH: f32 = {:?};\n\
          // tyndall::ray_march::MAX_GLASS_CROSSINGS.\n\
          const MAX_GLASS_CROSSINGS: u32 = {}u;\n\
+         // tyndall::lights::SOLID_ANGLE_REACH.\n\
+         const SOLID_ANGLE_REACH: f32 = {:?};\n\
          const ESTIMATOR_MARCH: u32 = {ESTIMATOR_MARCH}u;\n\
          const ESTIMATOR_SINGLE: u32 = {ESTIMATOR_SINGLE}u;\n\n{}",
         tyndall::ray_march::MAX_OPTICAL_DEPTH,
         tyndall::ray_march::MAX_GLASS_CROSSINGS,
+        tyndall::lights::SOLID_ANGLE_REACH,
         Params::WGSL,
     )
 }
@@ -272,6 +275,10 @@ mod tests {
         assert!(prelude.contains(&format!(
             "const MAX_GLASS_CROSSINGS: u32 = {}u;",
             tyndall::ray_march::MAX_GLASS_CROSSINGS
+        )));
+        assert!(prelude.contains(&format!(
+            "const SOLID_ANGLE_REACH: f32 = {:?};",
+            tyndall::lights::SOLID_ANGLE_REACH
         )));
         for &(name, _, _, wgsl) in Params::LAYOUT {
             assert!(

@@ -135,15 +135,19 @@ fn incident(light: Light, x: vec3<f32>, y: LightPoint) -> Incident {
 // Light from a point of `light` chosen for the surface point `x`, over
 // the point's density (Light::sample_li, as the CPU march's direct
 // lighting draws it): a rectangle's point uniform in its solid angle
-// seen from x (QuadLight::sample_incident), a sphere's uniform in the
-// cone it subtends from outside (SphereLight::sample_incident); else the
-// point of light_point_at, uniform by area.
+// seen from x within SOLID_ANGLE_REACH diagonals of its centre
+// (QuadLight::sample_incident), a sphere's uniform in the cone it
+// subtends from outside (SphereLight::sample_incident); else the point
+// of light_point_at, uniform by area.
 fn sample_incident(light: Light, x: vec3<f32>) -> Incident {
     if !is_area_light(light) {
         return incident(light, x, light_point_at(light, vec2<f32>(0.0)));
     }
     let u = vec2<f32>(next_1d(), next_1d());
-    if light.kind == LIGHT_QUAD && light.rectangle != 0u {
+    let diagonal = light.direction.xyz + light.edge_v.xyz;
+    let from_centre = x - (light.position.xyz + 0.5 * diagonal);
+    let reach2 = SOLID_ANGLE_REACH * SOLID_ANGLE_REACH * dot(diagonal, diagonal);
+    if light.kind == LIGHT_QUAD && light.rectangle != 0u && dot(from_centre, from_centre) < reach2 {
         let width = length(light.direction.xyz);
         let height = length(light.edge_v.xyz);
         let rect = spherical_rectangle_new(light.position.xyz, light.direction.xyz / width,

@@ -33,7 +33,24 @@ pub(super) struct RectangleFrame {
     z: Vec3,
     width: f32,
     height: f32,
+    /// The rectangle's centre.
+    centre: Vec3,
+    /// The squared distance from the centre within which NEE samples by
+    /// solid angle ([`SOLID_ANGLE_REACH`] diagonals).
+    solid_angle_reach2: f32,
 }
+
+/// How far from a rectangular light's centre, in diagonals, next event
+/// estimation samples it by solid angle; beyond, uniformly by area. Out
+/// there every point of the light lies between `(R − ½)` and `(R + ½)`
+/// diagonals away (R = 2), so area sampling's estimate `L·cos θ_y·A/d²`
+/// varies over the light by a bounded factor (at most `(5/3)³ ≈ 4.6`
+/// for a receiver near the light's plane, where `cos θ_y ∝ 1/d`, and
+/// by much less elsewhere) while a solid-angle sample costs four arc
+/// cosines, a sine and a cosine, and six square roots more. Measured on
+/// cornell-fog-multi (160×120, 32 spp, seeds 7 and 8): the same relMSE
+/// within 0.2 %, 16 % less CPU time (docs/benchmarks.md).
+pub const SOLID_ANGLE_REACH: f32 = 2.0;
 
 impl RectangleFrame {
     /// The frame of `quad` if its edges are orthogonal (solid-angle
@@ -52,7 +69,19 @@ impl RectangleFrame {
             z: x.cross(y),
             width,
             height,
+            centre: quad.origin + 0.5 * (ex + ey),
+            solid_angle_reach2: SOLID_ANGLE_REACH * SOLID_ANGLE_REACH * (ex + ey).length_squared(),
         })
+    }
+
+    /// The spherical rectangle to sample from `x` if it lies within
+    /// [`SOLID_ANGLE_REACH`] of the light; `None` beyond, or where the
+    /// rectangle subtends no solid angle.
+    fn seen_from(&self, x: Vec3) -> Option<SphericalRectangle> {
+        if (x - self.centre).length_squared() >= self.solid_angle_reach2 {
+            return None;
+        }
+        SphericalRectangle::new(self, x)
     }
 }
 
@@ -394,9 +423,7 @@ impl QuadLight {
     /// otherwise. Returns the incident light divided by the point's
     /// density, and that density per unit solid angle seen from `x`.
     pub fn sample_incident(&self, x: Vec3, u: Vec2) -> Option<(Incident, f32)> {
-        if let Some(frame) = &self.rectangle
-            && let Some(rect) = SphericalRectangle::new(frame, x)
-        {
+        if let Some(rect) = self.rectangle.as_ref().and_then(|frame| frame.seen_from(x)) {
             let y = rect.sample(u);
             let (direction, d2) = towards(x, y)?;
             let cos_y = -direction.dot(self.quad.normal);
@@ -425,9 +452,7 @@ impl QuadLight {
     /// [`QuadLight::sample_incident`] picks the point `y` of this light
     /// in direction `direction` (unit, from `x`).
     pub fn pdf(&self, x: Vec3, y: Vec3, direction: Vec3) -> f32 {
-        if let Some(frame) = &self.rectangle
-            && let Some(rect) = SphericalRectangle::new(frame, x)
-        {
+        if let Some(rect) = self.rectangle.as_ref().and_then(|frame| frame.seen_from(x)) {
             return 1.0 / rect.solid_angle;
         }
         let cos = self.quad.normal.dot(direction).abs();
@@ -510,6 +535,61 @@ mod tests {
                         && p.dot(quad.normal).abs() < 1e-4
                 );
             }
+        }
+    }
+
+    /// Next event estimation's light from a rectangle, `L/p` averaged over
+    /// a 256² grid of `u`, is `L·Ω` near the light (solid-angle sampling)
+    /// and beyond [`SOLID_ANGLE_REACH`] (area sampling), with Ω the
+    /// test's own midpoint quadrature of `cos θ_y/d²`; and `pdf` gives
+    /// each sample's density.
+    #[test]
+    fn rectangle_light_is_unbiased_near_and_far() {
+        let quad = Quad::new(
+            Vec3::new(-0.5, 2.0, -0.3),
+            Vec3::new(1.2, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, 0.8),
+            false,
+        )
+        .unwrap();
+        let light = QuadLight::new(quad, Rgb::splat(3.0), false);
+        let centre = quad.origin + 0.5 * (quad.edge_u + quad.edge_v);
+        let diagonal = (quad.edge_u + quad.edge_v).length();
+        let below = Vec3::new(0.3, -1.0, 0.2).normalize();
+        for reach in [0.3, 1.0, 1.9, 2.1, 4.0, 12.0] {
+            let x = centre + below * (reach * diagonal);
+            let n = 512;
+            let mut omega = 0.0f64;
+            for i in 0..n {
+                for j in 0..n {
+                    let y = quad.point((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                    let d = y - x;
+                    let cos = (quad.normal.dot(d) / d.length()).abs() as f64;
+                    omega +=
+                        cos / d.length_squared() as f64 * (quad.area() as f64 / (n * n) as f64);
+                }
+            }
+            let m = 256;
+            let mut sum = 0.0f64;
+            for i in 0..m {
+                for j in 0..m {
+                    let u = Vec2::new((i as f32 + 0.5) / m as f32, (j as f32 + 0.5) / m as f32);
+                    let (incident, pdf) = light.sample_incident(x, u).expect("in front");
+                    let y = x + incident.direction * incident.distance;
+                    let again = light.pdf(x, y, incident.direction);
+                    assert!(
+                        (again - pdf).abs() <= 1e-4 * pdf,
+                        "{reach}: pdf {again} vs {pdf}"
+                    );
+                    sum += f64::from(incident.irradiance.x);
+                }
+            }
+            let mean = sum / (m * m) as f64;
+            assert!(
+                (mean - 3.0 * omega).abs() < 1e-3 * 3.0 * omega,
+                "{reach} diagonals: {mean} vs L·Ω = {}",
+                3.0 * omega
+            );
         }
     }
 

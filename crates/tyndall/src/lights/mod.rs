@@ -44,7 +44,7 @@ mod point;
 mod spot;
 pub mod tree;
 
-pub use area::{QuadLight, SphereLight, SphericalRectangle};
+pub use area::{QuadLight, SOLID_ANGLE_REACH, SphereLight, SphericalRectangle};
 pub use bounds::LightBounds;
 pub use directional::DirectionalLight;
 pub use environment::{EnvironmentLight, EnvironmentMap};
