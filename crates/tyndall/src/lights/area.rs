@@ -1,6 +1,6 @@
 //! Area lights: parallelograms and spheres of constant radiance, and
-//! how next event estimation picks their points (solid-angle sampling
-//! where it can).
+//! how next event estimation picks their points (by solid angle near a
+//! rectangle and outside a sphere, by area elsewhere).
 
 use super::{Incident, LeSample, LightPoint, towards};
 use crate::color::Rgb;
@@ -397,8 +397,9 @@ impl QuadLight {
     }
 
     /// Whether the quad is a rectangle, which next event estimation
-    /// samples uniformly in solid angle ([`QuadLight::sample_incident`]);
-    /// other parallelograms are sampled uniformly by area.
+    /// samples uniformly in solid angle from receivers near it
+    /// ([`QuadLight::sample_incident`]); other parallelograms are sampled
+    /// uniformly by area.
     pub fn is_rectangle(&self) -> bool {
         self.rectangle.is_some()
     }
@@ -419,7 +420,8 @@ impl QuadLight {
     }
 
     /// Light from a point of this light chosen for the receiver `x`:
-    /// uniformly in solid angle for a rectangle, uniformly in area
+    /// uniformly in solid angle for a rectangle when `x` lies within
+    /// [`SOLID_ANGLE_REACH`] diagonals of its centre, uniformly in area
     /// otherwise. Returns the incident light divided by the point's
     /// density, and that density per unit solid angle seen from `x`.
     pub fn sample_incident(&self, x: Vec3, u: Vec2) -> Option<(Incident, f32)> {
