@@ -660,6 +660,59 @@ def test_sun_and_sky_through_fog_render_like_cycles(out):
     agree(tyndall_pair(out, "sun-sky-fog", 64), cycles, cycles_error, "sun and sky through fog")
 
 
+def test_a_chromatic_world_fog_is_a_medium_filling_all_space(out):
+    """World fog whose extinction differs by colour (Volume Scatter of
+    colour 0.9 + Volume Absorption of colour (0.95, 0.75, 0.45), both of
+    density 0.3): under volpath a uniform `[[media]]` volume filling all
+    space with σs = 0.9·0.3 and σa = (1 − colour)·0.3 per channel, as the
+    grey fog's (which test_the_fog_room_renders_like_cycles checks against
+    Cycles) and the medium's (scenes/reference/fog-room-chromatic, against
+    Mitsuba); under `single`, which renders no volumes, the grey fog of its
+    largest channel, warned; a channel without extinction raised to what a
+    medium takes, warned. Not compared with Cycles: next to a point light
+    uniform media give Tyndall rare samples thousands of times a pixel's
+    value, and with an area light instead this scene's grey twin is
+    already 1.5 % darker than Cycles', which the chromatic medium shares
+    (docs/benchmarks.md); so this checks the conversion and that F12
+    renders it."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sc = bpy.context.scene
+    bpy.ops.mesh.primitive_plane_add(size=8)
+    bpy.context.active_object.data.materials.append(
+        shader_material("ground", "ShaderNodeBsdfDiffuse", Color=(0.6, 0.6, 0.6, 1))
+    )
+    bs.lamp(sc, "POINT", "bulb", 80.0, (-0.6, -0.4, 1.8), shadow_soft_size=0.0)
+    world = bs.world_fog(sc, 0.3, 0.9, 0.3)
+    absorb = next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeVolumeAbsorption")
+    absorb.inputs["Color"].default_value = (0.95, 0.75, 0.45, 1.0)
+    bs.camera(sc, (0, -5, 2.5), (math.radians(65), 0, 0), 35.0)
+    sc.render.resolution_x, sc.render.resolution_y = 32, 24
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    described = convert.describe(depsgraph, convert.Settings())
+    assert not described.warnings, described.warnings
+    assert "fog" not in described.scene
+    (medium,) = described.scene["media"]
+    assert set(medium) == {"sigma_t", "albedo", "g"}, medium
+    np.testing.assert_allclose(medium["sigma_t"], [0.285, 0.345, 0.435], rtol=1e-5)
+    np.testing.assert_allclose(medium["albedo"], [0.27 / 0.285, 0.27 / 0.345, 0.27 / 0.435], rtol=1e-5)
+    assert medium["g"] == pytest.approx(0.3)
+    single = convert.describe(depsgraph, convert.Settings(integrator="single"))
+    assert "media" not in single.scene and single.scene["fog"]["sigma_t"] == pytest.approx(0.435)
+    assert any("only volpath" in w for w in single.warnings), single.warnings
+    # F12 renders it (volpath: the medium is accepted and lit).
+    bs.use_tyndall(4, seed=1, integrator="volpath")
+    image = bs.render(out, "chromatic-world-fog")
+    assert np.all(np.isfinite(image)) and image.mean() > 0
+    # Absorption alone of colour (1, 0.75, 0.45): no red extinction, which
+    # a medium cannot take beside the others; raised, and warned.
+    next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeVolumeScatter").inputs["Density"].default_value = 0
+    absorb.inputs["Color"].default_value = (1.0, 0.75, 0.45, 1.0)
+    clear = convert.describe(bpy.context.evaluated_depsgraph_get(), convert.Settings())
+    (medium,) = clear.scene["media"]
+    np.testing.assert_allclose(medium["sigma_t"], [0.165e-3, 0.075, 0.165], rtol=1e-5)
+    assert any("1000 times apart" in w for w in clear.warnings), clear.warnings
+
+
 def test_a_volume_sequence_reads_the_frames_file(out):
     """A Volume object reading a numbered file sequence, as a simulation
     cache is written (fluid_data_0001.vdb, …; an imported Mantaflow cache

@@ -30,7 +30,8 @@ Units and conventions (each checked against Cycles by tests/):
 * The World: its Background colour × strength (or an equirectangular
   Environment Texture) is the environment light; its volume (Volume
   Scatter, Volume Absorption, their sum, or Principled Volume) is the
-  homogeneous fog that fills all space.
+  homogeneous fog that fills all space (`[fog]`, or under volpath a
+  uniform `[[media]]` volume where its extinction differs by colour).
 * Volume objects (OpenVDB files, the current frame of a sequence) with a
   Principled Volume become `[[media]]` with a "vdb" density; meshes whose
   material links its Volume output are filled by a homogeneous medium of
@@ -56,6 +57,11 @@ Z_UP_TO_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
 
 # Object types that evaluate to a mesh (curves, text, metaballs, surfaces).
 MESH_LIKE = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
+
+
+# How far apart a medium's RGB extinctions may be (tyndall::limits::
+# MAX_CHANNEL_RATIO, docs/scene-format.md "Limits").
+MAX_CHANNEL_RATIO = 1000.0
 
 
 class ConversionError(Exception):
@@ -705,6 +711,49 @@ class _Converter:
             fog = self.world_fog(world, volume.links[0].from_node)
         return environment, fog
 
+    def world_fog(self, world, node) -> Optional[Dict[str, Any]]:
+        """The homogeneous medium of the World's volume shader, filling all
+        space: the grey `[fog]` table when its extinction is the same in
+        every channel; else, under volpath, a uniform `[[media]]` volume
+        with no region (appended to the media; None is returned), and
+        under the other integrators, which render no volumes, the grey
+        fog of its largest channel (warned)."""
+        coefficients = self.volume_coefficients(f"world '{world.name}'", node)
+        if coefficients is None:
+            return None
+        sigma_s, sigma_a, g = coefficients
+        sigma_t = sigma_s + sigma_a
+        if float(sigma_t.max()) <= 0.0:
+            return None
+        grey = float(sigma_t.max())
+        if float(sigma_t.max() - sigma_t.min()) <= 1e-6 * grey:
+            albedo = [float(x) for x in np.clip(sigma_s / grey, 0.0, 1.0)]
+            return {"sigma_t": grey, "albedo": albedo, "g": g}
+        if self.settings.integrator == "volpath":
+            floor = grey / MAX_CHANNEL_RATIO
+            if float(sigma_t.min()) < floor:
+                self.warn(
+                    f"world '{world.name}': its volume's extinction {[round(float(x), 6) for x in sigma_t]} has "
+                    f"channels more than {MAX_CHANNEL_RATIO:g} times apart, which Tyndall's media do not take; "
+                    f"the weakest are raised to {floor:g}"
+                )
+                sigma_t = np.maximum(sigma_t, floor)
+            albedo = np.divide(sigma_s, sigma_t, out=np.zeros(3), where=sigma_t > 0)
+            self.media.append(
+                {
+                    "sigma_t": [float(x) for x in sigma_t],
+                    "albedo": [float(x) for x in np.clip(albedo, 0.0, 1.0)],
+                    "g": float(max(-0.999, min(0.999, g))),
+                }
+            )
+            return None
+        self.warn(
+            f"world '{world.name}': its volume's extinction differs by colour, which only volpath renders; "
+            f"under {self.settings.integrator} the fog is grey, its largest channel ({grey:g})"
+        )
+        albedo = [float(x) for x in np.clip(sigma_s / grey, 0.0, 1.0)]
+        return {"sigma_t": grey, "albedo": albedo, "g": g}
+
     def environment(self, radiance: List[float], map_file: Optional[str]) -> Dict[str, Any]:
         light: Dict[str, Any] = {"type": "environment", "radiance": radiance}
         if map_file is not None:
@@ -730,24 +779,6 @@ class _Converter:
         if node.inputs["Vector"].is_linked:
             self.warn(f"{where}: the mapping into '{node.name}' is ignored")
         return path
-
-    def world_fog(self, world, node) -> Optional[Dict[str, Any]]:
-        """The homogeneous fog of the World's volume shader."""
-        coefficients = self.volume_coefficients(f"world '{world.name}'", node)
-        if coefficients is None:
-            return None
-        sigma_s, sigma_a, g = coefficients
-        sigma_t = sigma_s + sigma_a
-        if float(sigma_t.max()) <= 0.0:
-            return None
-        grey = float(sigma_t.max())
-        if float(sigma_t.max() - sigma_t.min()) > 1e-6 * grey:
-            self.warn(
-                f"world '{world.name}': its volume's extinction differs by colour; fog is grey, "
-                f"so the largest ({grey:g}) is used"
-            )
-        albedo = [float(x) for x in np.clip(sigma_s / grey, 0.0, 1.0)]
-        return {"sigma_t": grey, "albedo": albedo, "g": g}
 
     def volume_coefficients(self, where: str, node, emission: Optional[List[float]] = None):
         """(σs, σa, g) of a volume shader node tree, per unit length; `where`
