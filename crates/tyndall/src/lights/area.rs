@@ -43,13 +43,14 @@ pub(super) struct RectangleFrame {
 /// How far from a rectangular light's centre, in diagonals, next event
 /// estimation samples it by solid angle; beyond, uniformly by area. Out
 /// there every point of the light lies between `(R − ½)` and `(R + ½)`
-/// diagonals away (R = 2), so area sampling's estimate `L·cos θ_y·A/d²`
-/// varies over the light by a bounded factor (at most `(5/3)³ ≈ 4.6`
-/// for a receiver near the light's plane, where `cos θ_y ∝ 1/d`, and
-/// by much less elsewhere) while a solid-angle sample costs four arc
-/// cosines, a sine and a cosine, and six square roots more. Measured on
-/// cornell-fog-multi (160×120, 32 spp, seeds 7 and 8): the same relMSE
-/// within 0.2 %, 16 % less CPU time (docs/benchmarks.md).
+/// diagonals away (R = 2), so area sampling's estimate
+/// `L·cos θ_y·A/d² = L·h·A/d³` (h the receiver's height over the
+/// light's plane) varies over the light by at most `(5/3)³ ≈ 4.6`,
+/// and by less where the light is seen face on, while a solid-angle
+/// sample costs four arc cosines, a sine, a cosine and about ten
+/// square roots more. Measured on cornell-fog-multi (160×120, 32 spp,
+/// seeds 7 and 8): the same relMSE within 0.2 %, 16 % less CPU time
+/// (docs/benchmarks.md).
 pub const SOLID_ANGLE_REACH: f32 = 2.0;
 
 impl RectangleFrame {
