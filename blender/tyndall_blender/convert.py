@@ -64,6 +64,19 @@ MESH_LIKE = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
 MAX_CHANNEL_RATIO = 1000.0
 
 
+def uniform_medium(sigma_s: np.ndarray, sigma_t: np.ndarray, g: float) -> Dict[str, Any]:
+    """The `[[media]]` keys of a homogeneous medium of RGB scattering and
+    extinction coefficients `sigma_s`, `sigma_t` (per unit length) and
+    Henyey–Greenstein `g`: σt, the albedo σs/σt (0 where σt is) and g,
+    clamped to what Tyndall takes."""
+    albedo = np.divide(sigma_s, sigma_t, out=np.zeros(3), where=sigma_t > 0)
+    return {
+        "sigma_t": [float(x) for x in sigma_t],
+        "albedo": [float(x) for x in np.clip(albedo, 0.0, 1.0)],
+        "g": float(max(-0.999, min(0.999, g))),
+    }
+
+
 class ConversionError(Exception):
     """A scene Tyndall cannot render, with a message naming the object."""
 
@@ -330,15 +343,10 @@ class _Converter:
         if np.any(counts != 2):
             self.warn(f"{where}: its volume needs a closed mesh (an edge has {int(counts[counts != 2][0])} faces); it is left out")
             return
-        albedo = np.divide(sigma_s, sigma_t, out=np.zeros(3), where=sigma_t > 0)
-        medium: Dict[str, Any] = {
-            "sigma_t": [float(x) for x in sigma_t],
-            "albedo": [float(x) for x in np.clip(albedo, 0.0, 1.0)],
-            "g": float(max(-0.999, min(0.999, g))),
-            "mesh": {
-                "positions": positions.astype(np.float32).reshape(-1),
-                "indices": np.arange(len(positions), dtype=np.int64),
-            },
+        medium = uniform_medium(sigma_s, sigma_t, g)
+        medium["mesh"] = {
+            "positions": positions.astype(np.float32).reshape(-1),
+            "indices": np.arange(len(positions), dtype=np.int64),
         }
         if any(emission):
             medium["emission"] = emission
@@ -726,33 +734,25 @@ class _Converter:
         if float(sigma_t.max()) <= 0.0:
             return None
         grey = float(sigma_t.max())
+        grey_fog = {"sigma_t": grey, "albedo": [float(x) for x in np.clip(sigma_s / grey, 0.0, 1.0)], "g": g}
         if float(sigma_t.max() - sigma_t.min()) <= 1e-6 * grey:
-            albedo = [float(x) for x in np.clip(sigma_s / grey, 0.0, 1.0)]
-            return {"sigma_t": grey, "albedo": albedo, "g": g}
-        if self.settings.integrator == "volpath":
-            floor = grey / MAX_CHANNEL_RATIO
-            if float(sigma_t.min()) < floor:
-                self.warn(
-                    f"world '{world.name}': its volume's extinction {[round(float(x), 6) for x in sigma_t]} has "
-                    f"channels more than {MAX_CHANNEL_RATIO:g} times apart, which Tyndall's media do not take; "
-                    f"the weakest are raised to {floor:g}"
-                )
-                sigma_t = np.maximum(sigma_t, floor)
-            albedo = np.divide(sigma_s, sigma_t, out=np.zeros(3), where=sigma_t > 0)
-            self.media.append(
-                {
-                    "sigma_t": [float(x) for x in sigma_t],
-                    "albedo": [float(x) for x in np.clip(albedo, 0.0, 1.0)],
-                    "g": float(max(-0.999, min(0.999, g))),
-                }
+            return grey_fog
+        if self.settings.integrator != "volpath":
+            self.warn(
+                f"world '{world.name}': its volume's extinction differs by colour, which only volpath renders; "
+                f"under {self.settings.integrator} the fog is grey, its largest channel ({grey:g})"
             )
-            return None
-        self.warn(
-            f"world '{world.name}': its volume's extinction differs by colour, which only volpath renders; "
-            f"under {self.settings.integrator} the fog is grey, its largest channel ({grey:g})"
-        )
-        albedo = [float(x) for x in np.clip(sigma_s / grey, 0.0, 1.0)]
-        return {"sigma_t": grey, "albedo": albedo, "g": g}
+            return grey_fog
+        floor = grey / MAX_CHANNEL_RATIO
+        if float(sigma_t.min()) < floor:
+            self.warn(
+                f"world '{world.name}': its volume's extinction {[round(float(x), 6) for x in sigma_t]} has "
+                f"channels more than {MAX_CHANNEL_RATIO:g} times apart, which Tyndall's media do not take; "
+                f"the weakest are raised to {floor:g}"
+            )
+            sigma_t = np.maximum(sigma_t, floor)
+        self.media.append(uniform_medium(sigma_s, sigma_t, g))
+        return None
 
     def environment(self, radiance: List[float], map_file: Optional[str]) -> Dict[str, Any]:
         light: Dict[str, Any] = {"type": "environment", "radiance": radiance}

@@ -491,17 +491,39 @@ mod tests {
 
     use super::*;
 
-    /// Solid-angle sampling: points lie on the rectangle, and the solid
-    /// angle equals the integral of cos/d² over its area (midpoint rule).
-    #[test]
-    fn spherical_rectangle_sampling() {
-        let quad = Quad::new(
+    /// The 1.2 × 0.8 rectangle facing down at height 2 that these tests
+    /// light and sample.
+    fn test_rectangle() -> Quad {
+        Quad::new(
             Vec3::new(-0.5, 2.0, -0.3),
             Vec3::new(1.2, 0.0, 0.0),
             Vec3::new(0.0, 0.0, 0.8),
             false,
         )
-        .unwrap();
+        .unwrap()
+    }
+
+    /// The solid angle `quad` subtends from `x`, `∫ |cos θ_y|/d² dA`, by
+    /// the midpoint rule on an n × n grid, in f64.
+    fn solid_angle_by_quadrature(quad: &Quad, x: Vec3, n: u32) -> f64 {
+        let mut omega = 0.0f64;
+        for i in 0..n {
+            for j in 0..n {
+                let y = quad.point((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                let d = y - x;
+                let cos = f64::from((quad.normal.dot(d) / d.length()).abs());
+                omega +=
+                    cos / f64::from(d.length_squared()) * f64::from(quad.area()) / f64::from(n * n);
+            }
+        }
+        omega
+    }
+
+    /// Solid-angle sampling: points lie on the rectangle, and the solid
+    /// angle equals the integral of cos/d² over its area (midpoint rule).
+    #[test]
+    fn spherical_rectangle_sampling() {
+        let quad = test_rectangle();
         for o in [
             Vec3::ZERO,
             Vec3::new(0.4, 1.5, 0.2),
@@ -509,17 +531,7 @@ mod tests {
         ] {
             let frame = RectangleFrame::new(&quad).unwrap();
             let rect = SphericalRectangle::new(&frame, o).unwrap();
-            let n = 400;
-            let mut omega = 0.0f64;
-            for i in 0..n {
-                for j in 0..n {
-                    let p = quad.point((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
-                    let d = p - o;
-                    let cos = (quad.normal.dot(d) / d.length()).abs() as f64;
-                    omega +=
-                        cos / d.length_squared() as f64 * (quad.area() as f64 / (n * n) as f64);
-                }
-            }
+            let omega = solid_angle_by_quadrature(&quad, o, 400);
             assert!(
                 (rect.solid_angle as f64 - omega).abs() < 1e-3 * omega,
                 "{o}: {} vs {omega}",
@@ -548,30 +560,14 @@ mod tests {
     /// each sample's density.
     #[test]
     fn rectangle_light_is_unbiased_near_and_far() {
-        let quad = Quad::new(
-            Vec3::new(-0.5, 2.0, -0.3),
-            Vec3::new(1.2, 0.0, 0.0),
-            Vec3::new(0.0, 0.0, 0.8),
-            false,
-        )
-        .unwrap();
+        let quad = test_rectangle();
         let light = QuadLight::new(quad, Rgb::splat(3.0), false);
         let centre = quad.origin + 0.5 * (quad.edge_u + quad.edge_v);
         let diagonal = (quad.edge_u + quad.edge_v).length();
         let below = Vec3::new(0.3, -1.0, 0.2).normalize();
         for reach in [0.3, 1.0, 1.9, 2.1, 4.0, 12.0] {
             let x = centre + below * (reach * diagonal);
-            let n = 512;
-            let mut omega = 0.0f64;
-            for i in 0..n {
-                for j in 0..n {
-                    let y = quad.point((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
-                    let d = y - x;
-                    let cos = (quad.normal.dot(d) / d.length()).abs() as f64;
-                    omega +=
-                        cos / d.length_squared() as f64 * (quad.area() as f64 / (n * n) as f64);
-                }
-            }
+            let omega = solid_angle_by_quadrature(&quad, x, 512);
             let m = 256;
             let mut sum = 0.0f64;
             for i in 0..m {
