@@ -161,6 +161,79 @@ fn fog_strategies_agree_under_a_spotlight() {
     );
 }
 
+/// Uniform volumes under a point light and a spotlight (delta lights:
+/// NEE at the volumes' collisions and equiangular samples along their
+/// flights, the two weighed by the balance heuristic in t), two
+/// scattering events: a chromatic haze filling all space, and a denser
+/// box of another phase function overlapping it, so that flights cross
+/// several uniform pieces (each with its own channel weights and reach)
+/// and the in-scattering at a sample sums two volumes. Each strategy
+/// alone against both.
+#[test]
+fn volume_strategies_agree_under_point_and_spot_lights() {
+    let desc = scene(
+        r#"
+        [camera]
+        position = [0, 1.2, 4]
+        look_at = [0, 0.8, 0]
+        fov_y_deg = 45
+        [[media]]
+        sigma_t = [0.2, 0.3, 0.45]
+        albedo = [0.9, 0.8, 0.7]
+        g = 0.3
+        [[media]]
+        sigma_t = [0.9, 0.6, 0.4]
+        albedo = 0.85
+        g = -0.2
+        box = { min = [-1.2, 0.2, -1], max = [0.4, 1.6, 0.6] }
+        [materials.floor]
+        type = "diffuse"
+        reflectance = 0.7
+        [[shapes]]
+        type = "quad"
+        corners = [[-3, 0, -3], [-3, 0, 3], [3, 0, 3], [3, 0, -3]]
+        material = "floor"
+        [[lights]]
+        type = "point"
+        position = [0.6, 1.5, 0.2]
+        intensity = [3, 2.5, 2]
+        [[lights]]
+        type = "spot"
+        position = [-1.0, 2.2, 0.0]
+        direction = [0.3, -1, 0]
+        intensity = [4, 4, 5]
+        cutoff_deg = 25
+        "#,
+    );
+    let surfaces = Strategies {
+        surface_nee: true,
+        surface_hits: true,
+        ..Strategies::NONE
+    };
+    check(
+        &desc,
+        "uniform volumes under delta lights",
+        (40, 30),
+        64,
+        &[
+            (
+                "NEE at collisions",
+                Strategies {
+                    medium_nee: true,
+                    ..surfaces
+                },
+            ),
+            (
+                "equiangular",
+                Strategies {
+                    equiangular: true,
+                    ..surfaces
+                },
+            ),
+        ],
+    );
+}
+
 /// An emissive sphere in fog over a floor (an area light found by
 /// cone-sampled NEE and by phase and BSDF sampling): light sampling alone,
 /// hits alone, and both, at two scattering events.

@@ -366,3 +366,112 @@ fn scattering_in_uniform_media_matches_closed_form() {
         }
     }
 }
+
+/// `UniformFlight` describes the flights `sample_collision` draws: with
+/// albedo 1 every collision scatters, so the share of unaimed flights
+/// whose collision falls in a bin is the integral of
+/// `UniformFlight::density` over it (16-point midpoint quadrature here),
+/// within 5 binomial standard errors, for an uneven incoming throughput
+/// across three uniform pieces (a box inside a haze filling all space,
+/// so the density jumps and the channel weights change at each piece).
+/// Its transmittance is the closed form `exp(−∫σt)`, and its
+/// in-scattering the two volumes' `σs·p(θ)` inside the box and the
+/// haze's alone outside.
+#[test]
+fn uniform_flight_density_is_the_collision_density() {
+    let outer_sigma = Rgb::new(0.9, 0.3, 0.1);
+    let inner_sigma = Rgb::new(0.2, 1.1, 0.6);
+    let outer_phase = PhaseFunction::from_asymmetry(0.4);
+    let inner_phase = PhaseFunction::Isotropic;
+    let volumes = [
+        Volume::new(
+            outer_sigma,
+            Rgb::ONE,
+            outer_phase,
+            Density::Uniform,
+            VolumeRegion::Everywhere,
+        )
+        .expect("haze"),
+        Volume::new(
+            inner_sigma,
+            Rgb::new(1.0, 0.5, 0.25),
+            inner_phase,
+            Density::Uniform,
+            VolumeRegion::Box(unit_box()),
+        )
+        .expect("box"),
+    ];
+    let beta = Rgb::new(1.0, 0.05, 0.3);
+    let (a, b, end) = (2.0f32, 4.0f32, 6.0f32);
+    let ray = Ray::new(Vec3::new(-3.0, 0.1, -0.2), Vec3::X);
+    let mut tracker = VolumeTracker::new(RandomStream::new(9));
+    let mut flight = tyndall::media::tracking::UniformFlight::default();
+    assert!(tracker.describe_uniform_flight(&volumes, &ray, 0.0, end, beta, &mut flight));
+
+    let depth = |t: f32| outer_sigma * t + inner_sigma * (t.clamp(a, b) - a);
+    for t in [0.5f32, 2.5, 3.9, 5.5] {
+        let exact = (-depth(t)).exp();
+        let got = flight.transmittance(t);
+        assert!(
+            (got - exact).abs().max_element() < 1e-5,
+            "T({t}): {got} vs {exact}"
+        );
+        let cos = 0.3;
+        let inside = (a..b).contains(&t);
+        let mut sigma_p = outer_sigma * outer_phase.eval(cos);
+        if inside {
+            sigma_p += inner_sigma * Rgb::new(1.0, 0.5, 0.25) * inner_phase.eval(cos);
+        }
+        let got = flight.in_scattering(&volumes, t, cos);
+        assert!(
+            (got - sigma_p).abs().max_element() < 1e-5,
+            "σs·p at {t}: {got} vs {sigma_p}"
+        );
+    }
+
+    // An absorbed flight reports no distance: the density is checked
+    // with both volumes at albedo 1, where every collision scatters.
+    let white = [
+        Volume::new(
+            outer_sigma,
+            Rgb::ONE,
+            outer_phase,
+            Density::Uniform,
+            VolumeRegion::Everywhere,
+        )
+        .expect("haze"),
+        Volume::new(
+            inner_sigma,
+            Rgb::ONE,
+            inner_phase,
+            Density::Uniform,
+            VolumeRegion::Box(unit_box()),
+        )
+        .expect("box"),
+    ];
+    assert!(tracker.describe_uniform_flight(&white, &ray, 0.0, end, beta, &mut flight));
+    let bins = 24usize;
+    let width = end / bins as f32;
+    let mut counts = vec![0u32; bins];
+    for _ in 0..N {
+        let mut throughput = beta;
+        let options = FlightOptions::default();
+        if let Collision::Scatter { t, .. } =
+            tracker.sample_collision(&white, &ray, 0.0, end, &mut throughput, options)
+        {
+            counts[((t / width) as usize).min(bins - 1)] += 1;
+        }
+    }
+    for (k, &count) in counts.iter().enumerate() {
+        let t0 = width * k as f32;
+        let p: f32 = (0..16)
+            .map(|j| flight.density(t0 + width * (j as f32 + 0.5) / 16.0) * width / 16.0)
+            .sum();
+        let share = count as f32 / N as f32;
+        let stderr = (p * (1.0 - p) / N as f32).sqrt();
+        assert!(
+            (share - p).abs() <= 5.0 * stderr + 2e-4,
+            "bin {k} at t = {t0}: share {share} vs ∫density {p} (σ {stderr:.2e})"
+        );
+    }
+}

@@ -53,8 +53,9 @@
 //!   1.5× the time per sample for 0.75× the error, less efficient than
 //!   sampling it.) A flight may also aim at a point on a light
 //!   ([`FlightOptions::aim`]): half of its collisions then move to
-//!   equiangular samples towards it, as Cycles samples its homogeneous
-//!   volumes (distance and equiangular sampling, one-sample MIS).
+//!   equiangular samples towards it (distance and equiangular sampling,
+//!   one-sample MIS). [`UniformFlight`] describes an unaimed flight in
+//!   closed form, for estimators weighed against its collisions.
 
 use super::emitters::HitWeighting;
 use super::volume::{MajorantSegment, RegionScratch, Volume};
@@ -92,7 +93,11 @@ pub struct FlightOptions<'a> {
     /// 2012) and is weighted by the two strategies' mixture density
     /// (one-sample MIS, Veach 1997 §9.2.4), so collisions crowd where that
     /// light is bright. Escapes keep their probability: a surface seen
-    /// through thin fog is not reweighted.
+    /// through thin fog is not reweighted. A path that continues from the
+    /// moved collision carries the ratio of the densities in its
+    /// throughput, event after event; next to a point light, where that
+    /// ratio swings widest, `volpath` does not aim but samples NEE
+    /// equiangularly instead.
     pub aim: Option<Vec3>,
 }
 
@@ -358,6 +363,54 @@ impl VolumeTracker {
         }
     }
 
+    /// The closed-form description of a free flight along `ray` over
+    /// `[t0, t1]` that starts with throughput `beta`, written to `flight`:
+    /// its pieces, each with the channel weights and the probability of
+    /// reaching it that [`VolumeTracker::sample_collision`] gives a flight
+    /// there, so that [`UniformFlight::density`] is the density of its
+    /// distance-sampled collisions. False where a volume on the way is not
+    /// uniform and quiet (the density has no closed form there).
+    pub fn describe_uniform_flight(
+        &mut self,
+        volumes: &[Volume],
+        ray: &Ray,
+        t0: f32,
+        t1: f32,
+        beta: Rgb,
+        flight: &mut UniformFlight,
+    ) -> bool {
+        flight.pieces.clear();
+        if volumes.is_empty() {
+            return true;
+        }
+        self.collect(volumes, ray, t0, t1);
+        let (mut beta, mut reach) = (beta, 1.0);
+        for segment in &self.segments {
+            let Some(sigma_t) = uniform_extinction(volumes, segment.mask) else {
+                return false;
+            };
+            let total = beta.element_sum();
+            if !(total > 0.0 && reach > 0.0) {
+                break;
+            }
+            let w = beta / total;
+            flight.pieces.push(FlightPiece {
+                t0: segment.t0,
+                t1: segment.t1,
+                sigma_t,
+                w,
+                reach,
+                mask: segment.mask,
+            });
+            // An escape is weighted by T(ℓ)/P_escape (uniform_flight).
+            let t = chromatic_transmittance(sigma_t, segment.t1 - segment.t0);
+            let p_escape = (w * t).element_sum();
+            beta = beta * t / p_escape;
+            reach *= p_escape;
+        }
+        true
+    }
+
     /// Fills `segments` with the ordered majorant segments of all volumes
     /// on `[t0, t1]`, summing majorants where volumes overlap.
     fn collect(&mut self, volumes: &[Volume], ray: &Ray, t0: f32, t1: f32) {
@@ -400,6 +453,74 @@ impl VolumeTracker {
             }
         }
         std::mem::swap(&mut self.segments, &mut self.merged);
+    }
+}
+
+/// A free flight through uniform volumes in closed form
+/// ([`VolumeTracker::describe_uniform_flight`]): where its collisions fall, and the
+/// transmittance and in-scattering along it. One value serves a whole
+/// path: refilled for each segment without allocating.
+#[derive(Clone, Debug, Default)]
+pub struct UniformFlight {
+    pieces: Vec<FlightPiece>,
+}
+
+/// A uniform piece `[t0, t1]` of a flight: the summed extinction of the
+/// volumes in `mask` there, the channel weights `w = β/Σβ` of the flight
+/// entering it, and the probability `reach` that it gets there.
+#[derive(Clone, Copy, Debug)]
+struct FlightPiece {
+    t0: f32,
+    t1: f32,
+    sigma_t: Rgb,
+    w: Rgb,
+    reach: f32,
+    mask: u32,
+}
+
+impl UniformFlight {
+    /// Whether the flight crosses no volume.
+    pub fn is_empty(&self) -> bool {
+        self.pieces.is_empty()
+    }
+
+    fn piece_at(&self, t: f32) -> Option<&FlightPiece> {
+        self.pieces.iter().find(|p| p.t0 <= t && t < p.t1)
+    }
+
+    /// The density of the flight's distance-sampled collision at `t`
+    /// (one-sample spectral MIS, module doc):
+    /// `reach·Σ_c w_c·σt_c·T_c(t − t0)` in the piece holding `t`, 0 where
+    /// no volume is. Flights aimed at a light move some collisions
+    /// ([`FlightOptions::aim`]); this is their density without the move.
+    pub fn density(&self, t: f32) -> f32 {
+        self.piece_at(t).map_or(0.0, |p| {
+            let t = chromatic_transmittance(p.sigma_t, t - p.t0);
+            p.reach * (p.w * p.sigma_t * t).element_sum()
+        })
+    }
+
+    /// The volumes' transmittance from the flight's start to `t`, per
+    /// channel (Beer–Lambert over each piece crossed).
+    pub fn transmittance(&self, t: f32) -> Rgb {
+        let mut transmittance = Rgb::ONE;
+        for p in self.pieces.iter().take_while(|p| p.t0 < t) {
+            transmittance *= chromatic_transmittance(p.sigma_t, t.min(p.t1) - p.t0);
+        }
+        transmittance
+    }
+
+    /// In-scattering at `t` per unit length and solid angle, for light
+    /// turned through `cos_theta`: `Σ_i σs_i·p_i(cos θ)` over the volumes
+    /// there (each with its own phase function); 0 where none is.
+    pub fn in_scattering(&self, volumes: &[Volume], t: f32, cos_theta: f32) -> Rgb {
+        let mut sum = Rgb::ZERO;
+        if let Some(p) = self.piece_at(t) {
+            for_each_volume(volumes, p.mask, |_, v| {
+                sum += v.sigma_t * v.albedo * v.phase.eval(cos_theta);
+            });
+        }
+        sum
     }
 }
 

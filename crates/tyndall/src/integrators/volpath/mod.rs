@@ -50,7 +50,13 @@
 //! first, then the volumes' first collision before it by spectral
 //! tracking ([`crate::media::tracking`]); the nearer real event wins (the
 //! first of independent Poisson processes). At a volume event NEE uses
-//! ratio-tracked shadow rays and MIS against phase sampling. Every
+//! ratio-tracked shadow rays and MIS against phase sampling. Flights
+//! through uniform volumes aim at area lights (their collisions crowd
+//! where those are bright, [`crate::media::tracking::FlightOptions::aim`]);
+//! towards point and spot lights they take equiangular samples that feed
+//! NEE only, weighed in t against NEE at the collision, as the fog's do
+//! (`volume_equiangular`): the path must continue from a distance-sampled
+//! collision, or deep paths' throughputs wander. Every
 //! transmittance the fog estimators use is multiplied by the volumes'
 //! (ratio tracking), which keeps their MIS weights valid: the weights
 //! still sum to one, and each strategy stays unbiased. Segments inside a
@@ -75,6 +81,7 @@ mod nee;
 mod path;
 mod segment;
 mod segment_weights;
+mod volume_equiangular;
 
 pub use crate::settings::Strategies;
 pub use light_subpaths::LightSubpaths;

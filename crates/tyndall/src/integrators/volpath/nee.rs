@@ -10,6 +10,7 @@ use crate::color::Rgb;
 use crate::integrators::media_transmittance;
 use crate::integrators::path_radiance::{Gathered, Keep};
 use crate::integrators::{light_arriving, lights_at, sample_light, scattered_light};
+use crate::lights::Light;
 use crate::media::emitters::hit_density;
 use crate::media::tracking::VolumeTracker;
 use crate::phase::PhaseFunction;
@@ -162,14 +163,17 @@ pub(super) struct PathVertex<'a> {
 impl PathVertex<'_> {
     /// NEE to the chosen lights ([`lights_at`], weight `c`):
     /// `Σ c·p(θ)·E·V·Tr·w`, where `w` is the balance heuristic against
-    /// phase sampling for area lights (delta lights have only this
-    /// strategy). The path's throughput holds σs.
+    /// phase sampling for area lights and `delta_weight(index, light)`
+    /// for point, spot and directional lights (against the segment's
+    /// equiangular samples, [`super::volume_equiangular`]). The path's
+    /// throughput holds σs.
     pub(super) fn nee<K: Keep>(
         &self,
         strategies: Strategies,
         sampler: &mut PixelSampler,
         counts: &mut RayCounts,
         tracker: &mut VolumeTracker,
+        delta_weight: impl Fn(usize, &Light) -> f32,
     ) -> Gathered<K> {
         let mut sum = Gathered::new();
         if !strategies.medium_nee {
@@ -181,9 +185,10 @@ impl PathVertex<'_> {
                 continue;
             };
             let phase = self.phase.eval(incident.direction.dot(self.direction));
-            let weight = p_light.map_or(1.0, |p_light| {
-                balance_of_two(p_light, strategies.medium_hits, phase)
-            });
+            let weight = match p_light {
+                Some(p_light) => balance_of_two(p_light, strategies.medium_hits, phase),
+                None => delta_weight(index, light),
+            };
             let arriving = light_arriving(
                 self.scene,
                 self.visibility,

@@ -9,6 +9,7 @@ use super::mis::{EquiangularCounts, balance_of_two};
 use super::nee::{PathVertex, media_emission_nee, medium_nee};
 use super::segment::{Connections, EquiangularNee, FogSegment};
 use super::segment_weights::{emission_weight, escape_weight};
+use super::volume_equiangular::VolumeEquiangular;
 use super::{Arrival, MAX_PATH_EVENTS, Volpath, survives_roulette};
 use crate::accel::Hit;
 use crate::aov::Scattering;
@@ -108,6 +109,9 @@ struct PathContext<'a, K: Keep> {
     tracker: VolumeTracker,
     /// The equiangular samples of the current fog segment.
     equiangular: EquiangularNee,
+    /// The equiangular samples of the current segment's flight through
+    /// uniform volumes, towards point and spot lights.
+    volume_equiangular: VolumeEquiangular,
     radiance: PathRadiance<K>,
     strategies: Strategies,
     /// Most scattering events ([`MAX_PATH_EVENTS`] when unlimited).
@@ -116,9 +120,12 @@ struct PathContext<'a, K: Keep> {
     connections: bool,
     /// Whether any volume emits.
     emissive: bool,
-    /// Whether flights aim at lights: the scene has lights and uniform
-    /// volumes, whose flights can be drawn towards them.
-    aims: bool,
+    /// The lights flights aim at (the scene's area lights and suns, if
+    /// it has uniform volumes, whose flights can be drawn towards them).
+    aimed_lights: usize,
+    /// Whether flights through uniform volumes take equiangular samples
+    /// towards point and spot lights.
+    delta_equiangular: bool,
 }
 
 impl<'a, K: Keep> PathContext<'a, K> {
@@ -129,21 +136,27 @@ impl<'a, K: Keep> PathContext<'a, K> {
         counts: &'a mut RayCounts,
     ) -> Self {
         let tracker = VolumeTracker::new(sampler.stream(TRACKING_STREAM));
+        let uniform = scene
+            .volumes
+            .iter()
+            .any(|v| v.uniform_extinction().is_some());
         Self {
             integrator,
             scene,
             tracker,
             equiangular: EquiangularNee::with_capacity(scene.light_sampler.most_chosen()),
+            volume_equiangular: VolumeEquiangular::with_capacity(scene.light_sampler.most_chosen()),
             radiance: PathRadiance::new(),
             strategies: integrator.strategies,
             max_events: integrator.max_depth.min(MAX_PATH_EVENTS),
             connections: integrator.light_subpaths.connect(),
             emissive: scene.volumes.iter().any(|v| v.is_emissive()),
-            aims: !scene.lights.is_empty()
-                && scene
-                    .volumes
-                    .iter()
-                    .any(|v| v.uniform_extinction().is_some()),
+            aimed_lights: if uniform {
+                scene.lights.iter().filter(|l| !l.is_delta()).count()
+            } else {
+                0
+            },
+            delta_equiangular: uniform && scene.lights.iter().any(|l| l.is_delta()),
             sampler,
             counts,
         }
@@ -228,6 +241,7 @@ impl<'a, K: Keep> PathContext<'a, K> {
         // surface: the first of independent events is the nearest.
         if !state.solids.inside() {
             let t_end = fog_event.map_or(t_hit, |(_, t, _)| t);
+            self.volume_equiangular(state, t_end);
             match self.volumes_collision(state, t_end) {
                 Collision::Escaped => {}
                 Collision::Absorbed => return Step::End,
@@ -288,20 +302,64 @@ impl<'a, K: Keep> PathContext<'a, K> {
         collision
     }
 
-    /// A point on a light for the segment's flight through uniform
-    /// volumes to aim at ([`FlightOptions::aim`]): a light chosen
-    /// uniformly, its position or a uniform point on it; `None` for a
-    /// distant light, and without uniform volumes (which take no random
-    /// numbers for it).
+    /// Equiangular samples towards point and spot lights along the
+    /// segment's flight through uniform volumes up to `t_end`, for light
+    /// whose last scattering is on it ([`VolumeEquiangular`]).
+    fn volume_equiangular(&mut self, state: &PathState, t_end: f32) {
+        self.volume_equiangular.clear();
+        if !self.delta_equiangular || state.depth >= self.max_events {
+            return;
+        }
+        let samples = if state.depth == 0 {
+            self.strategies
+                .camera_equiangular(self.integrator.volume_samples)
+        } else {
+            self.strategies.later_equiangular()
+        };
+        self.volume_equiangular.prepare(
+            self.scene,
+            &mut self.tracker,
+            state.ray,
+            t_end,
+            state.throughput,
+            samples.delta,
+            self.sampler,
+        );
+        let light = self.volume_equiangular.estimate(
+            self.scene,
+            self.integrator.visibility,
+            self.strategies,
+            self.counts,
+            &mut self.tracker,
+        );
+        self.radiance.add_gathered(
+            state.history.then(Scattering::Medium).component(),
+            state.throughput,
+            &light,
+        );
+    }
+
+    /// A point on an area light for the segment's flight through uniform
+    /// volumes to aim at ([`FlightOptions::aim`]): one of the scene's
+    /// area lights and suns chosen uniformly, a uniform point on it;
+    /// `None` for a sun, and without uniform volumes or such lights
+    /// (which take no random numbers for it). Point and spot lights are
+    /// not aimed at: their equiangular samples feed NEE only
+    /// ([`VolumeEquiangular`]).
     fn aim(&mut self) -> Option<Vec3> {
-        if !self.aims {
+        if self.aimed_lights == 0 {
             return None;
         }
-        let lights = &self.scene.lights;
         let u = self.sampler.next_1d();
         let point = self.sampler.next_2d();
-        let index = ((u * lights.len() as f32) as usize).min(lights.len() - 1);
-        lights[index].sample_point(point).map(|p| p.position)
+        let nth = ((u * self.aimed_lights as f32) as usize).min(self.aimed_lights - 1);
+        let light = self
+            .scene
+            .lights
+            .iter()
+            .filter(|l| !l.is_delta())
+            .nth(nth)?;
+        light.sample_point(point).map(|p| p.position)
     }
 
     /// A real scattering event at `t` in volume `volume`: NEE towards the
@@ -322,7 +380,14 @@ impl<'a, K: Keep> PathContext<'a, K> {
             direction: ray.direction,
             phase,
         };
-        let light = medium.nee(strategies, self.sampler, self.counts, &mut self.tracker);
+        let equiangular = &self.volume_equiangular;
+        let light = medium.nee(
+            strategies,
+            self.sampler,
+            self.counts,
+            &mut self.tracker,
+            |index, light| equiangular.collision_weight(index, light, t),
+        );
         self.radiance
             .add_gathered(state.history.component(), state.throughput, &light);
         if self.emissive {
