@@ -669,12 +669,10 @@ def test_a_chromatic_world_fog_is_a_medium_filling_all_space(out):
     Cycles) and the medium's (scenes/reference/fog-room-chromatic, against
     Mitsuba); under `single`, which renders no volumes, the grey fog of its
     largest channel, warned; a channel without extinction raised to what a
-    medium takes, warned. Not compared with Cycles: next to a point light
-    uniform media give Tyndall rare samples thousands of times a pixel's
-    value, and with an area light instead this scene's grey twin is
-    already 1.5 % darker than Cycles', which the chromatic medium shares
-    (docs/benchmarks.md); so this checks the conversion and that F12
-    renders it."""
+    medium takes, warned. The image, lit by a point light, agrees with
+    Cycles' (256 spp each; this is where uniform media gave Tyndall rare
+    samples thousands of times a pixel's value before their point lights
+    were sampled equiangularly for NEE only, docs/benchmarks.md)."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     sc = bpy.context.scene
     bpy.ops.mesh.primitive_plane_add(size=8)
@@ -703,6 +701,8 @@ def test_a_chromatic_world_fog_is_a_medium_filling_all_space(out):
     bs.use_tyndall(4, seed=1, integrator="volpath")
     image = bs.render(out, "chromatic-world-fog")
     assert np.all(np.isfinite(image)) and image.mean() > 0
+    cycles, cycles_error = cycles_pair(out, "chromatic-world-fog", 256)
+    agree(tyndall_pair(out, "chromatic-world-fog", 256), cycles, cycles_error, "chromatic world fog")
     # Absorption alone of colour (1, 0.75, 0.45): no red extinction, which
     # a medium cannot take beside the others; raised, and warned.
     next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeVolumeScatter").inputs["Density"].default_value = 0

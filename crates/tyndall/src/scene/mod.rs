@@ -67,6 +67,9 @@ pub struct Scene {
     area_lights: Vec<EmitterPrimitive>,
     /// How many of the lights have a flat emitting surface.
     flat_emitters: usize,
+    /// The lights that are not Dirac deltas (area lights, the
+    /// environment), by index.
+    extended_lights: Vec<usize>,
     /// The primitive of each light that is one primitive (quads and
     /// spheres), by light.
     light_primitives: Vec<Option<u32>>,
@@ -225,6 +228,13 @@ impl Scene {
     /// lights `volpath` starts light subpaths from.
     pub fn flat_emitter_count(&self) -> usize {
         self.flat_emitters
+    }
+
+    /// The indices of the lights that are not Dirac deltas in position
+    /// or direction ([`Light::is_delta`]): area lights and the
+    /// environment.
+    pub fn extended_lights(&self) -> &[usize] {
+        &self.extended_lights
     }
 
     pub fn material(&self, primitive: u32) -> &Material {
@@ -527,6 +537,9 @@ impl Scene {
         group_names
             .extend((0..desc.lights.len()).map(|i| desc.light_group_of(GroupMember::Light(i))));
         let flat_emitters = lights.iter().filter(|l| l.is_flat_emitter()).count();
+        let extended_lights = (0..lights.len())
+            .filter(|&i| !lights[i].is_delta())
+            .collect();
         let environment = lights
             .iter()
             .position(|l| matches!(l, Light::Environment(_)));
@@ -551,6 +564,7 @@ impl Scene {
             environment,
             glass: desc.glass,
             flat_emitters,
+            extended_lights,
             area_lights,
             shading_normals,
             vertex_colours,

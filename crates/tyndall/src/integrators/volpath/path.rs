@@ -120,9 +120,10 @@ struct PathContext<'a, K: Keep> {
     connections: bool,
     /// Whether any volume emits.
     emissive: bool,
-    /// The lights flights aim at (the scene's area lights and suns, if
-    /// it has uniform volumes, whose flights can be drawn towards them).
-    aimed_lights: usize,
+    /// Whether flights aim at lights: the scene has uniform volumes,
+    /// whose flights can be drawn towards them, and lights that are not
+    /// Dirac deltas.
+    aims: bool,
     /// Whether flights through uniform volumes take equiangular samples
     /// towards point and spot lights.
     delta_equiangular: bool,
@@ -151,11 +152,7 @@ impl<'a, K: Keep> PathContext<'a, K> {
             max_events: integrator.max_depth.min(MAX_PATH_EVENTS),
             connections: integrator.light_subpaths.connect(),
             emissive: scene.volumes.iter().any(|v| v.is_emissive()),
-            aimed_lights: if uniform {
-                scene.lights.iter().filter(|l| !l.is_delta()).count()
-            } else {
-                0
-            },
+            aims: uniform && !scene.extended_lights().is_empty(),
             delta_equiangular: uniform && scene.lights.iter().any(|l| l.is_delta()),
             sampler,
             counts,
@@ -341,25 +338,22 @@ impl<'a, K: Keep> PathContext<'a, K> {
 
     /// A point on an area light for the segment's flight through uniform
     /// volumes to aim at ([`FlightOptions::aim`]): one of the scene's
-    /// area lights and suns chosen uniformly, a uniform point on it;
-    /// `None` for a sun, and without uniform volumes or such lights
-    /// (which take no random numbers for it). Point and spot lights are
-    /// not aimed at: their equiangular samples feed NEE only
+    /// lights that are not Dirac deltas chosen uniformly, a uniform point
+    /// on it; `None` for the environment, and without uniform volumes or
+    /// such lights (which take no random numbers for it). Point and spot
+    /// lights are not aimed at: their equiangular samples feed NEE only
     /// ([`VolumeEquiangular`]).
     fn aim(&mut self) -> Option<Vec3> {
-        if self.aimed_lights == 0 {
+        if !self.aims {
             return None;
         }
+        let extended = self.scene.extended_lights();
         let u = self.sampler.next_1d();
         let point = self.sampler.next_2d();
-        let nth = ((u * self.aimed_lights as f32) as usize).min(self.aimed_lights - 1);
-        let light = self
-            .scene
-            .lights
-            .iter()
-            .filter(|l| !l.is_delta())
-            .nth(nth)?;
-        light.sample_point(point).map(|p| p.position)
+        let nth = ((u * extended.len() as f32) as usize).min(extended.len() - 1);
+        self.scene.lights[extended[nth]]
+            .sample_point(point)
+            .map(|p| p.position)
     }
 
     /// A real scattering event at `t` in volume `volume`: NEE towards the
