@@ -234,6 +234,57 @@ fn volume_strategies_agree_under_point_and_spot_lights() {
     );
 }
 
+/// A chromatic uniform volume filling all space under an area light
+/// (fog-room-depth2's room and lamp), two scattering events: NEE at
+/// collisions alone, phase hits alone, and the light-vertex connections
+/// with NEE and with phase hits (connections alone miss single
+/// scattering), each against all of them. The connections' weights read flight densities with even
+/// channel weights, which no path is drawn with: the images agree only
+/// if those weights still sum to one for every path.
+#[test]
+fn volume_strategies_agree_under_an_area_light() {
+    let file = "scenes/reference/fog-room-depth2.toml";
+    let text = std::fs::read_to_string(repo().join(file)).expect("scene");
+    let fog = "[fog]\nsigma_t = 0.3\nalbedo = [0.9, 0.9, 0.9]\ng = 0.5\n";
+    assert!(text.contains(fog), "{file}: the test replaces its fog");
+    let chromatic = "[[media]]\nsigma_t = [0.45, 0.3, 0.15]\nalbedo = [0.8, 0.9, 0.97]\ng = 0.5\n";
+    let desc = scene(&text.replace(fog, chromatic));
+    let surfaces = Strategies {
+        surface_nee: true,
+        surface_hits: true,
+        ..Strategies::NONE
+    };
+    let with = |f: fn(&mut Strategies)| {
+        let mut s = surfaces;
+        f(&mut s);
+        s
+    };
+    check(
+        &desc,
+        "chromatic volume under an area light",
+        (40, 30),
+        512,
+        &[
+            ("NEE at collisions", with(|s| s.medium_nee = true)),
+            ("phase hits", with(|s| s.medium_hits = true)),
+            (
+                "connections + NEE",
+                with(|s| {
+                    s.connections = true;
+                    s.medium_nee = true
+                }),
+            ),
+            (
+                "connections + phase hits",
+                with(|s| {
+                    s.connections = true;
+                    s.medium_hits = true
+                }),
+            ),
+        ],
+    );
+}
+
 /// An emissive sphere in fog over a floor (an area light found by
 /// cone-sampled NEE and by phase and BSDF sampling): light sampling alone,
 /// hits alone, and both, at two scattering events.

@@ -411,6 +411,39 @@ impl VolumeTracker {
         true
     }
 
+    /// The density at `t` of the collision of a flight from `ray`'s
+    /// origin whose channels weigh evenly (β = 1 at the origin):
+    /// [`UniformFlight::density`] of that flight, without describing it
+    /// past `t`; 0 where a volume before `t` is not uniform and quiet, or
+    /// none is at `t`. A density the light-vertex connections and the
+    /// strategies they compete with all weigh by alike.
+    pub fn even_flight_density(&mut self, volumes: &[Volume], ray: &Ray, t: f32) -> f32 {
+        if volumes.is_empty() || t.is_nan() || t <= 0.0 {
+            return 0.0;
+        }
+        self.collect(volumes, ray, 0.0, t);
+        let (mut beta, mut reach) = (Rgb::ONE, 1.0);
+        for segment in &self.segments {
+            let Some(sigma_t) = uniform_extinction(volumes, segment.mask) else {
+                return 0.0;
+            };
+            let w = beta / beta.element_sum();
+            if segment.t1 >= t {
+                // The last piece: `collect` ends it at t, if t is in it.
+                let at = chromatic_transmittance(sigma_t, t - segment.t0);
+                return reach * (w * sigma_t * at).element_sum();
+            }
+            let through = chromatic_transmittance(sigma_t, segment.t1 - segment.t0);
+            let p_escape = (w * through).element_sum();
+            if p_escape.is_nan() || p_escape <= 0.0 {
+                return 0.0;
+            }
+            beta = beta * through / p_escape;
+            reach *= p_escape;
+        }
+        0.0
+    }
+
     /// Fills `segments` with the ordered majorant segments of all volumes
     /// on `[t0, t1]`, summing majorants where volumes overlap.
     fn collect(&mut self, volumes: &[Volume], ray: &Ray, t0: f32, t1: f32) {

@@ -18,11 +18,12 @@
 
 use super::mis::LightVertexDensity;
 use crate::color::Rgb;
-use crate::integrators::MAX_GLASS_CROSSINGS;
+use crate::integrators::{MAX_GLASS_CROSSINGS, TRACKING_STREAM};
 use crate::light_groups::LightGroup;
 use crate::lights::{Light, LightPoint};
 use crate::materials::SurfaceEvent;
 use crate::media::Fog;
+use crate::media::tracking::{Collision, FlightOptions, VolumeTracker};
 use crate::ray::{Ray, offset_origin};
 use crate::sampler::PixelSampler;
 use crate::scene::Scene;
@@ -47,7 +48,8 @@ pub const POOL_SIZE: u64 = 1024;
 /// A light subpath: started on a quad light (chosen uniformly, a point
 /// uniform on it, a cosine-distributed direction, through thin glass) to
 /// its first free-flight event y1 in the fog, and turned there by the
-/// phase function to a second event y2.
+/// phase function to a second event y2; or, in uniform volumes, to its
+/// first collision y1 there ([`LightSubpath::sample_in_volumes`]).
 #[derive(Clone, Copy)]
 pub(super) struct LightSubpath<'a> {
     pub(super) light: &'a Light,
@@ -59,12 +61,16 @@ pub(super) struct LightSubpath<'a> {
     pub(super) y1: Vec3,
     /// β·n_q·tint: Le·cos θ₀·n_q/(p_pos·p_dir) through the glass crossed;
     /// the light vertex's density cancels T(y0, y1), cos θ₀ and
-    /// 1/|y1 − y0|² of the path's contribution.
+    /// 1/|y1 − y0|² of the path's contribution. In volumes it also holds
+    /// the flight's weight `σs·T/p` at y1.
     pub(super) emitted: Rgb,
     /// The solid-angle density with which NEE at y1 finds y0.
     pub(super) p_omega: f32,
     /// y1 as the light-vertex strategies see it.
     pub(super) at_y1: Option<LightVertexDensity>,
+    /// The volume that scatters at y1, if y1 is a collision in the
+    /// volumes (`None`: a fog event).
+    pub(super) volume: Option<usize>,
     /// y2 and the turn's direction y1 → y2 (no surface between: y2 → y1 is
     /// a camera segment); `None` if the second flight left the fog.
     pub(super) second: Option<(Vec3, Vec3)>,
@@ -101,16 +107,19 @@ impl<'a> LightSubpaths<'a> {
         sample_index: u32,
         counts: &mut RayCounts,
     ) -> Self {
-        let Some(fog) = scene.fog.as_ref().filter(|_| Self::apply(scene, settings)) else {
+        if !Self::apply(scene, settings) {
             return Self::none();
-        };
+        }
         let seed = settings.seed ^ SUBPATH_SEED;
         let (subpaths, flights): (Vec<_>, Vec<u64>) = (0..Self::pool_size(samples_per_pass))
             .into_par_iter()
             .map(|j| {
                 let mut sampler = PixelSampler::new(seed, j, sample_index);
                 let mut own = RayCounts::default();
-                let subpath = LightSubpath::sample(scene, fog, &mut sampler, &mut own);
+                let subpath = match &scene.fog {
+                    Some(fog) => LightSubpath::sample(scene, fog, &mut sampler, &mut own),
+                    None => LightSubpath::sample_in_volumes(scene, &mut sampler, &mut own),
+                };
                 (subpath, own.camera)
             })
             .unzip();
@@ -120,16 +129,16 @@ impl<'a> LightSubpaths<'a> {
 
     /// Whether a render of `scene` with `settings` connects camera
     /// vertices to light subpaths (and so correlates the pixels of a
-    /// pass): `volpath` with the strategy on, fog, a quad light, a depth
-    /// that allows a connection (x at event 1 joined to y1 makes two
-    /// events), and no volumes (a light subpath's flight density would
-    /// need tracking).
+    /// pass): `volpath` with the strategy on, a quad light, a depth that
+    /// allows a connection (x at event 1 joined to y1 makes two events),
+    /// and either fog without volumes or uniform volumes without fog
+    /// ([`connects_in_volumes`]; where both are, which medium a light
+    /// subpath's first event lies in would need both flights' densities).
     pub fn apply(scene: &Scene, settings: &RenderSettings) -> bool {
         settings.integrator == IntegratorKind::Volpath
             && settings.strategies.connections
             && settings.max_depth >= 2
-            && scene.fog.is_some()
-            && scene.volumes.is_empty()
+            && (scene.fog.is_some() && scene.volumes.is_empty() || connects_in_volumes(scene))
             && scene.flat_emitter_count() > 0
     }
 
@@ -191,9 +200,100 @@ impl<'a> LightSubpath<'a> {
             emitted: emission.beta * tint * lights as f32,
             p_omega: light.pdf_li(y1, y0, -direction),
             at_y1: LightVertexDensity::new(scene, fog, light, y0.position, y1),
+            volume: None,
             second,
         })
     }
+}
+
+impl<'a> LightSubpath<'a> {
+    /// A subpath whose first event y1 is a collision in the scene's
+    /// uniform volumes ([`connects_in_volumes`]): the flight is drawn by
+    /// one-sample spectral MIS with the emitted light's channels as its
+    /// weights, so `emitted` carries `σs·T/p` of the collision; y1's
+    /// density for the balance heuristic is the flight's with even
+    /// channel weights ([`LightVertexDensity::in_volumes`]). No second
+    /// vertex: camera vertices in volumes connect to first ones only.
+    fn sample_in_volumes(
+        scene: &'a Scene,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+    ) -> Option<Self> {
+        let lights = scene.flat_emitter_count();
+        let choice = sampler.next_1d() * lights as f32;
+        let (u_point, u_direction) = (sampler.next_2d(), sampler.next_2d());
+        let mut tracker = VolumeTracker::new(sampler.stream(TRACKING_STREAM));
+        let (index, light) = scene
+            .lights
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.is_flat_emitter())
+            .nth((choice as usize).min(lights.checked_sub(1)?))?;
+        let emission = light.sample_le(u_point, u_direction, choice.fract())?;
+        let (y0, mut ray) = (emission.point, emission.ray);
+        let mut beta = emission.beta * lights as f32;
+        let mut crossings = 0u32;
+        // Across thin glass (it is not a camera segment), as in the fog.
+        let (y1, volume) = loop {
+            counts.camera += 1;
+            let hit = scene.intersect(&ray, f32::INFINITY);
+            let t_hit = hit.map_or(f32::INFINITY, |h| h.t);
+            let flight = tracker.sample_collision(
+                &scene.volumes,
+                &ray,
+                0.0,
+                t_hit,
+                &mut beta,
+                FlightOptions::default(),
+            );
+            match flight {
+                Collision::Scatter { t, volume } => break (ray.at(t), volume),
+                Collision::Absorbed => return None,
+                Collision::Escaped => {}
+            }
+            let hit = hit?;
+            match scene.material(hit.primitive).event(true, false) {
+                SurfaceEvent::Pane { transmittance } => {
+                    beta *= transmittance;
+                    crossings += 1;
+                    if crossings > MAX_GLASS_CROSSINGS {
+                        return None;
+                    }
+                    let p = ray.at(hit.t);
+                    let n = scene.geometry.normal(hit.primitive, p);
+                    ray.origin = offset_origin(p, n, ray.direction);
+                }
+                _ => return None,
+            }
+        };
+        let direction = emission.ray.direction;
+        Some(Self {
+            light,
+            group: scene.light_group(index),
+            y0,
+            direction,
+            y1,
+            emitted: beta,
+            p_omega: light.pdf_li(y1, y0, -direction),
+            at_y1: LightVertexDensity::in_volumes(scene, &mut tracker, light, y0.position, y1),
+            volume: Some(volume),
+            second: None,
+        })
+    }
+}
+
+/// Whether camera vertices in `scene`'s volumes connect to light
+/// subpaths: every volume is uniform and quiet, so that the flights'
+/// densities, which the balance heuristic weighs the connections by, are
+/// closed-form ([`crate::media::tracking::UniformFlight`]), and there is
+/// no fog.
+pub(super) fn connects_in_volumes(scene: &Scene) -> bool {
+    scene.fog.is_none()
+        && !scene.volumes.is_empty()
+        && scene
+            .volumes
+            .iter()
+            .all(|v| v.uniform_extinction().is_some())
 }
 
 /// A light subpath's free flight along `ray` to its first fog event, with

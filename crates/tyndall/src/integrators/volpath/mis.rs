@@ -15,6 +15,8 @@
 
 use crate::lights::Light;
 use crate::media::Fog;
+use crate::media::tracking::VolumeTracker;
+use crate::ray::Ray;
 use crate::scene::Scene;
 use crate::settings::Strategies;
 use glam::Vec3;
@@ -164,6 +166,41 @@ impl LightVertexDensity {
     /// `y` as a vertex of a subpath from `y0` on `light`; `None` where
     /// no subpath reaches it (y = y0, or outside the light's emission).
     pub(super) fn new(scene: &Scene, fog: &Fog, light: &Light, y0: Vec3, y: Vec3) -> Option<Self> {
+        Self::with_flight(scene, light, y0, y, |direction, d| {
+            fog.sigma_t * fog.transmittance_along(y0, direction, d)
+        })
+    }
+
+    /// `y` as the first collision of a subpath from `y0` on `light` in
+    /// uniform volumes, its flight density taken with even channel
+    /// weights ([`VolumeTracker::even_flight_density`]): the subpath
+    /// draws its flight by its own channels, but any density serves the
+    /// balance heuristic that every strategy computes alike.
+    pub(super) fn in_volumes(
+        scene: &Scene,
+        tracker: &mut VolumeTracker,
+        light: &Light,
+        y0: Vec3,
+        y: Vec3,
+    ) -> Option<Self> {
+        Self::with_flight(scene, light, y0, y, |direction, d| {
+            let ray = Ray {
+                origin: y0,
+                direction,
+            };
+            tracker.even_flight_density(&scene.volumes, &ray, d)
+        })
+    }
+
+    /// `y` reached from `y0` by a flight whose density at distance d
+    /// along the unit direction is `flight(direction, d)`.
+    fn with_flight(
+        scene: &Scene,
+        light: &Light,
+        y0: Vec3,
+        y: Vec3,
+        flight: impl FnOnce(Vec3, f32) -> f32,
+    ) -> Option<Self> {
         let to_y = y - y0;
         let d = to_y.length();
         if d.is_nan() || d <= 0.0 {
@@ -174,11 +211,10 @@ impl LightVertexDensity {
         if p_le == 0.0 {
             return None;
         }
-        let t_light = fog.transmittance_along(y0, direction, d);
         let lights = scene.flat_emitter_count() as f32;
         Some(Self {
             direction,
-            density: fog.sigma_t * t_light * p_le / lights,
+            density: flight(direction, d) * p_le / lights,
         })
     }
 }

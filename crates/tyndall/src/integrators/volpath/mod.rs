@@ -33,9 +33,12 @@
 //! event, and its second, joined to the vertex
 //! (`connect_light_vertex`). This reaches the glow of fog right around
 //! an area light, which camera paths find only by rare random walks; the
-//! two join the balance heuristic as a fourth and fifth strategy. With volumes in the
-//! scene it is off (the light subpath's flight density would need
-//! tracking).
+//! two join the balance heuristic as a fourth and fifth strategy. In a
+//! scene whose media are uniform volumes instead of fog (chromatic fog,
+//! say) the camera's collisions connect to the subpaths' first
+//! collisions the same way (`volume_connections`); where fog and volumes
+//! meet, or a volume is not uniform, there are no connections (a light
+//! subpath's flight density would need tracking).
 //!
 //! Depth counts scattering events, as in pbrt-v4: with `max_depth = 1` the
 //! path stops at its second event, so it holds exactly light scattered once
@@ -81,6 +84,7 @@ mod nee;
 mod path;
 mod segment;
 mod segment_weights;
+mod volume_connections;
 mod volume_equiangular;
 
 pub use crate::settings::Strategies;
@@ -128,11 +132,15 @@ enum Arrival<'a> {
     /// this direction, so emission counts in full.
     Unweighted,
     /// BSDF-sampled at surface point `from` (or phase-sampled at a volume
-    /// event there, if `in_volume`) with solid-angle density `pdf`.
+    /// event there, if `in_volume`) with solid-angle density `pdf`; a
+    /// volume event the camera path reached from a vertex that connected
+    /// to light vertices keeps that reach's volume density
+    /// (`volume_connections::reached_density`).
     Sampled {
         from: Vec3,
         pdf: f32,
         in_volume: bool,
+        reached: Option<f32>,
     },
     /// Phase-sampled (density `pdf`) at the free-flight event at `t` on
     /// `segment`, whose equiangular estimator took `samples` per light:

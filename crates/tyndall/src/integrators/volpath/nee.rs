@@ -3,9 +3,10 @@
 //! ([`medium_nee`]) or a real collision in a volume ([`PathVertex::nee`]),
 //! MIS-weighted against the other strategies that reach the same light.
 
-use super::mis::{FogEventDensities, balance_of_two};
+use super::mis::FogEventDensities;
 use super::segment::{EquiangularNee, FogSegment};
 use super::segment_weights::segment_term;
+use super::volume_connections::connection_term;
 use crate::color::Rgb;
 use crate::integrators::media_transmittance;
 use crate::integrators::path_radiance::{Gathered, Keep};
@@ -158,6 +159,10 @@ pub(super) struct PathVertex<'a> {
     pub x: Vec3,
     pub direction: Vec3,
     pub phase: &'a PhaseFunction,
+    /// The camera path's volume density of reaching x, if the vertex
+    /// before connected to light vertices
+    /// ([`super::volume_connections::reached_density`]).
+    pub reached: Option<f32>,
 }
 
 impl PathVertex<'_> {
@@ -186,7 +191,14 @@ impl PathVertex<'_> {
             };
             let phase = self.phase.eval(incident.direction.dot(self.direction));
             let weight = match p_light {
-                Some(p_light) => balance_of_two(p_light, strategies.medium_hits, phase),
+                Some(p_light) => {
+                    let y0 = incident.light_point(self.x).position;
+                    let connection =
+                        connection_term(self.scene, tracker, light, y0, self.x, self.reached);
+                    p_light
+                        / FogEventDensities::new(strategies, p_light, phase, 0.0, connection)
+                            .total()
+                }
                 None => delta_weight(index, light),
             };
             let arriving = light_arriving(

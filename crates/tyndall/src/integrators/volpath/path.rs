@@ -9,6 +9,7 @@ use super::mis::{EquiangularCounts, balance_of_two};
 use super::nee::{PathVertex, media_emission_nee, medium_nee};
 use super::segment::{Connections, EquiangularNee, FogSegment};
 use super::segment_weights::{emission_weight, escape_weight};
+use super::volume_connections::{CollisionVertex, connect_in_volumes, reached_density};
 use super::volume_equiangular::VolumeEquiangular;
 use super::{Arrival, MAX_PATH_EVENTS, Volpath, survives_roulette};
 use crate::accel::Hit;
@@ -367,12 +368,22 @@ impl<'a, K: Keep> PathContext<'a, K> {
         let ray = state.ray;
         let x = ray.at(t);
         let phase = &scene.volumes[volume].phase;
+        // The camera path's density of reaching x, if the vertex before
+        // connected to light vertices (which can produce x as one).
+        let reached = reached_density(
+            scene,
+            &mut self.tracker,
+            &ray,
+            t,
+            state.connected_from.first,
+        );
         let medium = PathVertex {
             scene,
             visibility: self.integrator.visibility,
             x,
             direction: ray.direction,
             phase,
+            reached,
         };
         let equiangular = &self.volume_equiangular;
         let light = medium.nee(
@@ -404,18 +415,44 @@ impl<'a, K: Keep> PathContext<'a, K> {
                 state.throughput * emitted,
             );
         }
+        let connects = self.connections && state.depth < self.max_events;
+        if connects {
+            let at = CollisionVertex {
+                x,
+                arriving: ray.direction,
+                phase,
+            };
+            let (group, light) = connect_in_volumes(
+                self.integrator,
+                scene,
+                &at,
+                self.sampler,
+                self.counts,
+                &mut self.tracker,
+            );
+            self.radiance.add(
+                state.history.then(Scattering::Medium).component(),
+                group,
+                state.throughput * light,
+            );
+        }
         let (direction, pdf) = phase.sample(ray.direction, self.sampler.next_2d());
         let arrival = Arrival::Sampled {
             from: x,
             pdf,
             in_volume: true,
+            reached,
+        };
+        let connected_from = Connections {
+            first: connects.then_some(pdf),
+            ..Connections::default()
         };
         state.cone = None;
         let ray = Ray {
             origin: x,
             direction,
         };
-        self.scatter(state, ray, arrival, Connections::default())
+        self.scatter(state, ray, arrival, connected_from)
     }
 
     /// A real scattering event in the fog at `t` on `segment`, whose
@@ -539,6 +576,7 @@ impl<'a, K: Keep> PathContext<'a, K> {
                             hit.primitive,
                             p,
                             ray.direction,
+                            &mut self.tracker,
                         );
                         self.radiance.add(
                             state.history.component(),
@@ -707,6 +745,7 @@ impl<'a, K: Keep> PathContext<'a, K> {
                         from: p,
                         pdf: sample.pdf,
                         in_volume: false,
+                        reached: None,
                     },
                     Connections {
                         first: connects.then_some(sample.pdf),

@@ -8,10 +8,12 @@
 
 use super::Arrival;
 use super::mis::{
-    EquiangularCounts, FogEventDensities, LightVertexDensity, balance_of_two, finite_density,
+    EquiangularCounts, FogEventDensities, LightVertexDensity, balance_of_two, finite_density, on,
 };
 use super::segment::FogSegment;
+use super::volume_connections::connection_term;
 use crate::lights::{Light, LightPoint};
+use crate::media::tracking::VolumeTracker;
 use crate::sampling::EquiangularSampler;
 use crate::scene::Scene;
 use crate::settings::Strategies;
@@ -52,7 +54,9 @@ pub(super) fn segment_term(
 
 /// MIS weight of emission found by a sampled direction: the balance
 /// heuristic against NEE's density for the same point, if the emitter is
-/// a sampled area light.
+/// a sampled area light, and against the light-vertex connection where
+/// the direction left a volume collision that one could have made
+/// (`volume_connections`, whose flight densities `tracker` computes).
 pub(super) fn emission_weight(
     scene: &Scene,
     strategies: Strategies,
@@ -60,6 +64,7 @@ pub(super) fn emission_weight(
     primitive: u32,
     p: Vec3,
     direction: Vec3,
+    tracker: &mut VolumeTracker,
 ) -> f32 {
     match (arrival, scene.area_light_at(primitive)) {
         (
@@ -67,6 +72,7 @@ pub(super) fn emission_weight(
                 from,
                 pdf,
                 in_volume,
+                reached,
             },
             Some(index),
         ) => {
@@ -74,9 +80,11 @@ pub(super) fn emission_weight(
             if !hits {
                 return 0.0;
             }
+            let light = &scene.lights[index];
             let y = LightPoint::on_surface(p, scene.geometry.normal(primitive, p));
-            let p_light = scene.lights[index].pdf_li(from, y, direction);
-            balance_of_two(pdf, nee, p_light)
+            let p_light = on(nee, light.pdf_li(from, y, direction));
+            let p_connect = connection_term(scene, tracker, light, p, from, reached);
+            pdf / (pdf + p_light + p_connect)
         }
         (
             Arrival::Medium {
