@@ -52,7 +52,7 @@
 //!   going as long as the least absorbed channel: on fog-room-chromatic
 //!   1.5× the time per sample for 0.75× the error, less efficient than
 //!   sampling it.) A flight may also aim at a point on a light
-//!   ([`FlightOptions::aim`]): half of its collisions then move to
+//!   ([`FlightOptions::aim`]): a share of its collisions then move to
 //!   equiangular samples towards it (distance and equiangular sampling,
 //!   one-sample MIS). [`UniformFlight`] describes an unaimed flight in
 //!   closed form, for estimators weighed against its collisions.
@@ -75,10 +75,15 @@ const RATIO_ROULETTE: f32 = 0.1;
 
 /// The probability with which a collision on a uniform piece is moved to
 /// an equiangular sample towards the flight's aim, when it has one
-/// ([`FlightOptions::aim`]). Cycles' one-sample MIS of distance and
-/// equiangular sampling also takes half of each; on fog-room-chromatic
-/// 0.35 and 0.5 were equally efficient, 0.25 and 0.75 less.
-const EQUIANGULAR_SHARE: f32 = 0.5;
+/// ([`FlightOptions::aim`]). A moved collision multiplies the path's
+/// throughput by the ratio of the distance density to the mixture's,
+/// up to `1/(1 − share)` far from the light; over a deep path those
+/// factors compound, and at ½ (Cycles' share) fog-room-chromatic's deep
+/// paths reached throughputs of 10⁴: one pixel held half a 320×240
+/// image's error. At 0.35 (at most 1.54 per event) the worst 0.1 % of
+/// pixels carry 5–6 % of it, for about 6 % less efficiency at 160×120
+/// (docs/benchmarks.md); 0.25 lost 10 %.
+const EQUIANGULAR_SHARE: f32 = 0.35;
 
 /// What a free flight does besides finding its first collision.
 #[derive(Default)]
