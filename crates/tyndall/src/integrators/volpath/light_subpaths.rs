@@ -204,9 +204,7 @@ impl<'a> LightSubpath<'a> {
             second,
         })
     }
-}
 
-impl<'a> LightSubpath<'a> {
     /// A subpath whose first event y1 is a collision in the scene's
     /// uniform volumes ([`connects_in_volumes`]): the flight is drawn by
     /// one-sample spectral MIS with the emitted light's channels as its
