@@ -125,6 +125,8 @@ pub struct VolumeTracker {
     merged: Vec<MajorantSegment>,
     breaks: Vec<f32>,
     scratch: RegionScratch,
+    /// The flight [`VolumeTracker::even_flight_density`] describes.
+    even_flight: UniformFlight,
 }
 
 impl VolumeTracker {
@@ -135,6 +137,7 @@ impl VolumeTracker {
             merged: Vec::new(),
             breaks: Vec::new(),
             scratch: RegionScratch::default(),
+            even_flight: UniformFlight::default(),
         }
     }
 
@@ -423,30 +426,17 @@ impl VolumeTracker {
     /// none is at `t`. A density the light-vertex connections and the
     /// strategies they compete with all weigh by alike.
     pub fn even_flight_density(&mut self, volumes: &[Volume], ray: &Ray, t: f32) -> f32 {
-        if volumes.is_empty() || t.is_nan() || t <= 0.0 {
+        if t.is_nan() || t <= 0.0 {
             return 0.0;
         }
-        self.collect(volumes, ray, 0.0, t);
-        let (mut beta, mut reach) = (Rgb::ONE, 1.0);
-        for segment in &self.segments {
-            let Some(sigma_t) = uniform_extinction(volumes, segment.mask) else {
-                return 0.0;
-            };
-            let w = beta / beta.element_sum();
-            if segment.t1 >= t {
-                // The last piece: `collect` ends it at t, if t is in it.
-                let at = chromatic_transmittance(sigma_t, t - segment.t0);
-                return reach * (w * sigma_t * at).element_sum();
-            }
-            let through = chromatic_transmittance(sigma_t, segment.t1 - segment.t0);
-            let p_escape = (w * through).element_sum();
-            if p_escape.is_nan() || p_escape <= 0.0 {
-                return 0.0;
-            }
-            beta = beta * through / p_escape;
-            reach *= p_escape;
-        }
-        0.0
+        let mut flight = std::mem::take(&mut self.even_flight);
+        let density = if self.describe_uniform_flight(volumes, ray, 0.0, t, Rgb::ONE, &mut flight) {
+            flight.density(t)
+        } else {
+            0.0
+        };
+        self.even_flight = flight;
+        density
     }
 
     /// Fills `segments` with the ordered majorant segments of all volumes
@@ -522,8 +512,10 @@ impl UniformFlight {
         self.pieces.is_empty()
     }
 
+    /// The piece holding `t` (the earlier one where two meet: a flight
+    /// described up to `t` ends its last piece there).
     fn piece_at(&self, t: f32) -> Option<&FlightPiece> {
-        self.pieces.iter().find(|p| p.t0 <= t && t < p.t1)
+        self.pieces.iter().find(|p| p.t0 <= t && t <= p.t1)
     }
 
     /// The density of the flight's distance-sampled collision at `t`
