@@ -23,6 +23,21 @@ use tyndall::settings::Strategies;
 const REGIONS_X: u32 = 4;
 const REGIONS_Y: u32 = 3;
 
+/// Both surface strategies (light sampling and BSDF sampling), for the
+/// sets that test the media's strategies.
+const SURFACES: Strategies = Strategies {
+    surface_nee: true,
+    surface_hits: true,
+    ..Strategies::NONE
+};
+
+/// [`SURFACES`] with the media's strategies that `f` switches on.
+fn surfaces_with(f: fn(&mut Strategies)) -> Strategies {
+    let mut s = SURFACES;
+    f(&mut s);
+    s
+}
+
 fn check_scene(file: &str, size: (u32, u32), spp: u32, sets: &[(&str, Strategies)]) {
     let desc = common::load_native(&repo().join(file)).expect("scene");
     check(&desc, file, size, spp, sets);
@@ -94,33 +109,23 @@ fn surface_strategies_agree() {
 /// area lights out of equiangular sampling after the first event.
 #[test]
 fn fog_strategies_agree_under_an_area_light() {
-    let surfaces = Strategies {
-        surface_nee: true,
-        surface_hits: true,
-        ..Strategies::NONE
-    };
-    let with = |f: fn(&mut Strategies)| {
-        let mut s = surfaces;
-        f(&mut s);
-        s
-    };
     check_scene(
         "scenes/reference/fog-room-depth2.toml",
         (40, 30),
         64,
         &[
-            ("fog NEE", with(|s| s.medium_nee = true)),
-            ("phase hits", with(|s| s.medium_hits = true)),
+            ("fog NEE", surfaces_with(|s| s.medium_nee = true)),
+            ("phase hits", surfaces_with(|s| s.medium_hits = true)),
             (
                 "equiangular",
-                with(|s| {
+                surfaces_with(|s| {
                     s.equiangular = true;
                     s.later_area_equiangular = true
                 }),
             ),
             (
                 "connections + NEE",
-                with(|s| {
+                surfaces_with(|s| {
                     s.connections = true;
                     s.medium_nee = true
                 }),
@@ -133,30 +138,13 @@ fn fog_strategies_agree_under_an_area_light() {
 /// only), two scattering events.
 #[test]
 fn fog_strategies_agree_under_a_spotlight() {
-    let surfaces = Strategies {
-        surface_nee: true,
-        surface_hits: true,
-        ..Strategies::NONE
-    };
     check_scene(
         "scenes/fig07-spot-sphere.toml",
         (40, 30),
         64,
         &[
-            (
-                "fog NEE",
-                Strategies {
-                    medium_nee: true,
-                    ..surfaces
-                },
-            ),
-            (
-                "equiangular",
-                Strategies {
-                    equiangular: true,
-                    ..surfaces
-                },
-            ),
+            ("fog NEE", surfaces_with(|s| s.medium_nee = true)),
+            ("equiangular", surfaces_with(|s| s.equiangular = true)),
         ],
     );
 }
@@ -205,31 +193,14 @@ fn volume_strategies_agree_under_point_and_spot_lights() {
         cutoff_deg = 25
         "#,
     );
-    let surfaces = Strategies {
-        surface_nee: true,
-        surface_hits: true,
-        ..Strategies::NONE
-    };
     check(
         &desc,
         "uniform volumes under delta lights",
         (40, 30),
         64,
         &[
-            (
-                "NEE at collisions",
-                Strategies {
-                    medium_nee: true,
-                    ..surfaces
-                },
-            ),
-            (
-                "equiangular",
-                Strategies {
-                    equiangular: true,
-                    ..surfaces
-                },
-            ),
+            ("NEE at collisions", surfaces_with(|s| s.medium_nee = true)),
+            ("equiangular", surfaces_with(|s| s.equiangular = true)),
         ],
     );
 }
@@ -238,9 +209,10 @@ fn volume_strategies_agree_under_point_and_spot_lights() {
 /// (fog-room-depth2's room and lamp), two scattering events: NEE at
 /// collisions alone, phase hits alone, and the light-vertex connections
 /// with NEE and with phase hits (connections alone miss single
-/// scattering), each against all of them. The connections' weights read flight densities with even
-/// channel weights, which no path is drawn with: the images agree only
-/// if those weights still sum to one for every path.
+/// scattering), each against all of them. The connections' weights read
+/// flight densities with even channel weights, which no path is drawn
+/// with: the images agree only if those weights still sum to one for
+/// every path.
 #[test]
 fn volume_strategies_agree_under_an_area_light() {
     let file = "scenes/reference/fog-room-depth2.toml";
@@ -249,34 +221,24 @@ fn volume_strategies_agree_under_an_area_light() {
     assert!(text.contains(fog), "{file}: the test replaces its fog");
     let chromatic = "[[media]]\nsigma_t = [0.45, 0.3, 0.15]\nalbedo = [0.8, 0.9, 0.97]\ng = 0.5\n";
     let desc = scene(&text.replace(fog, chromatic));
-    let surfaces = Strategies {
-        surface_nee: true,
-        surface_hits: true,
-        ..Strategies::NONE
-    };
-    let with = |f: fn(&mut Strategies)| {
-        let mut s = surfaces;
-        f(&mut s);
-        s
-    };
     check(
         &desc,
         "chromatic volume under an area light",
         (40, 30),
         512,
         &[
-            ("NEE at collisions", with(|s| s.medium_nee = true)),
-            ("phase hits", with(|s| s.medium_hits = true)),
+            ("NEE at collisions", surfaces_with(|s| s.medium_nee = true)),
+            ("phase hits", surfaces_with(|s| s.medium_hits = true)),
             (
                 "connections + NEE",
-                with(|s| {
+                surfaces_with(|s| {
                     s.connections = true;
                     s.medium_nee = true
                 }),
             ),
             (
                 "connections + phase hits",
-                with(|s| {
+                surfaces_with(|s| {
                     s.connections = true;
                     s.medium_hits = true
                 }),

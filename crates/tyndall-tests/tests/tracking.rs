@@ -383,24 +383,29 @@ fn uniform_flight_density_is_the_collision_density() {
     let inner_sigma = Rgb::new(0.2, 1.1, 0.6);
     let outer_phase = PhaseFunction::from_asymmetry(0.4);
     let inner_phase = PhaseFunction::Isotropic;
-    let volumes = [
-        Volume::new(
-            outer_sigma,
-            Rgb::ONE,
-            outer_phase,
-            Density::Uniform,
-            VolumeRegion::Everywhere,
-        )
-        .expect("haze"),
-        Volume::new(
-            inner_sigma,
-            Rgb::new(1.0, 0.5, 0.25),
-            inner_phase,
-            Density::Uniform,
-            VolumeRegion::Box(unit_box()),
-        )
-        .expect("box"),
-    ];
+    let inner_albedo = Rgb::new(1.0, 0.5, 0.25);
+    // A white haze filling all space and a box of albedo `box_albedo`.
+    let haze_and_box = |box_albedo: Rgb| {
+        [
+            Volume::new(
+                outer_sigma,
+                Rgb::ONE,
+                outer_phase,
+                Density::Uniform,
+                VolumeRegion::Everywhere,
+            )
+            .expect("haze"),
+            Volume::new(
+                inner_sigma,
+                box_albedo,
+                inner_phase,
+                Density::Uniform,
+                VolumeRegion::Box(unit_box()),
+            )
+            .expect("box"),
+        ]
+    };
+    let volumes = haze_and_box(inner_albedo);
     let beta = Rgb::new(1.0, 0.05, 0.3);
     let (a, b, end) = (2.0f32, 4.0f32, 6.0f32);
     let ray = Ray::new(Vec3::new(-3.0, 0.1, -0.2), Vec3::X);
@@ -420,7 +425,7 @@ fn uniform_flight_density_is_the_collision_density() {
         let inside = (a..b).contains(&t);
         let mut sigma_p = outer_sigma * outer_phase.eval(cos);
         if inside {
-            sigma_p += inner_sigma * Rgb::new(1.0, 0.5, 0.25) * inner_phase.eval(cos);
+            sigma_p += inner_sigma * inner_albedo * inner_phase.eval(cos);
         }
         let got = flight.in_scattering(&volumes, t, cos);
         assert!(
@@ -431,24 +436,7 @@ fn uniform_flight_density_is_the_collision_density() {
 
     // An absorbed flight reports no distance: the density is checked
     // with both volumes at albedo 1, where every collision scatters.
-    let white = [
-        Volume::new(
-            outer_sigma,
-            Rgb::ONE,
-            outer_phase,
-            Density::Uniform,
-            VolumeRegion::Everywhere,
-        )
-        .expect("haze"),
-        Volume::new(
-            inner_sigma,
-            Rgb::ONE,
-            inner_phase,
-            Density::Uniform,
-            VolumeRegion::Box(unit_box()),
-        )
-        .expect("box"),
-    ];
+    let white = haze_and_box(Rgb::ONE);
     assert!(tracker.describe_uniform_flight(&white, &ray, 0.0, end, beta, &mut flight));
     let bins = 24usize;
     let width = end / bins as f32;

@@ -17,10 +17,11 @@
 //! error is not — and each pass has its own pool.
 
 use super::mis::LightVertexDensity;
+use crate::accel::Hit;
 use crate::color::Rgb;
 use crate::integrators::{MAX_GLASS_CROSSINGS, TRACKING_STREAM};
 use crate::light_groups::LightGroup;
-use crate::lights::{Light, LightPoint};
+use crate::lights::{LeSample, Light, LightPoint};
 use crate::materials::SurfaceEvent;
 use crate::media::Fog;
 use crate::media::tracking::{Collision, FlightOptions, VolumeTracker};
@@ -173,14 +174,7 @@ impl<'a> LightSubpath<'a> {
         let (u_point, u_direction, u_flight) =
             (sampler.next_2d(), sampler.next_2d(), sampler.next_1d());
         let (u_turn, u_flight2) = (sampler.next_2d(), sampler.next_1d());
-        let (index, light) = scene
-            .lights
-            .iter()
-            .enumerate()
-            .filter(|(_, l)| l.is_flat_emitter())
-            .nth((choice as usize).min(lights.checked_sub(1)?))?;
-        // A two-sided light picks its side with the choice's fraction.
-        let emission = light.sample_le(u_point, u_direction, choice.fract())?;
+        let (index, light, emission) = emit(scene, choice, u_point, u_direction)?;
         let (y0, direction) = (emission.point, emission.ray.direction);
         // The first flight may cross thin glass (it is not a camera segment).
         let (y1, tint) = light_flight(scene, fog, emission.ray, u_flight, true, counts)?;
@@ -221,13 +215,7 @@ impl<'a> LightSubpath<'a> {
         let choice = sampler.next_1d() * lights as f32;
         let (u_point, u_direction) = (sampler.next_2d(), sampler.next_2d());
         let mut tracker = VolumeTracker::new(sampler.stream(TRACKING_STREAM));
-        let (index, light) = scene
-            .lights
-            .iter()
-            .enumerate()
-            .filter(|(_, l)| l.is_flat_emitter())
-            .nth((choice as usize).min(lights.checked_sub(1)?))?;
-        let emission = light.sample_le(u_point, u_direction, choice.fract())?;
+        let (index, light, emission) = emit(scene, choice, u_point, u_direction)?;
         let (y0, mut ray) = (emission.point, emission.ray);
         let mut beta = emission.beta * lights as f32;
         let mut crossings = 0u32;
@@ -249,19 +237,8 @@ impl<'a> LightSubpath<'a> {
                 Collision::Absorbed => return None,
                 Collision::Escaped => {}
             }
-            let hit = hit?;
-            match scene.material(hit.primitive).event(true, false) {
-                SurfaceEvent::Pane { transmittance } => {
-                    beta *= transmittance;
-                    crossings += 1;
-                    if crossings > MAX_GLASS_CROSSINGS {
-                        return None;
-                    }
-                    let p = ray.at(hit.t);
-                    let n = scene.geometry.normal(hit.primitive, p);
-                    ray.origin = offset_origin(p, n, ray.direction);
-                }
-                _ => return None,
+            if !pass_pane(scene, &hit?, &mut ray, &mut beta, &mut crossings) {
+                return None;
             }
         };
         let direction = emission.ray.direction;
@@ -321,21 +298,51 @@ fn light_flight(
             }
             depth_left -= depth;
         }
-        let hit = hit?;
-        match scene.material(hit.primitive).event(true, false) {
-            SurfaceEvent::Pane { transmittance } if through_glass => {
-                tint *= transmittance;
-                crossings += 1;
-                if crossings > MAX_GLASS_CROSSINGS {
-                    return None;
-                }
-                let p = ray.at(hit.t);
-                let n = scene.geometry.normal(hit.primitive, p);
-                ray.origin = offset_origin(p, n, ray.direction);
-            }
-            _ => return None,
+        if !(through_glass && pass_pane(scene, &hit?, &mut ray, &mut tint, &mut crossings)) {
+            return None;
         }
     }
+}
+
+/// The quad light a subpath starts on, chosen uniformly by `choice ∈
+/// [0, n_q)` (n_q the scene's quad lights), and its emitted ray from
+/// `u_point` and `u_direction`; a two-sided light picks its side with
+/// the choice's fraction. The light's index, the light, the emission.
+fn emit(
+    scene: &Scene,
+    choice: f32,
+    u_point: glam::Vec2,
+    u_direction: glam::Vec2,
+) -> Option<(usize, &Light, LeSample)> {
+    let lights = scene.flat_emitter_count();
+    let (index, light) = scene
+        .lights
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.is_flat_emitter())
+        .nth((choice as usize).min(lights.checked_sub(1)?))?;
+    let emission = light.sample_le(u_point, u_direction, choice.fract())?;
+    Some((index, light, emission))
+}
+
+/// A light subpath's flight meeting the surface `hit` along `ray`: if it
+/// is a thin pane, the flight passes it (`tint` takes its transmittance,
+/// `ray` starts again just beyond it) and true, unless that makes more
+/// than [`MAX_GLASS_CROSSINGS`]; false at any other surface.
+fn pass_pane(scene: &Scene, hit: &Hit, ray: &mut Ray, tint: &mut Rgb, crossings: &mut u32) -> bool {
+    let SurfaceEvent::Pane { transmittance } = scene.material(hit.primitive).event(true, false)
+    else {
+        return false;
+    };
+    *tint *= transmittance;
+    *crossings += 1;
+    if *crossings > MAX_GLASS_CROSSINGS {
+        return false;
+    }
+    let p = ray.at(hit.t);
+    let n = scene.geometry.normal(hit.primitive, p);
+    ray.origin = offset_origin(p, n, ray.direction);
+    true
 }
 
 #[cfg(test)]

@@ -154,7 +154,8 @@ impl<'a, K: Keep> PathContext<'a, K> {
             connections: integrator.light_subpaths.connect(),
             emissive: scene.volumes.iter().any(|v| v.is_emissive()),
             aims: uniform && !scene.extended_lights().is_empty(),
-            delta_equiangular: uniform && scene.lights.iter().any(|l| l.is_delta()),
+            // The lights that are not extended are Dirac deltas.
+            delta_equiangular: uniform && scene.extended_lights().len() < scene.lights.len(),
             sampler,
             counts,
         }
