@@ -55,7 +55,8 @@ fn integrators_converge_to_references() {
 /// `volpath` against the multiple-scattering references (Mitsuba 3,
 /// scenes/reference/REFERENCE-README.md): surface interreflection in a Cornell-like
 /// box (unlimited, and one indirect bounce), a fog-filled room
-/// (unlimited, two scattering events, and in chromatic fog), and a sphere and block under
+/// (unlimited, two scattering events, and in chromatic fog), a voxel grid
+/// of smoke under a spot, and a sphere and block under
 /// uniform and mapped skies with and without fog; and against Cycles 5 on an
 /// emitting, scattering flame (scenes/reference/fire-cycles/).
 ///
@@ -86,6 +87,10 @@ fn volpath_converges_to_multiple_scattering_references() {
         // The Cornell box in dense fog filling all space (issue 25's
         // cornell-fog-multi: long paths at albedo 0.95).
         ("cornell-fog-multi", None, 16),
+        // A 64³ voxel grid of smoke under a hard spot (issue 25's
+        // smoke-grid row), read from the OpenVDB file that holds the
+        // voxels Mitsuba read as an array (scenes/reference/smoke-grid/).
+        ("smoke-grid/smoke-grid", None, 16),
         // Lit only by Mitsuba's `constant` and `envmap` environments, with
         // and without a box of fog (scenes/reference/environment/).
         ("environment/env-constant", None, 16),
