@@ -7,16 +7,31 @@
 //! are interpolated trilinearly between centres, clamped at the faces.
 
 use glam::{IVec3, UVec3, Vec3};
+use std::hash::Hasher;
 
 /// Most voxels a grid may hold (1 GiB of f32), so a corrupt header cannot
 /// ask for absurd memory.
 pub const MAX_VOXELS: u64 = 1 << 28;
 
 /// A dense grid of densities over the unit cube.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, PartialEq)]
 pub struct VoxelGrid {
     size: UVec3,
     values: Vec<f32>,
+}
+
+/// A summary, not the values (up to [`MAX_VOXELS`] of them; render parts
+/// hash a scene through its `Debug` form, `parts::scene_hash`): the size
+/// and a 64-bit digest (Fx hashing) of the values' bits in order.
+impl std::fmt::Debug for VoxelGrid {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut h = rustc_hash::FxHasher::default();
+        self.values.iter().for_each(|v| h.write_u32(v.to_bits()));
+        f.debug_struct("VoxelGrid")
+            .field("size", &self.size)
+            .field("digest", &format_args!("{:016x}", h.finish()))
+            .finish()
+    }
 }
 
 impl VoxelGrid {
