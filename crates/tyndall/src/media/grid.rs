@@ -128,6 +128,19 @@ mod tests {
         assert!((grid.eval(mid) - 5.5).abs() < 1e-5);
     }
 
+    /// The `Debug` form (what render parts hash) is short, and tells a
+    /// grid from one with a voxel changed but not from an equal one.
+    #[test]
+    fn debug_form_digests_the_values() {
+        let (a, b) = (ramp(), ramp());
+        let mut values = a.values().to_vec();
+        values[13] += 0.5;
+        let c = VoxelGrid::new(a.size(), values).unwrap();
+        assert_eq!(format!("{a:?}"), format!("{b:?}"));
+        assert_ne!(format!("{a:?}"), format!("{c:?}"));
+        assert!(format!("{a:?}").len() < 80, "{a:?}");
+    }
+
     #[test]
     fn max_in_bounds_every_interpolated_value() {
         let grid = ramp();
