@@ -414,8 +414,10 @@ impl SparseGrid {
         trilinear(i, f, |j| map(self.value(j)))
     }
 
-    /// The largest value interpolation ([`Self::eval_index`]) reads over
-    /// the index-space box `[lo, hi]`: a point `g` reads the voxels
+    /// An upper bound of interpolation ([`Self::eval_index`]) over the
+    /// index-space box `[lo, hi]`, the largest voxel it reads there (a
+    /// brick read whole gives its recorded maximum, which a voxel lowered
+    /// after it was set leaves above its values): a point `g` reads the voxels
     /// `floor(g)` and `floor(g) + 1` on each axis, so the box reads
     /// `floor(lo) ..= floor(hi) + 1`, and trilinear interpolation, a
     /// convex combination of them, is at most their largest value (exact
