@@ -176,9 +176,7 @@ impl SparseGrid {
         }
         h.finish()
     }
-}
 
-impl SparseGrid {
     /// An empty grid (all background) of `f32` voxels with its
     /// index-to-world transform.
     pub fn new(index_to_world: Mat4) -> Self {
