@@ -58,7 +58,7 @@
 //!   closed form, for estimators weighed against its collisions.
 
 use super::emitters::HitWeighting;
-use super::volume::{MajorantSegment, RegionScratch, Volume};
+use super::volume::{MajorantSegment, MajorantWalk, RegionScratch, Volume};
 use super::{chromatic_transmittance, free_flight};
 use crate::color::Rgb;
 use crate::ray::Ray;
@@ -148,10 +148,9 @@ impl VolumeTracker {
         if volumes.is_empty() {
             return Rgb::ONE;
         }
-        self.collect(volumes, ray, t0, t1);
+        let mut segments = self.segments(volumes, ray, t0, t1);
         let mut estimate = Rgb::ONE;
-        for index in 0..self.segments.len() {
-            let segment = self.segments[index];
+        while let Some(segment) = segments.next(&self.segments) {
             if let Some(sigma_t) = uniform_extinction(volumes, segment.mask) {
                 estimate *= chromatic_transmittance(sigma_t, segment.t1 - segment.t0);
                 continue;
@@ -202,9 +201,8 @@ impl VolumeTracker {
             return Collision::Escaped;
         }
         let FlightOptions { mut emitted, aim } = options;
-        self.collect(volumes, ray, t0, t1);
-        for index in 0..self.segments.len() {
-            let segment = self.segments[index];
+        let mut segments = self.segments(volumes, ray, t0, t1);
+        while let Some(segment) = segments.next(&self.segments) {
             if let Some(sigma_t) = uniform_extinction(volumes, segment.mask) {
                 let piece = UniformPiece {
                     ray,
@@ -439,6 +437,22 @@ impl VolumeTracker {
         density
     }
 
+    /// The ordered majorant segments of all volumes on `[t0, t1]` with a
+    /// positive majorant, for [`Segments::next`]. One volume without a
+    /// mesh region (the common case) is walked lazily, so a flight that
+    /// collides early, or a shadow ray that roulette ends, never walks
+    /// the rest of the ray (as pbrt-v4's `DDAMajorantIterator`); otherwise
+    /// they are collected into `self.segments` first.
+    fn segments<'a>(&mut self, volumes: &'a [Volume], ray: &Ray, t0: f32, t1: f32) -> Segments<'a> {
+        if let [volume] = volumes
+            && let Some(walk) = volume.majorant_walk(ray, t0, t1, 1)
+        {
+            return Segments::Walk(walk);
+        }
+        self.collect(volumes, ray, t0, t1);
+        Segments::Collected(0)
+    }
+
     /// Fills `segments` with the ordered majorant segments of all volumes
     /// on `[t0, t1]`, summing majorants where volumes overlap.
     fn collect(&mut self, volumes: &[Volume], ray: &Ray, t0: f32, t1: f32) {
@@ -481,6 +495,30 @@ impl VolumeTracker {
             }
         }
         std::mem::swap(&mut self.segments, &mut self.merged);
+    }
+}
+
+/// Majorant segments in order along a ray ([`VolumeTracker::segments`]).
+enum Segments<'a> {
+    /// Walked as they are needed.
+    Walk(MajorantWalk<'a>),
+    /// The tracker's collected segments, from this index on.
+    Collected(usize),
+}
+
+impl Segments<'_> {
+    /// The next segment with a positive majorant; `collected` is the
+    /// tracker's list.
+    #[inline]
+    fn next(&mut self, collected: &[MajorantSegment]) -> Option<MajorantSegment> {
+        match self {
+            Self::Walk(walk) => walk.find(|s| s.majorant > 0.0),
+            Self::Collected(index) => {
+                let segment = collected.get(*index).copied();
+                *index += 1;
+                segment
+            }
+        }
     }
 }
 

@@ -175,24 +175,45 @@ impl MajorantGrid {
         }
     }
 
-    /// Appends the segments of `[t0, t1]` along `ray` (inside `bounds`,
-    /// which the grid covers) with each cell's maximum times `scale`,
-    /// walking the cells in order (Amanatides & Woo 1987).
-    #[allow(clippy::too_many_arguments)]
-    fn segments(
-        &self,
-        bounds: &Bounds,
-        ray: &Ray,
-        t0: f32,
-        t1: f32,
-        scale: f32,
-        mask: u32,
-        out: &mut Vec<MajorantSegment>,
-    ) {
-        let n = self.cells.as_ivec3();
-        let per_unit = self.cells.as_vec3() / bounds.extent();
+    /// The cells of `[t0, t1]` along `ray` (inside `bounds`, which the
+    /// grid covers), one at a time.
+    fn walk(&self, bounds: &Bounds, ray: &Ray, t0: f32, t1: f32) -> CellWalk {
+        CellWalk::new(self.cells, bounds, ray, t0, t1)
+    }
+
+    /// The majorant of cell `index` for extinction `scale` per unit density.
+    #[inline]
+    fn majorant(&self, index: usize, scale: f32) -> f32 {
+        match self.floor.get(index) {
+            Some(&floor) => (self.max[index] * scale).max(floor),
+            None => self.max[index] * scale,
+        }
+    }
+}
+
+/// The cells of a grid that a piece of a ray crosses, in order (Amanatides
+/// & Woo 1987), produced one at a time: tracking that stops at an early
+/// collision never walks the rest of the ray.
+#[derive(Clone, Debug)]
+pub(crate) struct CellWalk {
+    cells: IVec3,
+    cell: IVec3,
+    t_next: [f32; 3],
+    t_delta: [f32; 3],
+    step: [i32; 3],
+    /// Where the next cell's piece starts; past `t1` when the walk is over.
+    t: f32,
+    t1: f32,
+}
+
+impl CellWalk {
+    /// The walk over `[t0, t1]` along `ray`, inside `bounds` divided into
+    /// `cells`.
+    fn new(cells: UVec3, bounds: &Bounds, ray: &Ray, t0: f32, t1: f32) -> Self {
+        let n = cells.as_ivec3();
+        let per_unit = cells.as_vec3() / bounds.extent();
         let g0 = (ray.at(t0) - bounds.min) * per_unit;
-        let mut cell = g0.floor().as_ivec3().clamp(IVec3::ZERO, n - 1);
+        let cell = g0.floor().as_ivec3().clamp(IVec3::ZERO, n - 1);
         let d = ray.direction * per_unit;
         let (mut t_next, mut t_delta, mut step) = ([f32::INFINITY; 3], [f32::INFINITY; 3], [0; 3]);
         for a in 0..3 {
@@ -206,8 +227,23 @@ impl MajorantGrid {
                 step[a] = -1;
             }
         }
-        let mut t = t0;
-        loop {
+        Self {
+            cells: n,
+            cell,
+            t_next,
+            t_delta,
+            step,
+            t: t0,
+            t1,
+        }
+    }
+
+    /// The next cell's index (x fastest) and the piece `[t0, t1)` of the
+    /// ray in it; empty pieces (a ray through a cell's edge) are skipped.
+    #[inline]
+    fn next_cell(&mut self) -> Option<(usize, f32, f32)> {
+        while self.t < self.t1 {
+            let (t_next, cell) = (self.t_next, self.cell);
             let axis = if t_next[0] <= t_next[1] && t_next[0] <= t_next[2] {
                 0
             } else if t_next[1] <= t_next[2] {
@@ -215,28 +251,71 @@ impl MajorantGrid {
             } else {
                 2
             };
-            let t_exit = t_next[axis].min(t1);
-            if t_exit > t {
+            let t0 = self.t;
+            let t_exit = t_next[axis].min(self.t1);
+            // Leaving the grid (or reaching t1) ends the walk.
+            self.cell[axis] += self.step[axis];
+            self.t_next[axis] += self.t_delta[axis];
+            self.t = if t_next[axis] >= self.t1
+                || self.cell[axis] < 0
+                || self.cell[axis] >= self.cells[axis]
+            {
+                f32::INFINITY
+            } else {
+                t_exit
+            };
+            if t_exit > t0 {
+                let n = self.cells;
                 let index = (cell.x + n.x * (cell.y + n.y * cell.z)) as usize;
-                out.push(MajorantSegment {
-                    t0: t,
-                    t1: t_exit,
-                    majorant: match self.floor.get(index) {
-                        Some(&floor) => (self.max[index] * scale).max(floor),
-                        None => self.max[index] * scale,
-                    },
-                    mask,
-                });
+                return Some((index, t0, t_exit));
             }
-            if t_next[axis] >= t1 {
-                return;
+        }
+        None
+    }
+}
+
+/// A volume's majorant segments along one piece of a ray, produced one at
+/// a time ([`Volume::majorant_walk`]).
+pub(crate) enum MajorantWalk<'a> {
+    /// No segment is left.
+    Done,
+    /// One segment (a volume filling all space), then none.
+    Whole(MajorantSegment),
+    /// The majorant grid's cells the piece crosses.
+    Cells {
+        grid: &'a MajorantGrid,
+        walk: CellWalk,
+        scale: f32,
+        mask: u32,
+    },
+}
+
+impl Iterator for MajorantWalk<'_> {
+    type Item = MajorantSegment;
+
+    #[inline]
+    fn next(&mut self) -> Option<MajorantSegment> {
+        match self {
+            Self::Done => None,
+            Self::Whole(segment) => {
+                let segment = *segment;
+                *self = Self::Done;
+                Some(segment)
             }
-            t = t_exit;
-            cell[axis] += step[axis];
-            if cell[axis] < 0 || cell[axis] >= n[axis] {
-                return;
+            Self::Cells {
+                grid,
+                walk,
+                scale,
+                mask,
+            } => {
+                let (index, t0, t1) = walk.next_cell()?;
+                Some(MajorantSegment {
+                    t0,
+                    t1,
+                    majorant: grid.majorant(index, *scale),
+                    mask: *mask,
+                })
             }
-            t_next[axis] += t_delta[axis];
         }
     }
 }
@@ -424,8 +503,53 @@ impl Volume {
         matches!(self.region, VolumeRegion::Everywhere)
     }
 
+    /// The majorant segments of `[t0, t1]` along `ray` in this volume,
+    /// tagged with `mask`, produced one at a time; `None` for a mesh
+    /// region, whose inside may be several pieces of the ray
+    /// ([`Volume::majorant_segments`] collects those).
+    pub(crate) fn majorant_walk(
+        &self,
+        ray: &Ray,
+        t0: f32,
+        t1: f32,
+        mask: u32,
+    ) -> Option<MajorantWalk<'_>> {
+        let scale = self.sigma_t.max_element();
+        if scale <= 0.0 && self.majorants.floor.is_empty() {
+            return Some(MajorantWalk::Done);
+        }
+        match &self.region {
+            VolumeRegion::Everywhere => Some(if t0 < t1 {
+                MajorantWalk::Whole(MajorantSegment {
+                    t0,
+                    t1,
+                    majorant: scale,
+                    mask,
+                })
+            } else {
+                MajorantWalk::Done
+            }),
+            // The field box is the box.
+            VolumeRegion::Box(_) => Some(match self.field_box.clip_ray(ray, t0, t1) {
+                Some((a, b)) if a < b => self.cells_walk(ray, a, b, scale, mask),
+                _ => MajorantWalk::Done,
+            }),
+            VolumeRegion::Mesh(_) => None,
+        }
+    }
+
+    /// The walk over the majorant cells of `[a, b]`, inside the field box.
+    fn cells_walk(&self, ray: &Ray, a: f32, b: f32, scale: f32, mask: u32) -> MajorantWalk<'_> {
+        MajorantWalk::Cells {
+            grid: &self.majorants,
+            walk: self.majorants.walk(&self.field_box, ray, a, b),
+            scale,
+            mask,
+        }
+    }
+
     /// Appends the majorant segments of `[t0, t1]` along `ray` in this
-    /// volume, tagged with `mask`; `intervals` and `hits` are scratch.
+    /// volume, tagged with `mask`; `scratch` holds a mesh region's pieces.
     pub(crate) fn majorant_segments(
         &self,
         ray: &Ray,
@@ -435,37 +559,21 @@ impl Volume {
         scratch: &mut RegionScratch,
         out: &mut Vec<MajorantSegment>,
     ) {
-        let scale = self.sigma_t.max_element();
-        if scale <= 0.0 && self.majorants.floor.is_empty() {
+        if let Some(walk) = self.majorant_walk(ray, t0, t1, mask) {
+            out.extend(walk);
             return;
         }
+        // Only a mesh region has no single walk.
+        let VolumeRegion::Mesh(m) = &self.region else {
+            return;
+        };
         scratch.intervals.clear();
-        match &self.region {
-            VolumeRegion::Everywhere => {
-                if t0 < t1 {
-                    out.push(MajorantSegment {
-                        t0,
-                        t1,
-                        majorant: scale,
-                        mask,
-                    });
-                }
-                return;
-            }
-            VolumeRegion::Box(b) => {
-                if let Some((a, b)) = b.clip_ray(ray, t0, t1) {
-                    push_clipped(&mut scratch.intervals, a, b, t0, t1);
-                }
-            }
-            VolumeRegion::Mesh(m) => {
-                m.intervals(ray, t0, t1, &mut scratch.hits, &mut scratch.intervals);
-            }
-        }
+        m.intervals(ray, t0, t1, &mut scratch.hits, &mut scratch.intervals);
+        let scale = self.sigma_t.max_element();
         for &(a, b) in &scratch.intervals {
             // A mesh's intervals may reach past its box by rounding.
             if let Some((a, b)) = self.field_box.clip_ray(ray, a, b).filter(|(a, b)| a < b) {
-                self.majorants
-                    .segments(&self.field_box, ray, a, b, scale, mask, out);
+                out.extend(self.cells_walk(ray, a, b, scale, mask));
             }
         }
     }
@@ -523,6 +631,89 @@ mod tests {
                     "{sigma} > {}",
                     s.majorant
                 );
+            }
+        }
+    }
+
+    /// A box region is walked lazily and a mesh region collected piece by
+    /// piece; over a cube both give the same segments.
+    #[test]
+    fn a_box_walked_lazily_and_a_cube_mesh_give_the_same_segments() {
+        let noise = SmokeNoise {
+            frequency: 3.0,
+            octaves: 2,
+            bias: 0.2,
+            seed: 9,
+        };
+        let (lo, hi) = (Vec3::splat(-1.0), Vec3::splat(1.0));
+        let corner = |i: u32| {
+            Vec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            )
+        };
+        // Each face of the cube as two triangles.
+        let faces = [
+            [0, 1, 3, 2],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 3, 7, 6],
+            [0, 2, 6, 4],
+            [1, 3, 7, 5],
+        ];
+        let triangles = faces
+            .iter()
+            .flat_map(|&[a, b, c, d]| {
+                [
+                    Triangle::new(corner(a), corner(b), corner(c)).unwrap(),
+                    Triangle::new(corner(a), corner(c), corner(d)).unwrap(),
+                ]
+            })
+            .collect();
+        let volume = |region| {
+            let density = Density::Noise(noise.clone());
+            Volume::new(
+                Rgb::ONE,
+                Rgb::ONE,
+                PhaseFunction::Isotropic,
+                density,
+                region,
+            )
+            .unwrap()
+        };
+        let boxed = volume(VolumeRegion::Box(Bounds::new(lo, hi)));
+        let meshed = volume(VolumeRegion::Mesh(MeshRegion::new(triangles)));
+        assert!(
+            boxed
+                .majorant_walk(&ray(Vec3::ZERO, Vec3::X), 0.0, 1.0, 1)
+                .is_some()
+        );
+        assert!(
+            meshed
+                .majorant_walk(&ray(Vec3::ZERO, Vec3::X), 0.0, 1.0, 1)
+                .is_none()
+        );
+        let rays = [
+            (Vec3::new(-3.0, -0.2, 0.1), Vec3::new(1.0, 0.3, 0.05), 0.0),
+            (Vec3::new(0.3, 0.2, -0.4), Vec3::new(-0.2, 1.0, 0.7), 0.0),
+            (Vec3::new(2.5, 2.0, 1.5), Vec3::new(-1.0, -0.9, -0.6), 1.0),
+        ];
+        let mut scratch = RegionScratch::default();
+        for (origin, direction, t0) in rays {
+            let r = ray(origin, direction);
+            let (mut a, mut b) = (Vec::new(), Vec::new());
+            boxed.majorant_segments(&r, t0, 10.0, 1, &mut scratch, &mut a);
+            meshed.majorant_segments(&r, t0, 10.0, 1, &mut scratch, &mut b);
+            assert!(
+                a.len() > 3 && a.len() == b.len(),
+                "{} and {}",
+                a.len(),
+                b.len()
+            );
+            for (x, y) in a.iter().zip(&b) {
+                assert!((x.t0 - y.t0).abs() < 1e-4 && (x.t1 - y.t1).abs() < 1e-4);
+                assert_eq!(x.majorant, y.majorant);
             }
         }
     }
