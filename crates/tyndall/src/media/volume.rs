@@ -124,6 +124,13 @@ pub struct MajorantSegment {
 #[derive(Clone, Debug)]
 pub struct MajorantGrid {
     cells: UVec3,
+    /// Where the field box starts, and the size of a cell along each axis
+    /// (scene units; zero for a volume filling all space, which is never
+    /// walked cell by cell).
+    origin: Vec3,
+    cell_size: Vec3,
+    /// `1/cell_size` (zero where `cell_size` is).
+    cells_per_unit: Vec3,
     max: Vec<f32>,
     /// Per cell, an absolute lower bound of the majorant (1/scene unit)
     /// where an emission field is positive (empty: none): tracking must
@@ -150,13 +157,27 @@ fn majorant_cell_boxes(cells: UVec3) -> impl Iterator<Item = (Vec3, Vec3)> {
 }
 
 impl MajorantGrid {
-    fn new(density: &Density) -> Self {
+    /// The grid of `density` over `field_box`.
+    fn new(density: &Density, field_box: &Bounds) -> Self {
         let cells = density.majorant_cells();
         let max = majorant_cell_boxes(cells)
             .map(|(lo, hi)| density.max_in(lo, hi))
             .collect();
+        let bounded = field_box.extent().is_finite();
+        let cell_size = if bounded {
+            field_box.extent() / cells.as_vec3()
+        } else {
+            Vec3::ZERO
+        };
         Self {
             cells,
+            origin: if bounded { field_box.min } else { Vec3::ZERO },
+            cell_size,
+            cells_per_unit: if bounded {
+                cells.as_vec3() / field_box.extent()
+            } else {
+                Vec3::ZERO
+            },
             max,
             floor: Vec::new(),
         }
@@ -175,10 +196,10 @@ impl MajorantGrid {
         }
     }
 
-    /// The cells of `[t0, t1]` along `ray` (inside `bounds`, which the
-    /// grid covers), one at a time.
-    fn walk(&self, bounds: &Bounds, ray: &Ray, t0: f32, t1: f32) -> CellWalk {
-        CellWalk::new(self.cells, bounds, ray, t0, t1)
+    /// The cells of `[t0, t1]` along `ray` (inside the field box), one at
+    /// a time.
+    fn walk(&self, ray: &Ray, t0: f32, t1: f32) -> CellWalk {
+        CellWalk::new(self, ray, t0, t1)
     }
 
     /// The majorant of cell `index` for extinction `scale` per unit density.
@@ -207,23 +228,27 @@ pub(crate) struct CellWalk {
 }
 
 impl CellWalk {
-    /// The walk over `[t0, t1]` along `ray`, inside `bounds` divided into
-    /// `cells`.
-    fn new(cells: UVec3, bounds: &Bounds, ray: &Ray, t0: f32, t1: f32) -> Self {
-        let n = cells.as_ivec3();
-        let per_unit = cells.as_vec3() / bounds.extent();
-        let g0 = (ray.at(t0) - bounds.min) * per_unit;
-        let cell = g0.floor().as_ivec3().clamp(IVec3::ZERO, n - 1);
-        let d = ray.direction * per_unit;
+    /// The walk over `[t0, t1]` along `ray`, inside `grid`'s field box.
+    fn new(grid: &MajorantGrid, ray: &Ray, t0: f32, t1: f32) -> Self {
+        let n = grid.cells.as_ivec3();
+        let p0 = ray.at(t0) - grid.origin;
+        let cell = (p0 * grid.cells_per_unit)
+            .floor()
+            .as_ivec3()
+            .clamp(IVec3::ZERO, n - 1);
+        let inverse = ray.direction.recip();
+        // Ray length per cell crossed along each axis, signed.
+        let per_cell = grid.cell_size * inverse;
         let (mut t_next, mut t_delta, mut step) = ([f32::INFINITY; 3], [f32::INFINITY; 3], [0; 3]);
         for a in 0..3 {
-            if d[a] > 0.0 {
-                t_next[a] = t0 + ((cell[a] + 1) as f32 - g0[a]) / d[a];
-                t_delta[a] = 1.0 / d[a];
+            let face = |c: i32| t0 + (c as f32 * grid.cell_size[a] - p0[a]) * inverse[a];
+            if ray.direction[a] > 0.0 {
+                t_next[a] = face(cell[a] + 1);
+                t_delta[a] = per_cell[a];
                 step[a] = 1;
-            } else if d[a] < 0.0 {
-                t_next[a] = t0 + (cell[a] as f32 - g0[a]) / d[a];
-                t_delta[a] = -1.0 / d[a];
+            } else if ray.direction[a] < 0.0 {
+                t_next[a] = face(cell[a]);
+                t_delta[a] = -per_cell[a];
                 step[a] = -1;
             }
         }
@@ -365,7 +390,7 @@ impl Volume {
         if matches!(region, VolumeRegion::Mesh(_)) && field_box.extent().min_element() <= 0.0 {
             return Err("the mesh is flat: it encloses no volume".into());
         }
-        let majorants = MajorantGrid::new(&density);
+        let majorants = MajorantGrid::new(&density, &field_box);
         Ok(Self {
             sigma_t,
             albedo,
@@ -410,8 +435,7 @@ impl Volume {
                 EmitsUnabsorbed::WhereHot => Some(b.temperature.clone()),
                 EmitsUnabsorbed::Everywhere => Some(Density::Uniform),
             });
-        let cell = self.field_box.extent() / self.majorants.cells.as_vec3();
-        let rate = 1.0 / cell.min_element();
+        let rate = 1.0 / self.majorants.cell_size.min_element();
         for field in [colour_field, hot_field].into_iter().flatten() {
             self.majorants.add_floor(&field, rate);
         }
@@ -542,7 +566,7 @@ impl Volume {
     fn cells_walk(&self, ray: &Ray, a: f32, b: f32, scale: f32, mask: u32) -> MajorantWalk<'_> {
         MajorantWalk::Cells {
             grid: &self.majorants,
-            walk: self.majorants.walk(&self.field_box, ray, a, b),
+            walk: self.majorants.walk(ray, a, b),
             scale,
             mask,
         }
