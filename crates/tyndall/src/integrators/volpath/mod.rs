@@ -99,9 +99,9 @@ use mis::EquiangularCounts;
 use segment::FogSegment;
 
 /// Scattering events before Russian roulette may end a path. Five, not
-/// three: 3–10 % more efficient on the multiple-scattering references but
-/// fog-room-chromatic (−1 %), whose error is mostly elsewhere
-/// (docs/benchmarks.md, "Russian roulette on the square root").
+/// three: 3–14 % more efficient on the multiple-scattering references,
+/// but for fog-room-chromatic (−1 %) (docs/benchmarks.md, "Russian
+/// roulette on the square root").
 const ROULETTE_DEPTH: u32 = 5;
 
 /// Hard limit on scattering events when `max_depth` is unlimited. Russian
@@ -162,8 +162,8 @@ enum Arrival<'a> {
 /// ends paths later than `q = max(throughput)`: a path whose throughput
 /// fell to 0.1 survives a third of the time with weight 3, not a tenth
 /// with weight 10. In smoke of albedo 0.95 and rooms lit by bounced
-/// light, where deep paths carry much of the image, that cost 0–10 % more
-/// time per sample for 10–20 % less error (docs/benchmarks.md, "Russian
+/// light, where deep paths carry much of the image, that cost 1–9 % more
+/// time per sample for 9–20 % less error (docs/benchmarks.md, "Russian
 /// roulette on the square root").
 pub(crate) fn survives_roulette(
     throughput: &mut Rgb,
