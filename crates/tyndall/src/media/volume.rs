@@ -696,7 +696,7 @@ mod tests {
             })
             .collect();
         let volume = |region| {
-            let density = Density::Noise(noise.clone());
+            let density = Density::Noise(noise);
             Volume::new(
                 Rgb::ONE,
                 Rgb::ONE,
