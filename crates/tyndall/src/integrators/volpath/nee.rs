@@ -29,7 +29,6 @@ use glam::Vec3;
 /// already holds the albedo), MIS-weighted for area lights (against phase
 /// sampling and the segment's equiangular samples) and for point and spot
 /// lights (against the equiangular samples, see [`EquiangularNee`]).
-#[allow(clippy::too_many_arguments)]
 // Inlined into each of `radiance`'s two instantiations (with and
 // without the components), as it was into its one before: measured,
 // the call instead cost 2 % of a volpath sample.
