@@ -125,12 +125,10 @@ pub struct MajorantSegment {
 pub struct MajorantGrid {
     cells: UVec3,
     /// Where the field box starts, and the size of a cell along each axis
-    /// (scene units; zero for a volume filling all space, which is never
-    /// walked cell by cell).
+    /// (scene units; infinite for a volume filling all space, whose one
+    /// cell is never walked).
     origin: Vec3,
     cell_size: Vec3,
-    /// `1/cell_size` (zero where `cell_size` is).
-    cells_per_unit: Vec3,
     max: Vec<f32>,
     /// Per cell, an absolute lower bound of the majorant (1/scene unit)
     /// where an emission field is positive (empty: none): tracking must
@@ -163,21 +161,10 @@ impl MajorantGrid {
         let max = majorant_cell_boxes(cells)
             .map(|(lo, hi)| density.max_in(lo, hi))
             .collect();
-        let bounded = field_box.extent().is_finite();
-        let cell_size = if bounded {
-            field_box.extent() / cells.as_vec3()
-        } else {
-            Vec3::ZERO
-        };
         Self {
             cells,
-            origin: if bounded { field_box.min } else { Vec3::ZERO },
-            cell_size,
-            cells_per_unit: if bounded {
-                cells.as_vec3() / field_box.extent()
-            } else {
-                Vec3::ZERO
-            },
+            origin: field_box.min,
+            cell_size: field_box.extent() / cells.as_vec3(),
             max,
             floor: Vec::new(),
         }
@@ -232,7 +219,7 @@ impl CellWalk {
     fn new(grid: &MajorantGrid, ray: &Ray, t0: f32, t1: f32) -> Self {
         let n = grid.cells.as_ivec3();
         let p0 = ray.at(t0) - grid.origin;
-        let cell = (p0 * grid.cells_per_unit)
+        let cell = (p0 / grid.cell_size)
             .floor()
             .as_ivec3()
             .clamp(IVec3::ZERO, n - 1);
