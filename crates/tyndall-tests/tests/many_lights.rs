@@ -24,10 +24,22 @@ const REGIONS_X: u32 = 8;
 const REGIONS_Y: u32 = 6;
 
 /// 60 spots on a 10 × 6 grid 6 m over a floor, each aimed at its own
-/// point with its own cutoff, intensity and colour; three point lights;
-/// a small quad light; a sphere casting shadows; fog filling a box; and,
-/// `with_medium`, a chromatic medium (a `[[media]]` box, whose real
-/// collisions are the volume events that choose lights) over the sphere.
+/// point with its own cutoff, intensity and colour; three point lights
+/// out of the frame; a small quad light; a sphere casting shadows; fog
+/// filling a box below the lights; and, `with_medium`, a chromatic medium
+/// (a `[[media]]` box, whose real collisions are the volume events that
+/// choose lights) over the sphere.
+///
+/// Every light is outside the fog. Fog around a point or spot light
+/// scatters ∝ 1/d² at distance d from it, so a ray passing it at
+/// distance D gathers ∝ 1/D, and over the rays through a pixel (or the
+/// directions leaving a scattering event), whose D has a density ∝ D, the
+/// second moment ∫ D⁻² · D dD diverges. A pixel's error then has too
+/// heavy a tail for the spread of 48 pixels to estimate it: with the
+/// lights in the fog and in view, an every-light region mean moved by
+/// 3 estimated standard errors between seed pairs and a render against
+/// itself gave 5.6 σ. With the lights above the fog, the spread of the
+/// region means over ten seed pairs matches the estimate.
 fn rig(sampling: LightSampling, with_medium: bool) -> Loaded {
     let mut text = format!(
         r#"
@@ -43,7 +55,7 @@ light_sampling = "{}"
 sigma_t = 0.08
 albedo = 0.8
 g = 0.2
-box = {{ min = [-7.0, 0.0, -5.0], max = [7.0, 7.0, 5.0] }}
+box = {{ min = [-7.0, 0.0, -5.0], max = [7.0, 5.5, 5.0] }}
 
 [materials.floor]
 type = "diffuse"
@@ -105,7 +117,7 @@ intensity = [{r}, {g}, {b}]
         )
         .unwrap();
     }
-    for (i, position) in [[-4.0, 4.0, 2.0], [3.5, 3.0, -2.0], [0.0, 5.0, 3.0]]
+    for (i, position) in [[-4.0, 6.5, 4.0], [3.5, 6.4, 3.5], [0.0, 6.6, 4.5]]
         .iter()
         .enumerate()
     {
