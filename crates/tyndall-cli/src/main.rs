@@ -472,11 +472,14 @@ fn render(args: RenderArgs) -> Result<()> {
     for w in loader_warnings.into_iter().chain(settings.warnings(&scene)) {
         eprintln!("warning: {w}");
     }
-    let identity = PartIdentity::new(&scene, &settings);
+    // The render's identity hashes the whole scene (every primitive and
+    // image: a fifth of a second for 200 000 triangles); only parts and
+    // checkpoints carry it, and a plain render does not compute it.
+    let identity = keeps_all.then(|| PartIdentity::new(&scene, &settings));
     let resume = match &args.checkpoint {
         Some(path) if path.exists() => {
             let part = read_part(path)?;
-            if part.identity != identity {
+            if identity != Some(part.identity) {
                 bail!(
                     "{}: this checkpoint is of another scene, settings or seed; delete it to start again",
                     path.display()
@@ -502,7 +505,7 @@ fn render(args: RenderArgs) -> Result<()> {
     let mut save_error = None;
     let mut stopped_by_limit = false;
     let mut after_pass = |a: &Accumulation, pass_time: Duration| {
-        if let Some(path) = &args.checkpoint
+        if let (Some(path), Some(identity)) = (&args.checkpoint, identity)
             && a.region.samples.end < region.samples.end
             && last_save.elapsed() >= args.checkpoint_every
         {
@@ -542,22 +545,32 @@ fn render(args: RenderArgs) -> Result<()> {
     if let Some(e) = save_error {
         return Err(e).context("the checkpoint could not be saved; the render stopped");
     }
-    let part = Part {
-        identity,
-        accumulation,
+    // With an identity (a part or a checkpointed render) the sums travel
+    // as a part; without one, alone.
+    let finished = match identity {
+        Some(identity) => Ok(Part {
+            identity,
+            accumulation,
+        }),
+        None => Err(accumulation),
     };
-    let reached = part.accumulation.passes();
-    if is_part {
-        // A part is written (atomically) by the part writer: the early
-        // temporary file only proved the destination writable.
-        drop(output_file);
-        write_part(&output, &part, PartCompression::Rle)
-            .with_context(|| "the part was not written")?;
-    } else {
-        finisher.write(output_file, &part.accumulation, settings.exposure)?;
+    let (part, accumulation) = match &finished {
+        Ok(part) => (Some(part), &part.accumulation),
+        Err(sums) => (None, sums),
+    };
+    let reached = accumulation.passes();
+    match part {
+        Some(part) if is_part => {
+            // A part is written (atomically) by the part writer: the early
+            // temporary file only proved the destination writable.
+            drop(output_file);
+            write_part(&output, part, PartCompression::Rle)
+                .with_context(|| "the part was not written")?;
+        }
+        _ => finisher.write(output_file, accumulation, settings.exposure)?,
     }
     if !args.quiet {
-        report(&settings, &part.accumulation, &stats, &output);
+        report(&settings, accumulation, &stats, &output);
     }
     if stats.invalid_samples > 0 {
         // Even with --quiet: the image is missing these samples.
@@ -575,10 +588,10 @@ fn render(args: RenderArgs) -> Result<()> {
             region.samples.len()
         );
     }
-    if let Some(path) = &args.checkpoint {
+    if let (Some(path), Some(part)) = (&args.checkpoint, part) {
         if stopped_by_limit {
             // Keep the progress: running again continues the render.
-            write_part(path, &part, PartCompression::None)
+            write_part(path, part, PartCompression::None)
                 .context("the checkpoint could not be saved")?;
         } else if path.exists() {
             std::fs::remove_file(path)

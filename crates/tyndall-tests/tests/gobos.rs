@@ -210,3 +210,54 @@ fn gobo_in_fog_scatters_the_projected_image() {
         "{mean} ± {stderr}"
     );
 }
+
+/// Spots naming one gobo file share one image (a rig of 1024 heads reads
+/// and holds its pattern once), and the scene hash that render parts
+/// check, which sees an image only through its digest, still tells two
+/// images apart by a single texel.
+#[test]
+fn spots_share_one_gobo_image_and_the_scene_hash_sees_its_texels() {
+    let dir = std::env::temp_dir().join(format!("tyndall-gobo-shared-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let load = |texel: [u8; 3]| {
+        let mut pixels = PATTERN;
+        pixels[5] = texel;
+        image::RgbImage::from_fn(4, 4, |x, y| image::Rgb(pixels[(y * 4 + x) as usize]))
+            .save(dir.join("pattern.png"))
+            .expect("write pattern");
+        let spot = |x: f32| {
+            format!(
+                "[[lights]]\ntype = \"spot\"\nposition = [{x}, 3, 0]\ndirection = [0, -1, 0]\n\
+                 cutoff_deg = 30\nintensity = 2.0\ngobo = \"pattern.png\"\n"
+            )
+        };
+        let text = format!(
+            "[camera]\nposition = [0, 1, 6]\nlook_at = [0, 0, 0]\nfov_y_deg = 40\n\n{}{}",
+            spot(-1.0),
+            spot(1.0)
+        );
+        let path = dir.join("pair.toml");
+        std::fs::write(&path, text).expect("write scene");
+        common::load_native(&path).expect("scene loads")
+    };
+    let images = |loaded: &common::Loaded| -> Vec<std::sync::Arc<tyndall::texture::Texture>> {
+        loaded
+            .scene
+            .lights()
+            .iter()
+            .filter_map(|l| match l {
+                tyndall::lights::Light::Spot(s) => s.gobo.as_ref().map(|g| g.image.clone()),
+                _ => None,
+            })
+            .collect()
+    };
+    let first = load(PATTERN[5]);
+    let shared = images(&first);
+    assert_eq!(shared.len(), 2);
+    assert!(std::sync::Arc::ptr_eq(&shared[0], &shared[1]));
+    let [r, g, b] = PATTERN[5];
+    let changed = load([r ^ 1, g, b]);
+    let hash = |l: &common::Loaded| tyndall::parts::scene_hash(&l.scene, &l.settings);
+    assert_ne!(hash(&first), hash(&changed));
+    assert_eq!(hash(&first), hash(&load(PATTERN[5])));
+}

@@ -19,6 +19,7 @@
 
 use crate::color::{Rgb, linear_to_srgb, srgb_to_linear};
 use glam::{Vec2, Vec3};
+use std::hash::Hasher;
 use std::sync::OnceLock;
 
 /// Index of a texture in a scene's texture list.
@@ -77,7 +78,7 @@ struct Level {
 /// An 8-bit image of `width × height` texels, row by row from the top
 /// (texture coordinate v = 0 is the first row, as in glTF), with its
 /// pyramid of averaged levels.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, PartialEq)]
 pub struct Texture {
     /// The image, then each level half the last's size (rounded down,
     /// at least 1) down to 1 × 1.
@@ -88,6 +89,30 @@ pub struct Texture {
     wrap: [Wrap; 2],
     mean: Rgb,
     mean_alpha: f32,
+}
+
+/// A summary, not the texels (render parts hash a scene through its
+/// `Debug` form, `parts::scene_hash`, and a light or material holding a
+/// 4096² image would print 50 million numbers on every render): the
+/// size, encoding and wrap modes, and a 64-bit digest (Fx hashing) of the
+/// image's texels and alpha in order. The pyramid and means follow from
+/// those.
+impl std::fmt::Debug for Texture {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let image = &self.levels[0];
+        let mut h = rustc_hash::FxHasher::default();
+        h.write(image.texels.as_flattened());
+        if let Some(alpha) = &self.alpha {
+            h.write(alpha);
+        }
+        f.debug_struct("Texture")
+            .field("size", &(image.width, image.height))
+            .field("encoding", &self.encoding)
+            .field("wrap", &self.wrap)
+            .field("alpha", &self.alpha.is_some())
+            .field("digest", &format_args!("{:016x}", h.finish()))
+            .finish()
+    }
 }
 
 /// The linear value of each 8-bit sRGB code.

@@ -291,9 +291,18 @@ impl Loader<'_> {
         let Some((path, rotate)) = self.turned_file(span, "gobo", file, rotate_deg)? else {
             return Ok(None);
         };
-        let image = crate::images::load_texture(&path, [Wrap::Clamp; 2])
-            .map_err(|e| self.err(span, "gobo", e))?;
-        Gobo::new(Arc::new(image), axis, cutoff_deg, rotate)
+        let cached = self.gobo_images.borrow().get(&path).cloned();
+        let image = match cached {
+            Some(image) => image,
+            None => {
+                let image = crate::images::load_texture(&path, [Wrap::Clamp; 2])
+                    .map_err(|e| self.err(span, "gobo", e))?;
+                let image = Arc::new(image);
+                self.gobo_images.borrow_mut().insert(path, image.clone());
+                image
+            }
+        };
+        Gobo::new(image, axis, cutoff_deg, rotate)
             .map(Some)
             .map_err(|e| self.err(span, "cutoff_deg", e))
     }

@@ -12,9 +12,10 @@ use crate::mesh::{MeshTransform, MeshTriangles, load_obj_mesh};
 use crate::source::{SceneError, SourceText};
 use glam::Vec3;
 use serde_spanned::Spanned;
-use std::collections::BTreeMap;
+use std::cell::RefCell;
+use std::collections::{BTreeMap, HashMap};
 use std::ops::Range;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use tyndall::camera::{Aperture, CameraSpec, FieldOfView};
 use tyndall::color::Rgb;
@@ -31,6 +32,7 @@ use tyndall::settings::{
     DEFAULT_MAP_RESOLUTION, IntegratorKind, RenderSettings, VisibilityMode, check_map_resolution,
 };
 use tyndall::shapes::{Bounds, Quad, Shape, Sphere, box_faces};
+use tyndall::texture::Texture;
 
 mod lights;
 mod medium;
@@ -89,6 +91,7 @@ pub fn parse_with_arrays(
         frame_used: std::cell::Cell::new(false),
         base_textures: BTreeMap::new(),
         arrays,
+        gobo_images: Default::default(),
     }
     .build(file)?;
     if let Some(e) = source.locate_all(&desc.errors()) {
@@ -112,6 +115,9 @@ struct Loader<'a> {
     base_textures: BTreeMap<MaterialId, principled::BaseColorTexture>,
     /// The arrays given beside the text ([`parse_with_arrays`]).
     arrays: &'a [Vec<u8>],
+    /// Gobo images by file, read once: the heads of a rig share one
+    /// pattern, which 1024 copies would read, decode and hold 1024 times.
+    gobo_images: RefCell<HashMap<PathBuf, Arc<Texture>>>,
 }
 
 impl Loader<'_> {
