@@ -98,8 +98,8 @@
 //!   expectation. Against PCG in every dimension this cut fig. 3's noise
 //!   between two 16-frame renders (`tests/images.rs`) from 4.1·10⁻⁵ to
 //!   5.4·10⁻⁶ relMSE (march) and from 4.2·10⁻⁵ to 5.7·10⁻⁶ (`single`);
-//!   the CPU's is still ~10⁻⁷, where the Sobol sequence stratifies every
-//!   dimension.
+//!   the CPU's is still ~10⁻⁷, where the Sobol sequence stratifies a
+//!   sample's first 24 dimensions.
 //!
 //! - **Every light kind, sampled as on the CPU.** Point, spot (all
 //!   profiles) and directional lights, and the area lights: quads,
