@@ -91,9 +91,9 @@ pub struct Texture {
     mean_alpha: f32,
 }
 
-/// A summary, not the texels (render parts hash a scene through its
-/// `Debug` form, `parts::scene_hash`, and a light or material holding a
-/// 4096² image would print 50 million numbers on every render): the
+/// A summary, not the texels (render parts and checkpoints hash a scene
+/// through its `Debug` form, `parts::scene_hash`, and a material holding
+/// a 4096² image would print 50 million numbers into each hash): the
 /// size, encoding and wrap modes, and a 64-bit digest (Fx hashing) of the
 /// image's texels and alpha in order. The pyramid and means follow from
 /// those.
