@@ -3,8 +3,10 @@
 //! of exhausting memory. The limits are listed in docs/scene-format.md
 //! ("Limits").
 
+use std::cell::RefCell;
+use std::collections::HashMap;
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use tyndall::limits::describe_bytes;
 
 /// Largest scene file read (native TOML or legacy .obj), in bytes.
@@ -66,9 +68,61 @@ fn too_large(len: u64, limit: u64) -> String {
     )
 }
 
+/// Files a scene names more than once, read once: a rig's heads share
+/// their gobo image and their IES profile, which 1024 heads would
+/// otherwise read, decode and hold 1024 times. Keyed by the path as
+/// resolved against the scene; a failed read is not kept (it fails the
+/// load).
+pub(crate) struct ReadOnce<T> {
+    files: RefCell<HashMap<PathBuf, T>>,
+}
+
+impl<T: Clone> ReadOnce<T> {
+    pub(crate) fn new() -> Self {
+        Self {
+            files: RefCell::new(HashMap::new()),
+        }
+    }
+
+    /// What `read` made of `path` the first time, reading it now if this
+    /// is the first time.
+    pub(crate) fn get_or_read<E>(
+        &self,
+        path: &Path,
+        read: impl FnOnce(&Path) -> Result<T, E>,
+    ) -> Result<T, E> {
+        if let Some(value) = self.files.borrow().get(path) {
+            return Ok(value.clone());
+        }
+        let value = read(path)?;
+        self.files
+            .borrow_mut()
+            .insert(path.to_path_buf(), value.clone());
+        Ok(value)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_file_is_read_once_and_a_failed_read_is_not_kept() {
+        let cache = ReadOnce::new();
+        let reads = std::cell::Cell::new(0);
+        let read = |p: &Path| {
+            reads.set(reads.get() + 1);
+            Ok::<_, String>(p.display().to_string())
+        };
+        assert_eq!(cache.get_or_read(Path::new("a"), read).as_deref(), Ok("a"));
+        assert_eq!(cache.get_or_read(Path::new("a"), read).as_deref(), Ok("a"));
+        assert_eq!(cache.get_or_read(Path::new("b"), read).as_deref(), Ok("b"));
+        assert_eq!(reads.get(), 2);
+        let fail = |_: &Path| Err::<String, _>("unreadable");
+        assert_eq!(cache.get_or_read(Path::new("c"), fail), Err("unreadable"));
+        assert_eq!(cache.get_or_read(Path::new("c"), read).as_deref(), Ok("c"));
+        assert_eq!(reads.get(), 3);
+    }
 
     #[test]
     fn dev_zero_is_refused_quickly() {

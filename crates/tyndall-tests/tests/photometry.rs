@@ -279,6 +279,40 @@ fn point_light_gives_each_files_candela_at_its_angles() {
     }
 }
 
+/// Lights naming one IES file share one parsed profile: a rig of 1024
+/// heads reads it once, and each head still turns it its own way.
+#[test]
+fn lights_naming_one_file_share_its_profile() {
+    let name = FILES[0].0;
+    let head = |x: f32, turn: f32| {
+        format!(
+            "type = \"spot\"\nposition = [{x}, 3, 0]\ndirection = [0, -1, 0]\ncutoff_deg = 60\n\
+             ies = \"{}\"\nies_rotate_deg = {turn}",
+            ies_path(name)
+        )
+    };
+    let loaded = scene_with(&format!(
+        "{}\n\n[[lights]]\n{}",
+        head(-1.0, 0.0),
+        head(1.0, 90.0)
+    ));
+    let luminaires: Vec<_> = loaded
+        .scene
+        .lights()
+        .iter()
+        .filter_map(|l| match l {
+            tyndall::lights::Light::Spot(s) => s.luminaire.as_ref(),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(luminaires.len(), 2);
+    assert!(std::sync::Arc::ptr_eq(
+        &luminaires[0].profile,
+        &luminaires[1].profile
+    ));
+    assert_ne!(luminaires[0], luminaires[1], "each head keeps its own turn");
+}
+
 /// A glTF file in `dir` holding a camera and one light of `kind` (with
 /// `fields`, JSON members after its type) at a node turned −90° about x,
 /// so that its −z is −y.

@@ -33,6 +33,8 @@ pub use glb::glb_bytes;
 
 use materials::MaterialTextures;
 
+use crate::files::ReadOnce;
+use crate::ies::IesFile;
 use crate::photometry::{candela_to_watts_per_sr, lux_to_watts_per_m2};
 use crate::source::SceneError;
 use ::gltf::khr_lights_punctual::Kind;
@@ -404,6 +406,7 @@ pub fn add_bytes_to_scene(
         bounds: Bounds::EMPTY,
         skipped_degenerate: 0,
         light_profiles: outline.light_profiles.clone(),
+        ies_files: ReadOnce::new(),
     };
     for ext in document.extensions_used() {
         if !HANDLED_EXTENSIONS.contains(&ext) {
@@ -497,6 +500,8 @@ struct GltfLoader<'a> {
     skipped_degenerate: usize,
     /// Each light's measured profile named in its `extras`, if any.
     light_profiles: Vec<Option<validate::ProfileRef>>,
+    /// The IES files those name, each read once.
+    ies_files: ReadOnce<IesFile>,
 }
 
 impl GltfLoader<'_> {
@@ -654,7 +659,9 @@ impl GltfLoader<'_> {
                     Some(base) => base.join(&profile.file),
                     None => PathBuf::from(&profile.file),
                 };
-                let measured = crate::ies::load(&path)
+                let measured = self
+                    .ies_files
+                    .get_or_read(&path, crate::ies::load)
                     .map_err(|e| self.err(&format!("{element}.extras.ies"), e))?;
                 Some(Luminaire::new(
                     measured.profile,

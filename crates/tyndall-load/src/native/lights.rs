@@ -291,17 +291,12 @@ impl Loader<'_> {
         let Some((path, rotate)) = self.turned_file(span, "gobo", file, rotate_deg)? else {
             return Ok(None);
         };
-        let cached = self.gobo_images.borrow().get(&path).cloned();
-        let image = match cached {
-            Some(image) => image,
-            None => {
-                let image = crate::images::load_texture(&path, [Wrap::Clamp; 2])
-                    .map_err(|e| self.err(span, "gobo", e))?;
-                let image = Arc::new(image);
-                self.gobo_images.borrow_mut().insert(path, image.clone());
-                image
-            }
-        };
+        let image = self
+            .gobo_images
+            .get_or_read(&path, |path| {
+                crate::images::load_texture(path, [Wrap::Clamp; 2]).map(Arc::new)
+            })
+            .map_err(|e| self.err(span, "gobo", e))?;
         Gobo::new(image, axis, cutoff_deg, rotate)
             .map(Some)
             .map_err(|e| self.err(span, "cutoff_deg", e))
@@ -320,7 +315,10 @@ impl Loader<'_> {
         let Some((path, rotate)) = self.turned_file(span, "ies", ies, rotate_deg)? else {
             return Ok(None);
         };
-        let measured = crate::ies::load(&path).map_err(|e| self.err(span, "ies", e))?;
+        let measured = self
+            .ies_files
+            .get_or_read(&path, crate::ies::load)
+            .map_err(|e| self.err(span, "ies", e))?;
         Ok(Some((
             Luminaire::new(measured.profile, nadir, rotate),
             measured.peak_candela,

@@ -8,14 +8,15 @@
 //! the loader's or the validation's — is reported at the offending key's
 //! line and column.
 
+use crate::files::ReadOnce;
+use crate::ies::IesFile;
 use crate::mesh::{MeshTransform, MeshTriangles, load_obj_mesh};
 use crate::source::{SceneError, SourceText};
 use glam::Vec3;
 use serde_spanned::Spanned;
-use std::cell::RefCell;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 use std::ops::Range;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 use tyndall::camera::{Aperture, CameraSpec, FieldOfView};
 use tyndall::color::Rgb;
@@ -91,7 +92,8 @@ pub fn parse_with_arrays(
         frame_used: std::cell::Cell::new(false),
         base_textures: BTreeMap::new(),
         arrays,
-        gobo_images: Default::default(),
+        gobo_images: ReadOnce::new(),
+        ies_files: ReadOnce::new(),
     }
     .build(file)?;
     if let Some(e) = source.locate_all(&desc.errors()) {
@@ -115,9 +117,9 @@ struct Loader<'a> {
     base_textures: BTreeMap<MaterialId, principled::BaseColorTexture>,
     /// The arrays given beside the text ([`parse_with_arrays`]).
     arrays: &'a [Vec<u8>],
-    /// Gobo images by file, read once: the heads of a rig share one
-    /// pattern, which 1024 copies would read, decode and hold 1024 times.
-    gobo_images: RefCell<HashMap<PathBuf, Arc<Texture>>>,
+    /// Gobo images and IES profiles by file, each read once.
+    gobo_images: ReadOnce<Arc<Texture>>,
+    ies_files: ReadOnce<IesFile>,
 }
 
 impl Loader<'_> {
