@@ -70,7 +70,8 @@ fn too_large(len: u64, limit: u64) -> String {
 
 /// Files a scene names more than once, read once: a rig's heads share
 /// their gobo image and their IES profile, which 1024 heads would
-/// otherwise read, decode and hold 1024 times. Keyed by the path as
+/// otherwise read, decode and hold 1024 times, and materials naming one
+/// image share its texture. Keyed by the path as
 /// resolved against the scene; a failed read is not kept (it fails the
 /// load).
 pub(crate) struct ReadOnce<T> {

@@ -252,3 +252,28 @@ fn bad_inline_meshes_are_errors_at_their_key() {
         "only a `triangles` shape with `uvs` can carry",
     );
 }
+
+/// Two principled materials naming one image share one texture: the
+/// file is read and held once.
+#[test]
+fn materials_naming_one_image_share_its_texture() {
+    let dir = test_dir("shared-texture");
+    tyndall_image::output::write_image(
+        &tyndall::Image::from_pixels(2, 2, CHECKER.to_vec()),
+        &dir.join("checker.png"),
+        0.0,
+    )
+    .expect("png");
+    let material = |base: f32| {
+        format!("type = \"principled\"\nbase_color = {base}\nbase_color_texture = \"checker.png\"")
+    };
+    let text = floor_scene(&material(0.8), false, "").replace(
+        "[[shapes]]",
+        &format!("[materials.wall]\n{}\n\n[[shapes]]", material(0.4)),
+    ) + "\n[[shapes]]\ntype = \"triangles\"\npositions = [-2, 0, -3,  2, 0, -3,  2, 2, -3]\n\
+         indices = [0, 1, 2]\nuvs = [0, 0,  1, 0,  1, 1]\nmaterial = \"wall\"\n";
+    let desc = tyndall_load::native::parse(&SourceText::new(dir.join("scene.toml"), text))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(desc.materials.len(), 2);
+    assert_eq!(desc.textures.len(), 1);
+}

@@ -89,30 +89,38 @@ pub struct Texture {
     wrap: [Wrap; 2],
     mean: Rgb,
     mean_alpha: f32,
+    /// [`content_digest`] of the image's texels and alpha, for the
+    /// `Debug` form: a rig's heads share one image and print it once each.
+    digest: u64,
 }
 
 /// A summary, not the texels (render parts and checkpoints hash a scene
 /// through its `Debug` form, `parts::scene_hash`, and a material holding
 /// a 4096² image would print 50 million numbers into each hash): the
-/// size, encoding and wrap modes, and a 64-bit digest (Fx hashing) of the
-/// image's texels and alpha in order. The pyramid and means follow from
-/// those.
+/// size, encoding and wrap modes, and the image's [`content_digest`].
+/// The pyramid and means follow from those.
 impl std::fmt::Debug for Texture {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let image = &self.levels[0];
-        let mut h = rustc_hash::FxHasher::default();
-        h.write(image.texels.as_flattened());
-        if let Some(alpha) = &self.alpha {
-            h.write(alpha);
-        }
         f.debug_struct("Texture")
-            .field("size", &(image.width, image.height))
+            .field("size", &(self.width(), self.height()))
             .field("encoding", &self.encoding)
             .field("wrap", &self.wrap)
             .field("alpha", &self.alpha.is_some())
-            .field("digest", &format_args!("{:016x}", h.finish()))
+            .field("digest", &format_args!("{:016x}", self.digest))
             .finish()
     }
+}
+
+/// A 64-bit digest (Fx hashing) of an image's texels and alpha codes in
+/// order: every changed code changes it (with the odds of a 64-bit
+/// hash), as the voxel grids' digests do for their values.
+fn content_digest(texels: &[[u8; 3]], alpha: Option<&[u8]>) -> u64 {
+    let mut h = rustc_hash::FxHasher::default();
+    h.write(texels.as_flattened());
+    if let Some(alpha) = alpha {
+        h.write(alpha);
+    }
+    h.finish()
 }
 
 /// The linear value of each 8-bit sRGB code.
@@ -163,6 +171,7 @@ impl Texture {
             (sum[1] / n) as f32,
             (sum[2] / n) as f32,
         );
+        let digest = content_digest(&texels, None);
         let mut levels = vec![Level {
             width,
             height,
@@ -178,6 +187,7 @@ impl Texture {
             wrap,
             mean,
             mean_alpha: 1.0,
+            digest,
         })
     }
 
@@ -195,6 +205,7 @@ impl Texture {
         }
         let sum: u64 = alpha.iter().map(|&a| u64::from(a)).sum();
         self.mean_alpha = (sum as f64 / (255.0 * alpha.len() as f64)) as f32;
+        self.digest = content_digest(&self.levels[0].texels, Some(&alpha));
         self.alpha = Some(alpha);
         Ok(self)
     }

@@ -33,7 +33,7 @@ use tyndall::settings::{
     DEFAULT_MAP_RESOLUTION, IntegratorKind, RenderSettings, VisibilityMode, check_map_resolution,
 };
 use tyndall::shapes::{Bounds, Quad, Shape, Sphere, box_faces};
-use tyndall::texture::Texture;
+use tyndall::texture::{Texture, TextureId};
 
 mod lights;
 mod medium;
@@ -94,6 +94,7 @@ pub fn parse_with_arrays(
         arrays,
         gobo_images: ReadOnce::new(),
         ies_files: ReadOnce::new(),
+        base_color_images: ReadOnce::new(),
     }
     .build(file)?;
     if let Some(e) = source.locate_all(&desc.errors()) {
@@ -117,9 +118,11 @@ struct Loader<'a> {
     base_textures: BTreeMap<MaterialId, principled::BaseColorTexture>,
     /// The arrays given beside the text ([`parse_with_arrays`]).
     arrays: &'a [Vec<u8>],
-    /// Gobo images and IES profiles by file, each read once.
+    /// Gobo images, IES profiles and base colour textures (the scene's
+    /// texture made of each) by file, each read once.
     gobo_images: ReadOnce<Arc<Texture>>,
     ies_files: ReadOnce<IesFile>,
+    base_color_images: ReadOnce<TextureId>,
 }
 
 impl Loader<'_> {

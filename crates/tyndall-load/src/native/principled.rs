@@ -68,9 +68,13 @@ impl Loader<'_> {
         let texture = match &table.base_color_texture {
             Some(file) => {
                 let path = self.relative(file);
-                let image = crate::images::load_texture(&path, [Wrap::Repeat; 2])
-                    .map_err(|e| self.err(span, "base_color_texture", e))?;
-                let texture = scene.add_texture(Arc::new(image), self.origin(span));
+                let texture = self
+                    .base_color_images
+                    .get_or_read(&path, |path| {
+                        let image = crate::images::load_texture(path, [Wrap::Repeat; 2])?;
+                        Ok(scene.add_texture(Arc::new(image), self.origin(span)))
+                    })
+                    .map_err(|e: String| self.err(span, "base_color_texture", e))?;
                 Some(BaseColorTexture { texture, factors })
             }
             None => None,
