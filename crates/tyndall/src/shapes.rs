@@ -55,6 +55,11 @@ impl Bounds {
         0.5 * (self.min + self.max)
     }
 
+    /// Whether `p` lies in the closed box.
+    pub fn contains(&self, p: Vec3) -> bool {
+        p.cmpge(self.min).all() && p.cmple(self.max).all()
+    }
+
     pub fn extent(&self) -> Vec3 {
         self.max - self.min
     }

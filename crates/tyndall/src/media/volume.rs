@@ -450,6 +450,12 @@ impl Volume {
         Some((bounds, cells, weights))
     }
 
+    /// The box that bounds the medium (all of space for a uniform
+    /// medium everywhere).
+    pub fn bounds(&self) -> Bounds {
+        self.field_box
+    }
+
     /// Whether the volume emits light.
     pub fn is_emissive(&self) -> bool {
         self.emission.is_some()

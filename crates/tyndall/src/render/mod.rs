@@ -26,10 +26,12 @@
 mod accumulation;
 mod checks;
 mod error;
+mod light_images;
 
 pub use accumulation::{Accumulation, Kept, light_share};
 pub use checks::{LOSSLESS_FOG_DEPTH, MAX_RENDER_BYTES, traces_light_paths};
 pub use error::RenderError;
+pub use light_images::{FOCUS_SHARE, LightImages};
 
 use crate::aov::ComponentSum;
 use crate::camera::Camera;
@@ -46,7 +48,7 @@ use crate::sampler::PixelSampler;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use crate::visibility::{RayCounts, Visibility};
-use glam::{DVec3, Vec2};
+use glam::DVec3;
 use rayon::prelude::*;
 use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -148,6 +150,7 @@ pub fn render_region(
     let visibility = pool.install(|| Visibility::new(scene, settings.visibility));
     let maps = start.elapsed();
     let camera = Camera::new(&scene.camera, settings.width, settings.height);
+    let light_images = LightImages::new(scene, &camera);
     let rect = region.rect;
     let full_width = settings.width as u64;
     let counters = PassCounters::default();
@@ -167,6 +170,7 @@ pub fn render_region(
                 scene,
                 settings,
                 &camera,
+                &light_images,
                 &integrator,
                 rect,
                 s,
@@ -250,6 +254,7 @@ fn camera_pass(
     scene: &Scene,
     settings: &RenderSettings,
     camera: &Camera,
+    light_images: &LightImages,
     integrator: &Integrator,
     rect: PixelRect,
     s: u32,
@@ -272,6 +277,7 @@ fn camera_pass(
         scene,
         settings,
         camera,
+        light_images,
         integrator,
         rect,
         s,
@@ -307,6 +313,8 @@ struct CameraPass<'a> {
     scene: &'a Scene,
     settings: &'a RenderSettings,
     camera: &'a Camera,
+    /// Where pixels draw their samples around lights' images.
+    light_images: &'a LightImages,
     integrator: &'a Integrator<'a>,
     rect: PixelRect,
     s: u32,
@@ -334,11 +342,13 @@ impl CameraPass<'_> {
         let full_width = self.settings.width as u64;
         let mut counts = RayCounts::default();
         let mut bad = 0u64;
+        let images = self.light_images.row(y);
         for (i, sum) in sums.radiance.iter_mut().enumerate() {
             let x = self.rect.x0 + i as u32;
             let index = y as u64 * full_width + x as u64;
             let mut sampler = PixelSampler::new(self.settings.seed, index, self.s);
-            let film = Vec2::new(x as f32, y as f32) + sampler.next_2d();
+            let (film, weight) = images.sample(x, y, sampler.next_2d());
+            let weight = f64::from(weight);
             let lens = self.camera.lens_sample(&mut sampler);
             let ray = self.camera.ray(film, lens);
             let cone = Some(self.camera.cone(ray.direction, self.cone_scale));
@@ -347,17 +357,17 @@ impl CameraPass<'_> {
                 .integrator
                 .sample::<K>(scene, ray, cone, pixel, &mut sampler, &mut counts);
             if l.total().is_finite() {
-                *sum += l.total().as_dvec3();
+                *sum += l.total().as_dvec3() * weight;
                 if let (Some(sums), Some(parts)) = (sums.components.as_deref_mut(), l.components())
                 {
                     for (s, c) in sums[i].iter_mut().zip(parts) {
-                        *s += c.as_dvec3();
+                        *s += c.as_dvec3() * weight;
                     }
                 }
                 if let (Some((groups, sums)), Some(parts)) = (&mut sums.light_groups, l.groups()) {
                     let pixel = &mut sums[i * *groups..(i + 1) * *groups];
                     for (s, c) in pixel.iter_mut().zip(parts) {
-                        *s += c.as_dvec3();
+                        *s += c.as_dvec3() * weight;
                     }
                 }
             } else {

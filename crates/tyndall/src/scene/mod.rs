@@ -145,6 +145,19 @@ impl Scene {
         self.fog.as_ref()
     }
 
+    /// Whether `x` lies in the fog (where it scatters) or within the
+    /// bounds of a general medium: where a point light's in-scattered
+    /// radiance may diverge along rays passing it
+    /// ([`crate::render::LightImages`]).
+    pub fn in_medium(&self, x: Vec3) -> bool {
+        let in_fog = self.fog.as_ref().is_some_and(|fog| {
+            fog.sigma_t > 0.0
+                && fog.albedo.max_element() > 0.0
+                && fog.bounds.is_none_or(|b| b.contains(x))
+        });
+        in_fog || self.volumes.iter().any(|v| v.bounds().contains(x))
+    }
+
     /// The general media (`[[media]]`), with their majorant grids.
     pub fn volumes(&self) -> &[Volume] {
         &self.volumes
