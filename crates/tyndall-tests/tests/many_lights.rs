@@ -42,7 +42,11 @@ const REGIONS_Y: u32 = 6;
 /// statistic comparing the render with itself under other seeds reached
 /// 5.6. With the lights above the fog the estimate matches the spread
 /// (0.0067 against 0.0056) and the statistic stays under 3.9 over 2160
-/// comparisons (docs/benchmarks.md, "Sobol to dimension 24").
+/// comparisons (docs/benchmarks.md, "Sobol to dimension 24"). The
+/// renderer now draws part of a pixel's samples about a light's image
+/// (docs/physics.md §5.5), which bounds the camera rays' share of that
+/// variance, but not the share of rays leaving scattering events: the
+/// lights stay out of the fog.
 fn rig(sampling: LightSampling, with_medium: bool) -> Loaded {
     let mut text = format!(
         r#"

@@ -10,6 +10,11 @@
 
 use glam::Vec2;
 
+/// The largest f32 below 1: where a uniform number remapped into a
+/// sub-interval (a choice's share, a tree's branch) is clamped, so it
+/// stays in `[0, 1)`.
+pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+
 /// Dimensions drawn from the Sobol sequence; later ones are hashed
 /// random numbers. The first 24 cover a camera sample and its first
 /// scattering events (pixel position, lens, the first flights, light

@@ -262,9 +262,14 @@ fn add_piece_in_cone(light: Light, ray: Ray, lo: f32, hi: f32, acc: vec3<f32>) -
 // outside [t0, t1] becomes t0, an empty piece), sorted by a 9-comparator
 // network: no array indexed at run time, which a GPU would keep in slow
 // per-thread memory.
+//
+// Solved about t_c, where the ray passes nearest the apex, as the CPU's
+// is: about the ray's origin, the discriminant of a thin beam crossed
+// near its apex far from the origin cancels below f32's rounding.
 fn spot_reach(light: Light, ray: Ray, t0: f32, t1: f32) -> vec3<f32> {
     let axis = light.direction.xyz;
-    let v = ray.origin - light.position.xyz;
+    let t_c = -dot(ray.origin - light.position.xyz, ray.direction);
+    let v = ray.origin + t_c * ray.direction - light.position.xyz;
     let vd = dot(v, axis);
     let wd = dot(ray.direction, axis);
     let cos2 = light.cos_cutoff * light.cos_cutoff;
@@ -277,17 +282,17 @@ fn spot_reach(light: Light, ray: Ray, t0: f32, t1: f32) -> vec3<f32> {
         let disc = b * b - 4.0 * a * c;
         if disc >= 0.0 {
             let q = -0.5 * (b + select(-1.0, 1.0, b >= 0.0) * sqrt(disc));
-            root0 = q / a;
+            root0 = t_c + q / a;
             if q != 0.0 {
-                root1 = c / q;
+                root1 = t_c + c / q;
             }
         }
     } else if b != 0.0 {
-        root0 = -c / b;
+        root0 = t_c - c / b;
     }
     var plane = t0;
     if wd != 0.0 {
-        plane = -vd / wd;
+        plane = t_c - vd / wd;
     }
     var c0 = t0;
     var c1 = t1;

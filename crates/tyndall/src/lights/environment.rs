@@ -138,7 +138,7 @@ pub fn direction_to_uv(d: Vec3) -> Vec2 {
     let u = d.x.atan2(-d.z) / TAU;
     let u = u - u.floor();
     Vec2::new(
-        u.min(1.0 - f32::EPSILON / 2.0),
+        u.min(crate::sampler::ONE_MINUS_EPSILON),
         d.y.clamp(-1.0, 1.0).acos() / PI,
     )
 }

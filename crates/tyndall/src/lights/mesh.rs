@@ -146,7 +146,7 @@ impl MeshLight {
         let low = if k == 0 { 0.0 } else { self.cdf[k - 1] };
         let share = self.cdf[k] - low;
         let within = if share > 0.0 {
-            (((x - low) / share) as f32).clamp(0.0, 1.0 - f32::EPSILON / 2.0)
+            (((x - low) / share) as f32).clamp(0.0, crate::sampler::ONE_MINUS_EPSILON)
         } else {
             0.5
         };

@@ -23,11 +23,8 @@
 use super::Light;
 use super::bounds::LightBounds;
 use crate::ray::Ray;
+use crate::sampler::ONE_MINUS_EPSILON;
 use glam::Vec3;
-
-/// The largest `u` a descent uses, below 1 so that remapped random
-/// numbers stay in `[0, 1)`.
-const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// Most splits along one path of a splitting descent
 /// ([`LightTree::split_at`]).

@@ -34,6 +34,7 @@
 //! sample uniformly as before.
 
 use crate::camera::Camera;
+use crate::sampler::ONE_MINUS_EPSILON;
 use crate::scene::Scene;
 use glam::Vec2;
 
@@ -101,38 +102,32 @@ impl LightImages {
             pixels: &self.pixels[start..end],
         }
     }
-
-    /// How many pixels hold a light's image.
-    pub fn len(&self) -> usize {
-        self.pixels.len()
-    }
-
-    /// Whether none does.
-    pub fn is_empty(&self) -> bool {
-        self.pixels.is_empty()
-    }
 }
 
-/// The focused pixels of one row.
-#[derive(Clone, Copy)]
+/// The focused pixels of one row, for its pixels in increasing `x`.
 pub struct RowImages<'a> {
     pixels: &'a [FocusedPixel],
 }
 
 impl RowImages<'_> {
     /// The film position and weight of the sample of pixel `(x, y)` (of
-    /// this row) that `u ∈ [0, 1)²` draws: `(x, y) + u` with weight 1 in
-    /// a pixel that holds no light's image, else from the defensive
-    /// mixture of [`focused_sample`].
+    /// this row; `x` never smaller than the last call's) that
+    /// `u ∈ [0, 1)²` draws: `(x, y) + u` with weight 1 in a pixel that
+    /// holds no light's image, else from the defensive mixture of
+    /// [`focused_sample`].
     #[inline]
-    pub fn sample(&self, x: u32, y: u32, u: Vec2) -> (Vec2, f32) {
+    pub fn sample(&mut self, x: u32, y: u32, u: Vec2) -> (Vec2, f32) {
         let corner = Vec2::new(x as f32, y as f32);
-        match self.pixels.iter().find(|p| p.x == x) {
-            None => (corner + u, 1.0),
-            Some(pixel) => {
+        // The pixels left of `x` are done with.
+        while self.pixels.first().is_some_and(|p| p.x < x) {
+            self.pixels = &self.pixels[1..];
+        }
+        match self.pixels.first() {
+            Some(pixel) if pixel.x == x => {
                 let (at, weight) = focused_sample(&pixel.images, u);
                 (corner + at, weight)
             }
+            _ => (corner + u, 1.0),
         }
     }
 }
@@ -157,9 +152,6 @@ fn focused_sample(images: &[InverseDistance], u: Vec2) -> (Vec2, f32) {
     let q = images.iter().map(|d| d.density(x)).sum::<f32>() / k as f32;
     (x, 1.0 / ((1.0 - alpha) + alpha * q))
 }
-
-/// The largest float below 1.
-const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// The density `q(x) = 1/(Z·r)` over the unit square, `r = |x − a|` the
 /// distance from a point `a` of the square, `Z = ∫ dA/r`.

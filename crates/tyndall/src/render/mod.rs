@@ -342,7 +342,7 @@ impl CameraPass<'_> {
         let full_width = self.settings.width as u64;
         let mut counts = RayCounts::default();
         let mut bad = 0u64;
-        let images = self.light_images.row(y);
+        let mut images = self.light_images.row(y);
         for (i, sum) in sums.radiance.iter_mut().enumerate() {
             let x = self.rect.x0 + i as u32;
             let index = y as u64 * full_width + x as u64;
