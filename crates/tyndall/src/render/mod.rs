@@ -373,6 +373,8 @@ impl CameraPass<'_> {
             } else {
                 bad += 1;
             }
+            // Guides are the pixel's features, plain means of its
+            // samples' (not weighed: docs/physics.md §5.5).
             if let Some(guides) = sums.guides.as_deref_mut() {
                 guides[i].add(&first_surface(scene, ray, cone));
             }
