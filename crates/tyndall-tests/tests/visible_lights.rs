@@ -68,18 +68,31 @@ fn light_position() -> DVec3 {
 
 /// In-scattered radiance along the ray through film position `f`.
 fn radiance(f: DVec2) -> f64 {
-    let w = direction(f);
-    let p = light_position();
-    let s0 = p.dot(w);
-    let d_line = (p - s0 * w).length();
+    scattered_along(direction(f), light_position(), 0.0, f64::INFINITY, 400)
+}
+
+/// The single-scattering integral along the ray from the pinhole with
+/// unit direction `w` over `[t0, t1]` (`t1` may be ∞) from a light of
+/// intensity [`INTENSITY`] at `light`, by Simpson's rule with `intervals`
+/// in the equiangular variable φ (`t = s0 + D·tan φ`), where it is smooth.
+fn scattered_along(w: DVec3, light: DVec3, t0: f64, t1: f64, intervals: usize) -> f64 {
+    let s0 = light.dot(w);
+    let d_line = (light - s0 * w).length();
     let sigma_s = SIGMA_T * ALBEDO;
     let integrand = |phi: f64| {
         let s = s0 + d_line * phi.tan();
         let d = d_line / phi.cos();
         sigma_s / (4.0 * PI) * INTENSITY * (-SIGMA_T * (s + d)).exp() / d_line
     };
-    // The ray starts at the pinhole (s = 0); φ → π/2 is s → ∞.
-    simpson(integrand, (-s0 / d_line).atan(), 0.5 * PI - 1e-9, 400)
+    // φ → π/2 is t → ∞.
+    let phi = |t: f64| {
+        if t.is_finite() {
+            ((t - s0) / d_line).atan()
+        } else {
+            0.5 * PI - 1e-9
+        }
+    };
+    simpson(integrand, phi(t0), phi(t1), intervals)
 }
 
 /// The mean of [`radiance`] over pixel `(x, y)`: in polar coordinates
@@ -245,15 +258,7 @@ fn spot_radiance(f: DVec2) -> f64 {
         lo
     };
     let (enter, leave) = (edge(-SPOT_DISTANCE), edge(SPOT_DISTANCE));
-    let d_line = (apex - s0 * w).length();
-    let sigma_s = SIGMA_T * ALBEDO;
-    let integrand = |phi: f64| {
-        let s = s0 + d_line * phi.tan();
-        let d = d_line / phi.cos();
-        sigma_s / (4.0 * PI) * INTENSITY * (-SIGMA_T * (s + d)).exp() / d_line
-    };
-    let phi = |t: f64| ((t - s0) / d_line).atan();
-    simpson(integrand, phi(enter), phi(leave), 200)
+    scattered_along(w, apex, enter, leave, 200)
 }
 
 /// A spot seen side-on from 22 m at its apex's height, its image at the
