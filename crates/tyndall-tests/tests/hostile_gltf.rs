@@ -94,18 +94,17 @@ fn textured_material(doc: &mut Value, image: Value) {
     doc["materials"] = json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]);
 }
 
+/// A 2×2 PNG (red, green, blue, white), encoded in memory: the tests
+/// that embed it run in parallel, and writing it to one shared file
+/// raced (the writer refuses an existing file).
 fn png_bytes() -> Vec<u8> {
-    let dir = test_dir("hostile-png");
-    let path = dir.join("t.png");
-    let texels = vec![
-        tyndall::color::Rgb::new(1.0, 0.0, 0.0),
-        tyndall::color::Rgb::new(0.0, 1.0, 0.0),
-        tyndall::color::Rgb::new(0.0, 0.0, 1.0),
-        tyndall::color::Rgb::new(1.0, 1.0, 1.0),
-    ];
-    tyndall_image::output::write_image(&tyndall::Image::from_pixels(2, 2, texels), &path, 0.0)
+    let texels = [[255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 255]];
+    let image = image::RgbImage::from_fn(2, 2, |x, y| image::Rgb(texels[(y * 2 + x) as usize]));
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    image
+        .write_to(&mut bytes, image::ImageFormat::Png)
         .expect("png");
-    std::fs::read(path).expect("png")
+    bytes.into_inner()
 }
 
 #[test]
